@@ -71,8 +71,12 @@ public:
 };
 
 /// Twist drill, MODEL_NOTES section 1; defaults = the reference drill (Lee et al. 2012).
-/// Lips are straight, offset w from the axis (web), point angle eps; the chisel edge (|r| < w)
-/// is perpendicular to the axis. The swept tip is z = cot(eps) sqrt(rho^2 - w^2) for rho > w.
+/// Lips are straight, their projection offset w from the axis (web), point angle eps; they meet
+/// the chisel edge (perpendicular to the axis) at the corner radius R_c = w / sin(psi) (Lazar &
+/// Xirouchakis' geometry). Chisel: r in [0, R_c]; lips: r in [R_c, R]. Starting the lips at R_c
+/// rather than at w keeps every lip element's torque resisting (within ~5 um of r = w, where
+/// beta -> 90 deg, eq. 6 turns it negative). The swept tip is flat over the chisel and
+/// z = cot(eps) (sqrt(rho^2 - w^2) - sqrt(R_c^2 - w^2)) over the lips.
 struct TwistDrillParams {
   double radius = 1.25;          ///< R, mm
   double pointAngleDeg = 59.0;   ///< eps (half of the 118 deg point angle), deg
@@ -100,6 +104,8 @@ public:
   std::unique_ptr<ToolModel> Clone() const override { return std::make_unique<TwistDrill>(P_); }
   /// Height of the tip surface above the chisel edge at radius rho, mm.
   double TipHeight(double rho) const;
+  /// R_c = w / sin(psi): where the chisel edge meets the lips, mm.
+  double ChiselCornerRadius() const;
 
 private:
   TwistDrillParams P_;
@@ -108,6 +114,7 @@ private:
 /// Tool whose lips are circular arcs of radius R centred w from the axis (MODEL_NOTES section 1):
 /// eps = acos((r - w) / R), beta = asin(R sin(alpha) / r), gamma_n = rakeDeg (0 for the reamer).
 /// Defaults = the spherical glenoid reamer of Faieghi et al. (5 lips, 36.5 mm, nipple guide).
+/// Tool frame: z = 0 at the face's foremost ring (rho = w); the nipple reaches to -nippleLength.
 /// With w = 0, alpha = 0 and no nipple it is a spherical burr of radius R.
 struct ArcLipParams {
   double arcRadius = 16.22;     ///< R, mm
@@ -145,10 +152,11 @@ public:
   double FaceHeight(double rho) const;
   /// Radius where the lips begin (beyond the nipple and where beta is defined), mm.
   double LipInnerRadius() const;
+  /// Axial height of the head's back (reamer plate, or where a burr's ball meets the shaft), mm.
+  double BackHeight() const;
 
 private:
   ArcLipParams P_;
-  double ZOffset_ = 0; // shifts the face so that the foremost point (nipple tip or face) is z = 0
 };
 
 /// Build a tool from JSON: {"type": "drill"|"reamer"|"burr", ...parameters}. Throws
