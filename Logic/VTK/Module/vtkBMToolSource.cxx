@@ -111,6 +111,11 @@ void vtkBMToolSource::GetAxialRange(double range[2]) {
   }
 }
 
+double* vtkBMToolSource::GetAxialRange() {
+  this->GetAxialRange(this->AxialRange);
+  return this->AxialRange;
+}
+
 int vtkBMToolSource::RequestData(vtkInformation*, vtkInformationVector**,
                                  vtkInformationVector* outputVector) {
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);

@@ -63,8 +63,10 @@ public:
   const char* GetToolError();
   double GetOuterRadius();
   int GetNumberOfLips();
-  /// Axial extent [zMin, zMax] of the tool, mm (zMin = 0 at the foremost cutting point).
+  /// Axial extent [zMin, zMax] of the tool, mm, in the tool frame (the surface's z bounds).
   void GetAxialRange(double range[2]);
+  /// The same, in an array owned by this object and overwritten by the next call.
+  double* GetAxialRange() VTK_SIZEHINT(2);
   ///@}
 
 protected:
@@ -78,6 +80,7 @@ protected:
   char* Parameters = nullptr;
   int Resolution = 64;
   double MaxSegmentLength = 0.25;
+  double AxialRange[2] = {0.0, 0.0};
 
 private:
   vtkBMToolSource(const vtkBMToolSource&) = delete;
