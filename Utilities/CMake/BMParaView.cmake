@@ -10,6 +10,18 @@ if(TARGET ParaView::RemotingServerManager AND TARGET Qt5::Widgets)
   return()
 endif()
 
+# Two packages Debian's paraview-dev config needs without depending on them: say so plainly
+# instead of failing deep inside ParaView's config.
+find_package(Qt5OpenGL QUIET)
+if(NOT Qt5OpenGL_FOUND)
+  message(FATAL_ERROR "ParaView's config needs Qt5OpenGL: install libqt5opengl5-dev")
+endif()
+find_file(BM_PARAVIEW_PYTHON_INIT paraview/__init__.py
+  PATHS /usr/lib/python3/dist-packages NO_DEFAULT_PATH)
+if(NOT BM_PARAVIEW_PYTHON_INIT)
+  message(FATAL_ERROR "ParaView's config needs its Python modules: install python3-paraview")
+endif()
+
 set(HDF5_PREFER_PARALLEL ON)
 find_package(HDF5 REQUIRED COMPONENTS C HL)
 find_package(GLEW REQUIRED)
