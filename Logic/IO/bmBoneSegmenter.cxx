@@ -1,0 +1,304 @@
+#include "bmBoneSegmenter.h"
+
+#include <itkBinaryThresholdImageFilter.h>
+#include <itkConnectedComponentImageFilter.h>
+#include <itkRegionOfInterestImageFilter.h>
+#include <itkRelabelComponentImageFilter.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace bm {
+
+namespace {
+
+using MaskImage = itk::Image<uint8_t, 3>;
+using LabelImage = itk::Image<uint32_t, 3>;
+
+std::string FormatPoint(const std::array<double, 3>& p) {
+  std::ostringstream os;
+  os << "(" << p[0] << ", " << p[1] << ", " << p[2] << ") mm";
+  return os.str();
+}
+
+std::string FormatBox(const Box3& b) {
+  std::ostringstream os;
+  os << "[" << b.lo[0] << ", " << b.hi[0] << "] x [" << b.lo[1] << ", " << b.hi[1] << "] x [" << b.lo[2] << ", "
+     << b.hi[2] << "] mm";
+  return os.str();
+}
+
+/// Label image of the 26-connected components of `mask`, relabelled by decreasing size.
+LabelImage::Pointer Components(MaskImage* mask, bool fullyConnected, const Progress& progress,
+                               std::vector<itk::SizeValueType>& sizes) {
+  auto cc = itk::ConnectedComponentImageFilter<MaskImage, LabelImage>::New();
+  cc->SetInput(mask);
+  cc->SetFullyConnected(fullyConnected);
+  RunFilter(cc, progress.Range(0, 0.8), "segmenting bone: components");
+  auto relabel = itk::RelabelComponentImageFilter<LabelImage, LabelImage>::New();
+  relabel->SetInput(cc->GetOutput());
+  relabel->SetSortByObjectSize(true);
+  RunFilter(relabel, progress.Range(0.8, 1), "segmenting bone: components");
+  sizes = relabel->GetSizeOfObjectsInPixels();
+  LabelImage::Pointer out = relabel->GetOutput();
+  out->DisconnectPipeline();
+  return out;
+}
+
+} // namespace
+
+CTImage CropCT(const CTImage& ct, const Box3& roi, int margin) {
+  const HUImage* img = ct.hu.GetPointer();
+  const auto full = img->GetLargestPossibleRegion();
+  std::array<double, 3> lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  for (int c = 0; c < 8; ++c) {
+    itk::Point<double, 3> p;
+    for (int a = 0; a < 3; ++a) p[a] = (c >> a & 1) ? roi.hi[a] : roi.lo[a];
+    itk::ContinuousIndex<double, 3> ci;
+    img->TransformPhysicalPointToContinuousIndex(p, ci);
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], ci[a]);
+      hi[a] = std::max(hi[a], ci[a]);
+    }
+  }
+  HUImage::RegionType region;
+  for (int a = 0; a < 3; ++a) {
+    long i0 = long(std::floor(lo[a] + 0.5)) - margin, i1 = long(std::ceil(hi[a] - 0.5)) + margin;
+    i0 = std::max<long>(i0, full.GetIndex(a));
+    i1 = std::min<long>(i1, full.GetIndex(a) + long(full.GetSize(a)) - 1);
+    if (i1 < i0)
+      throw std::runtime_error("the region of interest " + FormatBox(roi) + " lies outside the CT, whose bounds are " +
+                               FormatBox(ct.WorldBounds()));
+    region.SetIndex(a, i0);
+    region.SetSize(a, size_t(i1 - i0 + 1));
+  }
+  auto roiFilter = itk::RegionOfInterestImageFilter<HUImage, HUImage>::New();
+  roiFilter->SetInput(img);
+  roiFilter->SetRegionOfInterest(region);
+  RunFilter(roiFilter, Progress(), "cropping");
+  CTImage out = ct;
+  out.hu = roiFilter->GetOutput();
+  out.hu->DisconnectPipeline();
+  out.warnings.clear();
+  return out;
+}
+
+BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt, const Progress& progress) {
+  const HUImage* hu = ct.hu.GetPointer();
+  const auto region = hu->GetLargestPossibleRegion();
+  const int nx = int(region.GetSize(0)), ny = int(region.GetSize(1)), nz = int(region.GetSize(2));
+  const int64_t n = int64_t(nx) * ny * nz;
+  const auto sp = hu->GetSpacing();
+  const double voxelVolume = sp[0] * sp[1] * sp[2];
+  const float* H = hu->GetBufferPointer();
+  auto idx = [&](int i, int j, int k) { return int64_t(i) + int64_t(nx) * (int64_t(j) + int64_t(ny) * k); };
+
+  // Seed: inside the image?
+  std::array<int, 3> seedIdx{-1, -1, -1};
+  if (opt.seedMm) {
+    itk::Point<double, 3> p;
+    for (int a = 0; a < 3; ++a) p[a] = (*opt.seedMm)[a];
+    itk::ContinuousIndex<double, 3> ci;
+    hu->TransformPhysicalPointToContinuousIndex(p, ci);
+    for (int a = 0; a < 3; ++a) {
+      double f = std::floor(ci[a] + 0.5) - double(region.GetIndex(a));
+      if (!(f >= 0 && f < double(region.GetSize(a))))
+        throw std::runtime_error("the seed point " + FormatPoint(*opt.seedMm) + " lies outside the image, whose bounds are " +
+                                 FormatBox(ct.WorldBounds()));
+      seedIdx[a] = int(f);
+    }
+  }
+
+  // 1. Threshold.
+  auto thr = itk::BinaryThresholdImageFilter<HUImage, MaskImage>::New();
+  thr->SetInput(hu);
+  thr->SetLowerThreshold(opt.thresholdHU);
+  thr->SetUpperThreshold(std::numeric_limits<float>::max());
+  thr->SetInsideValue(1);
+  thr->SetOutsideValue(0);
+  RunFilter(thr, progress.Range(0, 0.1), "segmenting bone: threshold");
+  MaskImage::Pointer mask = thr->GetOutput();
+  mask->DisconnectPipeline();
+  uint8_t* M = mask->GetBufferPointer();
+  BoneSegmentation seg;
+  for (int64_t v = 0; v < n; ++v) seg.thresholdVoxels += M[v];
+  if (seg.thresholdVoxels == 0) {
+    float mx = -std::numeric_limits<float>::infinity();
+    for (int64_t v = 0; v < n; ++v) mx = std::max(mx, H[v]);
+    std::ostringstream os;
+    os << "no bone found: no voxel reaches the bone threshold of " << opt.thresholdHU
+       << " HU (the highest value in the CT is " << mx << " HU); lower the threshold";
+    throw std::runtime_error(os.str());
+  }
+
+  // 2. Components.
+  if (opt.seedMm || !opt.keepAllComponents) {
+    std::vector<itk::SizeValueType> sizes;
+    LabelImage::Pointer labels = Components(mask, true, progress.Range(0.1, 0.35), sizes);
+    const uint32_t* L = labels->GetBufferPointer();
+    seg.numComponents = int(sizes.size());
+    uint32_t keep = 1; // largest after relabelling
+    if (opt.seedMm) {
+      keep = 0;
+      // The seed's voxel, else the nearest bone voxel among its 26 neighbours.
+      double best = 1e300;
+      for (int dk = -1; dk <= 1; ++dk)
+        for (int dj = -1; dj <= 1; ++dj)
+          for (int di = -1; di <= 1; ++di) {
+            int i = seedIdx[0] + di, j = seedIdx[1] + dj, k = seedIdx[2] + dk;
+            if (i < 0 || j < 0 || k < 0 || i >= nx || j >= ny || k >= nz) continue;
+            uint32_t l = L[idx(i, j, k)];
+            double d = di * di + dj * dj + dk * dk;
+            if (l && d < best) {
+              best = d;
+              keep = l;
+            }
+          }
+      if (!keep) {
+        std::ostringstream os;
+        os << "the seed point " << FormatPoint(*opt.seedMm) << " is not on bone: its voxel is "
+           << H[idx(seedIdx[0], seedIdx[1], seedIdx[2])] << " HU, below the bone threshold of " << opt.thresholdHU
+           << " HU (place the seed on the bone to keep)";
+        throw std::runtime_error(os.str());
+      }
+    }
+    for (int64_t v = 0; v < n; ++v) M[v] = L[v] == keep ? 1 : 0;
+  } else {
+    seg.numComponents = -1; // not counted
+  }
+  for (int64_t v = 0; v < n; ++v) seg.keptVoxels += M[v];
+
+  // 3. Fill interior holes: background components (6-connected) off the border.
+  if (opt.fillHoles) {
+    auto notBone = MaskImage::New();
+    notBone->SetRegions(region);
+    notBone->CopyInformation(mask);
+    notBone->Allocate();
+    uint8_t* B = notBone->GetBufferPointer();
+    for (int64_t v = 0; v < n; ++v) B[v] = M[v] ? 0 : 1;
+    std::vector<itk::SizeValueType> sizes;
+    LabelImage::Pointer holes = Components(notBone, false, progress.Range(0.35, 0.6), sizes);
+    notBone = nullptr;
+    const uint32_t* L = holes->GetBufferPointer();
+    const size_t nl = sizes.size() + 1;
+    std::vector<uint8_t> touches(nl, 0);
+    std::vector<double> sumHU(nl, 0.0);
+    for (int k = 0; k < nz; ++k)
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+          int64_t v = idx(i, j, k);
+          uint32_t l = L[v];
+          if (!l) continue;
+          sumHU[l] += H[v];
+          if (i == 0 || j == 0 || k == 0 || i == nx - 1 || j == ny - 1 || k == nz - 1) touches[l] = 1;
+        }
+    std::vector<uint8_t> fill(nl, 0);
+    for (size_t l = 1; l < nl; ++l) {
+      double count = double(sizes[l - 1]);
+      if (!touches[l] && count * voxelVolume <= opt.maxHoleVolumeMm3 && sumHU[l] / count >= opt.holeMinMeanHU) {
+        fill[l] = 1;
+        ++seg.holesFilled;
+      }
+    }
+    for (int64_t v = 0; v < n; ++v)
+      if (L[v] && fill[L[v]]) {
+        M[v] = 2;
+        ++seg.filledVoxels;
+      }
+  }
+  progress(0.65, "segmenting bone: partial volume");
+
+  // 4. Bone fraction and bone HU. Band = voxels with a 26-neighbour on the other side of the mask.
+  seg.fraction = FractionImage::New();
+  seg.fraction->SetRegions(region);
+  seg.fraction->CopyInformation(hu);
+  seg.fraction->Allocate();
+  seg.boneHU = HUImage::New();
+  seg.boneHU->SetRegions(region);
+  seg.boneHU->CopyInformation(hu);
+  seg.boneHU->Allocate();
+  float* F = seg.fraction->GetBufferPointer();
+  float* BH = seg.boneHU->GetBufferPointer();
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::vector<uint8_t> band(size_t(n), 0);
+  for (int k = 0; k < nz; ++k) {
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        int64_t v = idx(i, j, k);
+        bool in = M[v] != 0;
+        bool b = false;
+        for (int dk = -1; dk <= 1 && !b; ++dk)
+          for (int dj = -1; dj <= 1 && !b; ++dj)
+            for (int di = -1; di <= 1 && !b; ++di) {
+              int ii = i + di, jj = j + dj, kk = k + dk;
+              if (ii < 0 || jj < 0 || kk < 0 || ii >= nx || jj >= ny || kk >= nz) continue;
+              b = (M[idx(ii, jj, kk)] != 0) != in;
+            }
+        band[size_t(v)] = b;
+        F[v] = in ? 1.0f : 0.0f;
+        BH[v] = in ? H[v] : nan;
+      }
+    if (k % 8 == 0) progress(0.65 + 0.15 * k / nz, "segmenting bone: partial volume");
+  }
+  if (opt.partialVolume) {
+    for (int k = 0; k < nz; ++k) {
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+          int64_t v = idx(i, j, k);
+          if (!band[size_t(v)] || M[v] == 2) continue;
+          double softSum = 0, softN = 0, boneMax = -1e30, near3Bone = -1e30, near3Soft = 0, near3SoftN = 0;
+          for (int dk = -2; dk <= 2; ++dk)
+            for (int dj = -2; dj <= 2; ++dj)
+              for (int di = -2; di <= 2; ++di) {
+                int ii = i + di, jj = j + dj, kk = k + dk;
+                if (ii < 0 || jj < 0 || kk < 0 || ii >= nx || jj >= ny || kk >= nz) continue;
+                int64_t w = idx(ii, jj, kk);
+                if (w == v) continue;
+                bool in = M[w] != 0;
+                bool pure = !band[size_t(w)];
+                if (pure && in) boneMax = std::max(boneMax, double(H[w]));
+                if (pure && !in) softSum += H[w], softN += 1;
+                if (std::abs(di) <= 1 && std::abs(dj) <= 1 && std::abs(dk) <= 1) {
+                  if (in) near3Bone = std::max(near3Bone, double(H[w]));
+                  else near3Soft += H[w], near3SoftN += 1;
+                }
+              }
+          double bone = boneMax > -1e29 ? boneMax : near3Bone;
+          double soft = softN > 0 ? softSum / softN : (near3SoftN > 0 ? near3Soft / near3SoftN : double(opt.thresholdHU) - 200.0);
+          if (bone < -1e29) bone = std::max<double>(H[v], opt.thresholdHU);
+          if (bone - soft < 50.0) continue; // no contrast to estimate from: keep the mask's 0/1
+          double f = std::clamp((double(H[v]) - soft) / (bone - soft), 0.0, 1.0);
+          F[v] = float(f);
+          BH[v] = f > 0 ? float(bone) : nan;
+        }
+      if (k % 8 == 0) progress(0.8 + 0.15 * k / nz, "segmenting bone: partial volume");
+    }
+  }
+
+  // Volume and bounds.
+  long double vol = 0;
+  int lo[3] = {nx, ny, nz}, hi[3] = {-1, -1, -1};
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        float f = F[idx(i, j, k)];
+        if (f <= 0) continue;
+        vol += f;
+        lo[0] = std::min(lo[0], i), hi[0] = std::max(hi[0], i);
+        lo[1] = std::min(lo[1], j), hi[1] = std::max(hi[1], j);
+        lo[2] = std::min(lo[2], k), hi[2] = std::max(hi[2], k);
+      }
+  seg.boneVolumeMm3 = double(vol) * voxelVolume;
+  HUImage::RegionType bb;
+  for (int a = 0; a < 3; ++a) {
+    bb.SetIndex(a, region.GetIndex(a) + lo[a]);
+    bb.SetSize(a, size_t(hi[a] - lo[a] + 1));
+  }
+  seg.boneBounds = WorldBoxOfRegion(hu, bb);
+  progress(1.0, "segmenting bone");
+  return seg;
+}
+
+} // namespace bm

@@ -1,0 +1,76 @@
+// bmImport.h - the whole path from a CT to a voxmap, as `bmsim import`, scenes and the GUI use it:
+// read (bmCTReader) -> crop to the region of interest -> segment (bmBoneSegmenter) -> resample
+// into the voxmap (bmVoxmapResampler) [-> save atomically (bmVoxmapFile)].
+//
+// Every input is checked before anything is written: ImportToFile checks the output path first,
+// imports, and saves only when all steps succeeded (temporary file, then rename), so a refused
+// input or a cancel leaves no file behind.
+#pragma once
+
+#include "bmBoneSegmenter.h"
+#include "bmCTReader.h"
+#include "bmProgress.h"
+#include "bmVoxmap.h"
+#include "bmVoxmapResampler.h"
+
+#include <nlohmann/json_fwd.hpp>
+
+#include <optional>
+#include <string>
+
+namespace bm {
+
+struct ImportOptions {
+  ReadOptions read;                  ///< series choice, memory limit (also used for the later steps)
+  SegmentationOptions segmentation;  ///< threshold (HU), seed (mm), holes
+  /// Region of interest, world mm. Without one: the bounding box of the segmented bone.
+  std::optional<Box3> roiMm;
+  /// Voxmap resolution: cells along the ROI's longest axis (MODEL_NOTES section 5). Default 256.
+  int resolution = 256;
+  MaterialMapping material;
+  int threads = 0; ///< resampling threads (0 = all cores)
+};
+
+struct ImportResult {
+  Voxmap voxmap;
+  // What was read (the CT's voxels are released once segmented).
+  std::string source, format, modality, seriesUID, seriesDescription, transferSyntax;
+  int numFiles = 0;
+  std::array<int, 3> ctSize{0, 0, 0};
+  std::array<double, 3> ctSpacing{0, 0, 0}; ///< mm
+  Box3 ctBounds;                            ///< world mm
+  float huMin = 0, huMax = 0;
+  std::vector<std::string> warnings;
+  // Segmentation.
+  double segmentedVolumeMm3 = 0; ///< bone volume at CT resolution (sum of fractions), mm^3
+  int numComponents = 0;
+  int holesFilled = 0;
+  Box3 roi;                      ///< the box the voxmap covers, world mm
+  /// Human-readable summary (several lines): modality, size, spacing, HU range, bone volume.
+  std::string Report() const;
+};
+
+/// Import a CT (folder or file) into a voxmap. Throws std::runtime_error (bad input), Cancelled.
+ImportResult ImportVoxmap(const std::string& input, const ImportOptions& options = {}, const Progress& progress = {});
+/// The same from a CT already in memory (e.g. a phantom made by MakePhantomCT).
+ImportResult ImportVoxmap(CTImage ct, const ImportOptions& options, const Progress& progress = {});
+/// Import and save to `output` (.nrrd or .mha; atomic). The output path is checked first.
+ImportResult ImportToFile(const std::string& input, const std::string& output, const ImportOptions& options = {},
+                          const Progress& progress = {});
+
+/// Check that `output` can receive a voxmap (.nrrd/.mha, its folder exists); throws otherwise.
+void CheckVoxmapOutputPath(const std::string& output);
+
+/// Options from a scene's bone description (all keys optional):
+///   "threshold": HU, "seed": [x, y, z] mm, "roi": [x0, y0, z0, x1, y1, z1] mm, "resolution": N,
+///   "series": SeriesInstanceUID, "keepAllComponents": bool, "fillHoles": bool,
+///   "maxHoleVolume": mm^3, "maxMemoryMB": MiB, "corticalHU": HU.
+/// Throws std::runtime_error naming a key of the wrong type or value.
+ImportOptions ImportOptionsFromJson(const nlohmann::json& bone);
+
+/// A scene's bone as a voxmap. `bone` holds exactly one source, paths relative to baseDir:
+///   {"voxmap": "file.nrrd"} (loaded as is), {"ct": "folder-or-file", ...ImportOptions keys} or
+///   {"phantom": "glenoid"|"block", ...ImportOptions keys} (the phantom CT is made in memory).
+Voxmap VoxmapFromScene(const nlohmann::json& bone, const std::string& baseDir, const Progress& progress = {});
+
+} // namespace bm

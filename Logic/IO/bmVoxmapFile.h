@@ -1,0 +1,38 @@
+// bmVoxmapFile.h - save and load a voxmap (also a partly cut one) as NRRD or MetaImage.
+//
+// File layout: a 3-D image of 2 float32 components per voxel, world-axis aligned (identity
+// direction), isotropic spacing (mm), origin = world mm of the centre of voxel (0, 0, 0) (the ITK,
+// NRRD and MetaImage convention, so 3D Slicer or ParaView show it in place):
+//   component 0 = bone fraction = fill / Voxmap::kFull (exact in float32 for every fill in
+//                 [-kFull, kFull]; fills below -kFull, i.e. more than a whole voxel over-removed,
+//                 are saved as -kFull: void either way);
+//   component 1 = material scale (1 = cortical).
+// Key/value fields bm_voxmap_version, bm_spacing and bm_origin (hexadecimal floating point) keep the
+// geometry bit-exact whatever decimal precision the format writes. NRRD files are gzip-compressed
+// (cut voxmaps are mostly runs of 0 and 1), MetaImage files zlib-compressed.
+//
+// Saving is atomic: the file is written under a temporary name in the target folder and renamed
+// over the target only when complete, so a crash or cancel never leaves a half-written voxmap.
+// Loading also accepts a 1-component image (bone fraction 0..1, material 1).
+#pragma once
+
+#include "bmProgress.h"
+#include "bmVoxmap.h"
+
+#include <string>
+
+namespace bm {
+
+/// Save to path (.nrrd or .mha; other extensions are refused with std::runtime_error).
+void SaveVoxmap(const Voxmap& voxmap, const std::string& path, const Progress& progress = {});
+
+/// Load a voxmap saved by SaveVoxmap (or a compatible image). Throws std::runtime_error on a missing
+/// or unreadable file, an oblique (non-identity direction) or anisotropic image, or more than 2
+/// components.
+Voxmap LoadVoxmap(const std::string& path, const Progress& progress = {});
+
+/// Temporary sibling of `path` with the same extension ("dir/.name.tmp-PID-N.ext"), for atomic
+/// writes: write there, then std::filesystem::rename onto path.
+std::string TemporarySibling(const std::string& path);
+
+} // namespace bm
