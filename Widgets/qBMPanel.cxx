@@ -87,6 +87,16 @@ void qBMPanel::setToolType(int type) {
   Q_EMIT toolTypeChanged(type);
 }
 
+QString qBMPanel::statusMessage() const {
+  Q_D(const qBMPanel);
+  return d->StatusLabel->text();
+}
+
+void qBMPanel::setStatusMessage(const QString& message) {
+  Q_D(qBMPanel);
+  d->StatusLabel->setText(message);
+}
+
 void qBMPanel::setResolution(int facets) {
   Q_D(qBMPanel);
   d->Logic->SetResolution(facets);

@@ -29,12 +29,16 @@ public:
   /// One line describing the chosen tool (lips, outer radius in mm, axial length in mm), or why
   /// its parameters are invalid.
   QString toolSummary() const;
+  /// The status line set by setStatusMessage(); empty by default.
+  QString statusMessage() const;
 
 public Q_SLOTS:
   /// Choose the tool type (vtkBMToolSource::ToolTypes); out-of-range values are ignored.
   void setToolType(int type);
   /// Choose the display resolution (facets around the axis); clamped to [3, 1024].
   void setResolution(int facets);
+  /// Show a one-line status under the tool controls, e.g. what the last action did; "" clears it.
+  void setStatusMessage(const QString& message);
 
 Q_SIGNALS:
   /// The tool type changed (vtkBMToolSource::ToolTypes value).

@@ -20,7 +20,9 @@
 
 pqBMDockWindow::pqBMDockWindow(QWidget* parent)
     : Superclass(tr("Bone Machining"), parent), Panel(new qBMPanel) {
+  // Object names make the widgets addressable by ParaView's XML GUI tests (Testing/GUI).
   auto* scroll = new QScrollArea(this);
+  scroll->setObjectName("ScrollArea");
   scroll->setWidgetResizable(true);
   scroll->setFrameShape(QFrame::NoFrame);
   scroll->setWidget(this->Panel);
@@ -51,6 +53,10 @@ void pqBMDockWindow::addTool(int toolType, int resolution) {
       view->render();
     }
     pqActiveObjects::instance().setActiveSource(source);
+    this->Panel->setStatusMessage(tr("Added %1 to the pipeline.").arg(source->getSMName()));
+  } else {
+    this->Panel->setStatusMessage(tr("Could not create a BM Tool source: is the plugin loaded "
+                                     "on the server?"));
   }
   END_UNDO_SET();
 }
