@@ -2,7 +2,10 @@
 
 #include "bmInvesaliusReader.h"
 
+#include <gdcmExplicitDataElement.h>
+#include <gdcmImplicitDataElement.h>
 #include <gdcmReader.h>
+#include <gdcmTrace.h>
 #include <gdcmStringFilter.h>
 #include <gdcmTransferSyntax.h>
 
@@ -92,10 +95,12 @@ void UpdateHURange(CTImage& ct) {
   }
   ct.huMin = lo;
   ct.huMax = hi;
-  if (ct.huMin > -500 || ct.huMax < 300)
-    ct.warnings.push_back("HU range " + std::to_string(int(lo)) + ".." + std::to_string(int(hi)) +
-                          " is unusual for CT (air near -1000 HU, bone above ~300 HU): check that "
-                          "the values are Hounsfield units");
+  if (ct.huMax < 200)
+    ct.warnings.push_back("the highest value is " + std::to_string(int(hi)) +
+                          ", below any bone in Hounsfield units: check that this is a CT in HU");
+  else if (ct.huMin >= 0 && ct.huMax > 1000)
+    ct.warnings.push_back("no value is below 0 (air is near -1000 HU, fat near -100 HU): the values may be "
+                          "stored pixel values rather than Hounsfield units");
 }
 
 namespace {
@@ -125,6 +130,7 @@ struct SliceHeader {
 };
 
 SliceHeader ReadSliceHeader(const fs::path& file) {
+  gdcm::Trace::WarningOff(); // problems are reported as errors below, not as GDCM console warnings
   gdcm::Reader reader;
   reader.SetFileName(file.c_str());
   if (!reader.ReadUpToTag(gdcm::Tag(0x7fe0, 0x0010), std::set<gdcm::Tag>{}))
@@ -150,7 +156,28 @@ SliceHeader ReadSliceHeader(const fs::path& file) {
   h.pixelSpacing = ParseNumbers(str(0x0028, 0x0030));
   h.ipp = ParseNumbers(str(0x0020, 0x0032));
   h.iop = ParseNumbers(str(0x0020, 0x0037));
-  h.transferSyntax = gdcm::TransferSyntax::GetTSString(f.GetHeader().GetDataSetTransferSyntax());
+  const gdcm::TransferSyntax ts = f.GetHeader().GetDataSetTransferSyntax();
+  h.transferSyntax = gdcm::TransferSyntax::GetTSString(ts);
+  // GDCM reads a file cut short inside its pixel data with only a warning (and pads it), so check
+  // that the file holds every byte its header and elements declare, and for native (uncompressed)
+  // pixels that the Pixel Data element is as long as rows x columns x bits x samples x frames.
+  const bool hasPixels = ds.FindDataElement(gdcm::Tag(0x7fe0, 0x0010));
+  uint64_t declared = f.GetHeader().GetFullLength() + (ts.IsExplicit() ? ds.GetLength<gdcm::ExplicitDataElement>()
+                                                                        : ds.GetLength<gdcm::ImplicitDataElement>());
+  if (uint64_t(fs::file_size(file)) < declared)
+    throw std::runtime_error("'" + file.string() + "' is truncated: its elements declare " + std::to_string(declared) +
+                             " bytes, the file holds " + std::to_string(fs::file_size(file)));
+  if (hasPixels && !ts.IsEncapsulated() && h.rows > 0 && h.cols > 0) {
+    std::string bits = str(0x0028, 0x0100), spp = str(0x0028, 0x0002);
+    uint64_t need = uint64_t(h.rows) * uint64_t(h.cols) * uint64_t(bits.empty() ? 16 : std::atoi(bits.c_str())) / 8 *
+                    uint64_t(spp.empty() ? 1 : std::max(1, std::atoi(spp.c_str()))) *
+                    uint64_t(h.frames.empty() ? 1 : std::max(1, std::atoi(h.frames.c_str())));
+    const gdcm::DataElement& px = ds.GetDataElement(gdcm::Tag(0x7fe0, 0x0010));
+    if (!px.GetVL().IsUndefined() && uint64_t(px.GetVL()) < need)
+      throw std::runtime_error("'" + file.string() + "' is truncated: its pixel data hold " +
+                               std::to_string(uint64_t(px.GetVL())) + " bytes of the " + std::to_string(need) +
+                               " its size needs");
+  }
   // ReadUpToTag stops before the pixel data, so "has pixels" = it is an image (rows and columns).
   h.hasPixelData = h.rows > 0 && h.cols > 0;
   return h;

@@ -4,6 +4,7 @@
 
 #include <gdcmImageChangeTransferSyntax.h>
 #include <gdcmImageWriter.h>
+#include <gdcmTrace.h>
 #include <gdcmUIDGenerator.h>
 
 #include <algorithm>
@@ -60,6 +61,7 @@ std::string WriteDicomSeries(const CTImage& ct, const std::string& folder, const
   const auto D = img->GetDirection();
   const size_t nx = size[0], ny = size[1], nz = size[2];
 
+  gdcm::Trace::WarningOff(); // GDCM warns about tags the writer fills in itself
   gdcm::UIDGenerator uid;
   const std::string studyUID = opt.studyUID.empty() ? uid.Generate() : opt.studyUID;
   const std::string seriesUID = opt.seriesUID.empty() ? uid.Generate() : opt.seriesUID;
@@ -88,8 +90,7 @@ std::string WriteDicomSeries(const CTImage& ct, const std::string& folder, const
       im->SetSpacing(0, sp[0]);
       im->SetSpacing(1, sp[1]);
       im->SetSpacing(2, sp[2]);
-      double origin[3] = {pos[0], pos[1], pos[2]};
-      im->SetOrigin(origin);
+      for (unsigned a = 0; a < 3; ++a) im->SetOrigin(a, pos[a]); // SetOrigin(double*) keeps only 2 for 2-D
       im->SetDirectionCosines(iop);
       im->SetIntercept(-1024.0);
       im->SetSlope(1.0);
