@@ -19,6 +19,7 @@ class qBMPanel : public QWidget {
 
 public:
   using Superclass = QWidget;
+  /// A panel showing the default tool (the twist drill) at 64 facets.
   explicit qBMPanel(QWidget* parent = nullptr);
   ~qBMPanel() override;
 
