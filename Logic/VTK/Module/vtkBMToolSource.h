@@ -1,8 +1,9 @@
 // vtkBMToolSource.h - surface mesh of a rotating surgical tool, for display.
 //
 // Revolves the half-section outline of a bm::ToolModel (Logic/Core/bmToolModel.h) about the tool
-// axis. The output is in the tool frame: z along the axis from the tip toward the shank, the
-// foremost cutting point at the origin; units are mm. Point data "Normals" (outward, split at
+// axis. The output is in the tool frame of bm::ToolModel: z along the axis from the tip toward the
+// shank, origin on the axis at the foremost cutting point (a non-cutting guide such as the
+// reamer's nipple reaches below z = 0); units are mm. The z bounds equal GetAxialRange(). Point data "Normals" (outward, split at
 // edges sharper than 30 degrees); cell data "EdgeKind" (unsigned char, bm::EdgeKind: 0 = non-
 // cutting surface, 1 = cutting lip, 2 = chisel edge), so the cutting part of the tool can be
 // coloured. The mesh is the time-averaged (axisymmetric) tool: it does not show flutes.
