@@ -6,6 +6,7 @@
 #include <gdcmImplicitDataElement.h>
 #include <gdcmReader.h>
 #include <gdcmTrace.h>
+#include <gdcmUIDs.h>
 #include <gdcmStringFilter.h>
 #include <gdcmTransferSyntax.h>
 
@@ -157,7 +158,11 @@ SliceHeader ReadSliceHeader(const fs::path& file) {
   h.ipp = ParseNumbers(str(0x0020, 0x0032));
   h.iop = ParseNumbers(str(0x0020, 0x0037));
   const gdcm::TransferSyntax ts = f.GetHeader().GetDataSetTransferSyntax();
-  h.transferSyntax = gdcm::TransferSyntax::GetTSString(ts);
+  {
+    gdcm::UIDs name;
+    const char* uid = gdcm::TransferSyntax::GetTSString(ts);
+    h.transferSyntax = uid && name.SetFromUID(uid) && name.GetName() ? name.GetName() : (uid ? uid : "");
+  }
   // GDCM reads a file cut short inside its pixel data with only a warning (and pads it), so check
   // that the file holds every byte its header and elements declare, and for native (uncompressed)
   // pixels that the Pixel Data element is as long as rows x columns x bits x samples x frames.

@@ -32,11 +32,15 @@ public:
   Progress P;
   std::string Stage;
   bool CancelRequested = false;
+  double Last = 0; // multi-threaded filters report out of order: only report forward
   void Execute(itk::Object* caller, const itk::EventObject& event) override {
     auto* po = dynamic_cast<itk::ProcessObject*>(caller);
     if (!po || !itk::ProgressEvent().CheckEvent(&event)) return;
+    double f = po->GetProgress();
+    if (f <= Last) return;
+    Last = f;
     try {
-      P(po->GetProgress(), Stage);
+      P(f, Stage);
     } catch (const Cancelled&) {
       CancelRequested = true;
       po->AbortGenerateDataOn();

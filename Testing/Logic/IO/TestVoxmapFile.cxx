@@ -1,0 +1,74 @@
+// A voxmap (also a cut one, with material) round-trips exactly through NRRD and MetaImage; saving
+// is atomic.
+#include "bmIOTestUtil.h"
+
+#include "bmVoxmapFile.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+using namespace bmtest;
+
+namespace {
+
+bm::Voxmap CutVoxmap() {
+  // Odd spacing and origin that decimal text would not keep exactly.
+  bm::Voxmap vm({37, 29, 23}, 0.1234567890123, {-60.123456789012345, 20.000000000000004, 1.0 / 3.0});
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<int> any(-bm::Voxmap::kFull, bm::Voxmap::kFull);
+  std::uniform_real_distribution<float> mat(0.05f, 1.0f);
+  for (int64_t v = 0; v < vm.NumVoxels(); ++v) {
+    int kind = int(v % 5);
+    vm.SetFill(v, kind == 0 ? 0 : kind == 1 ? bm::Voxmap::kFull : any(rng)); // void, full, partial/over-cut
+    vm.SetMaterial(v, kind == 2 ? 1.0f : mat(rng));
+  }
+  bool gone = false;
+  vm.Remove(vm.Index(5, 5, 5), 123, gone);
+  return vm;
+}
+
+} // namespace
+
+TEST(VoxmapFile, RoundTripIsExact) {
+  ScratchDir d("vmfile");
+  bm::Voxmap vm = CutVoxmap();
+  for (const char* name : {"v.nrrd", "v.mha"}) {
+    bm::SaveVoxmap(vm, (d / name).string());
+    bm::Voxmap back = bm::LoadVoxmap((d / name).string());
+    EXPECT_TRUE(back == vm) << name;
+    EXPECT_EQ(back.Spacing(), vm.Spacing()) << name;
+    EXPECT_EQ(back.Origin(), vm.Origin()) << name;
+    EXPECT_EQ(back.CountBone(), vm.CountBone()) << name;
+    for (int64_t b = 0; b < int64_t(back.BrickDims()[0]) * back.BrickDims()[1] * back.BrickDims()[2]; ++b)
+      ASSERT_EQ(back.BrickCount(b), vm.BrickCount(b));
+  }
+  EXPECT_EQ(d.Entries().size(), 2u); // no temporary left behind
+}
+
+TEST(VoxmapFile, WithoutMaterialLoadsAsCortical) {
+  ScratchDir d("vmfile2");
+  bm::Voxmap vm({8, 8, 8}, 0.5, {0, 0, 0});
+  vm.SetFill(vm.Index(1, 2, 3), bm::Voxmap::kFull / 3);
+  bm::SaveVoxmap(vm, (d / "v.nrrd").string());
+  bm::Voxmap back = bm::LoadVoxmap((d / "v.nrrd").string());
+  EXPECT_TRUE(back == vm);
+  EXPECT_FALSE(back.HasMaterial());
+}
+
+TEST(VoxmapFile, RefusesBadTargetsAndWritesNothing) {
+  ScratchDir d("vmfile3");
+  bm::Voxmap vm({4, 4, 4}, 1.0, {0, 0, 0});
+  EXPECT_THROW(bm::SaveVoxmap(vm, (d / "v.vtk").string()), std::runtime_error);
+  EXPECT_THROW(bm::SaveVoxmap(vm, (d / "missing" / "v.nrrd").string()), std::runtime_error);
+  EXPECT_TRUE(d.Entries().empty());
+  EXPECT_THROW(bm::LoadVoxmap((d / "none.nrrd").string()), std::runtime_error);
+}
+
+TEST(VoxmapFile, CancelLeavesNoFile) {
+  ScratchDir d("vmfile4");
+  bm::Voxmap vm = CutVoxmap();
+  bm::Progress cancel([](double f, const std::string&) { return f < 0.5; });
+  EXPECT_THROW(bm::SaveVoxmap(vm, (d / "v.nrrd").string(), cancel), bm::Cancelled);
+  EXPECT_TRUE(d.Entries().empty());
+}
