@@ -18,8 +18,10 @@ namespace {
 
 const char* kUsage =
     "usage: bmsim import INPUT --out VOXMAP.nrrd|.mha [options]\n"
-    "  INPUT                 DICOM folder, .nrrd/.nhdr/.mha/.mhd/.nii/.nii.gz file or .inv3 project\n"
-    "  --out FILE            voxmap to write (.nrrd or .mha; written only when everything succeeded)\n"
+    "  INPUT                 DICOM folder, .nrrd/.nhdr/.mha/.mhd/.nii/.nii.gz file or .inv3 "
+    "project\n"
+    "  --out FILE            voxmap to write (.nrrd or .mha; written only when everything "
+    "succeeded)\n"
     "  --resolution N        cells along the ROI's longest axis (default 256)\n"
     "  --threshold HU        bone threshold in Hounsfield units (default 200)\n"
     "  --seed X,Y,Z          world point (mm) on the bone to keep (default: the largest bone)\n"
@@ -40,13 +42,16 @@ std::vector<double> ParseList(const std::string& opt, const std::string& s, size
     try {
       size_t used = 0;
       v.push_back(std::stod(part, &used));
-      if (used != part.size()) throw std::invalid_argument(part);
+      if (used != part.size())
+        throw std::invalid_argument(part);
     } catch (const std::exception&) {
-      throw bm::cli::UsageError(opt + " expects " + std::to_string(n) + " comma-separated numbers, got '" + s + "'");
+      throw bm::cli::UsageError(opt + " expects " + std::to_string(n) +
+                                " comma-separated numbers, got '" + s + "'");
     }
   }
   if (v.size() != n)
-    throw bm::cli::UsageError(opt + " expects " + std::to_string(n) + " comma-separated numbers, got '" + s + "'");
+    throw bm::cli::UsageError(opt + " expects " + std::to_string(n) +
+                              " comma-separated numbers, got '" + s + "'");
   return v;
 }
 
@@ -54,7 +59,8 @@ double ParseNumber(const std::string& opt, const std::string& s) {
   try {
     size_t used = 0;
     double v = std::stod(s, &used);
-    if (used == s.size()) return v;
+    if (used == s.size())
+      return v;
   } catch (const std::exception&) {
   }
   throw bm::cli::UsageError(opt + " expects a number, got '" + s + "'");
@@ -70,16 +76,20 @@ ProgressFn TerminalProgress(bool quiet) {
   auto lastPercent = std::make_shared<int>(-1);
   auto lastStage = std::make_shared<std::string>();
   return [tty, lastPercent, lastStage](double f, const std::string& stage) {
-    if (gInterrupted.load()) return false;
-    if (!tty) return true;
+    if (gInterrupted.load())
+      return false;
+    if (!tty)
+      return true;
     int pct = int(f * 100.0 + 0.5);
-    if (pct == *lastPercent && stage == *lastStage) return true;
+    if (pct == *lastPercent && stage == *lastStage)
+      return true;
     *lastPercent = pct;
     *lastStage = stage;
     const int width = 30, filled = int(f * width + 0.5);
-    std::fprintf(stderr, "\r[%.*s%*s] %3d%% %-40.40s", filled, "##############################", width - filled, "",
-                 pct, stage.c_str());
-    if (f >= 1.0 && stage.rfind("saving", 0) == 0) std::fprintf(stderr, "\n");
+    std::fprintf(stderr, "\r[%.*s%*s] %3d%% %-40.40s", filled, "##############################",
+                 width - filled, "", pct, stage.c_str());
+    if (f >= 1.0 && stage.rfind("saving", 0) == 0)
+      std::fprintf(stderr, "\n");
     std::fflush(stderr);
     return true;
   };
@@ -92,7 +102,8 @@ static int ImportCommand(const Args& args) {
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) throw UsageError(a + " needs a value\n" + kUsage);
+      if (i + 1 >= args.size())
+        throw UsageError(a + " needs a value\n" + kUsage);
       return args[++i];
     };
     if (a == "--help" || a == "-h") {
@@ -102,7 +113,8 @@ static int ImportCommand(const Args& args) {
       output = value();
     } else if (a == "--resolution") {
       double n = ParseNumber(a, value());
-      if (n != double(int(n)) || n < 8 || n > 8192) throw UsageError("--resolution must be an integer 8 .. 8192");
+      if (n != double(int(n)) || n < 8 || n > 8192)
+        throw UsageError("--resolution must be an integer 8 .. 8192");
       opt.resolution = int(n);
     } else if (a == "--threshold") {
       opt.segmentation.thresholdHU = float(ParseNumber(a, value()));
@@ -121,7 +133,8 @@ static int ImportCommand(const Args& args) {
       opt.read.seriesUID = value();
     } else if (a == "--max-memory") {
       double mb = ParseNumber(a, value());
-      if (!(mb > 0)) throw UsageError("--max-memory must be a positive number of MB");
+      if (!(mb > 0))
+        throw UsageError("--max-memory must be a positive number of MB");
       opt.read.maxMemoryBytes = uint64_t(mb * 1048576.0);
     } else if (a == "--keep-all") {
       opt.segmentation.keepAllComponents = true;
@@ -137,21 +150,26 @@ static int ImportCommand(const Args& args) {
       throw UsageError("more than one INPUT ('" + input + "', '" + a + "')\n" + kUsage);
     }
   }
-  if (input.empty()) throw UsageError(std::string("no INPUT given\n") + kUsage);
-  if (output.empty()) throw UsageError(std::string("--out VOXMAP.nrrd is required\n") + kUsage);
+  if (input.empty())
+    throw UsageError(std::string("no INPUT given\n") + kUsage);
+  if (output.empty())
+    throw UsageError(std::string("--out VOXMAP.nrrd is required\n") + kUsage);
   std::signal(SIGINT, [](int) { gInterrupted = true; });
   bm::ImportResult r;
   try {
     r = bm::ImportToFile(input, output, opt, bm::Progress(TerminalProgress(quiet)));
   } catch (...) {
-    if (!quiet && isatty(2)) std::fprintf(stderr, "\n");
+    if (!quiet && isatty(2))
+      std::fprintf(stderr, "\n");
     throw;
   }
   std::cout << r.Report() << "wrote:       " << output << "\n";
   return 0;
 }
 
-BM_REGISTER_COMMAND(import, "CT (DICOM folder or volume file) -> segmented bone voxmap (.nrrd/.mha)", ImportCommand);
+BM_REGISTER_COMMAND(import,
+                    "CT (DICOM folder or volume file) -> segmented bone voxmap (.nrrd/.mha)",
+                    ImportCommand);
 
 } // namespace bm::cli
 #endif

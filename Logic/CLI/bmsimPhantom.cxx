@@ -13,7 +13,8 @@
 namespace {
 const char* kUsage =
     "usage: bmsim phantom glenoid|block --out DIR [options]\n"
-    "  glenoid               glenoid (40 x 29 mm face, 35 mm radius of curvature, 1.75 mm cortical\n"
+    "  glenoid               glenoid (40 x 29 mm face, 35 mm radius of curvature, 1.75 mm "
+    "cortical\n"
     "                        shell at 1500 HU over 300 HU cancellous bone, 3.2 mm pilot hole)\n"
     "  block                 6 x 6 x 4 mm cortical block (1600 HU) in air, top face at z = 0\n"
     "  --out DIR             folder to create (must not exist or be empty; written atomically)\n"
@@ -34,7 +35,8 @@ static int PhantomCommand(const Args& args) {
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) throw UsageError(a + " needs a value\n" + kUsage);
+      if (i + 1 >= args.size())
+        throw UsageError(a + " needs a value\n" + kUsage);
       return args[++i];
     };
     if (a == "--help" || a == "-h") {
@@ -44,8 +46,8 @@ static int PhantomCommand(const Args& args) {
       out = value();
     } else if (a == "--compress") {
       dicom.transferSyntax = value();
-      if (dicom.transferSyntax != "rle" && dicom.transferSyntax != "jpeg-lossless" && dicom.transferSyntax != "jpeg-ls" &&
-          dicom.transferSyntax != "jpeg2000")
+      if (dicom.transferSyntax != "rle" && dicom.transferSyntax != "jpeg-lossless" &&
+          dicom.transferSyntax != "jpeg-ls" && dicom.transferSyntax != "jpeg2000")
         throw UsageError("--compress must be rle, jpeg-lossless, jpeg-ls or jpeg2000");
     } else if (a == "--noise") {
       try {
@@ -53,7 +55,8 @@ static int PhantomCommand(const Args& args) {
       } catch (const std::exception&) {
         throw UsageError("--noise expects a number of HU");
       }
-      if (ct.noiseHU < 0) throw UsageError("--noise must be >= 0");
+      if (ct.noiseHU < 0)
+        throw UsageError("--noise must be >= 0");
     } else if (a == "--quiet" || a == "-q") {
       quiet = true;
     } else if (!a.empty() && a[0] == '-') {
@@ -64,25 +67,32 @@ static int PhantomCommand(const Args& args) {
       throw UsageError("more than one phantom name\n" + std::string(kUsage));
     }
   }
-  if (name != "glenoid" && name != "block") throw UsageError("name the phantom: glenoid or block\n" + std::string(kUsage));
-  if (out.empty()) throw UsageError("--out DIR is required\n" + std::string(kUsage));
-  bm::PhantomInfo info = bm::WritePhantomSeries(name, out, ct, dicom, bm::Progress(TerminalProgress(quiet)));
-  if (!quiet && isatty(2)) std::fprintf(stderr, "\n");
+  if (name != "glenoid" && name != "block")
+    throw UsageError("name the phantom: glenoid or block\n" + std::string(kUsage));
+  if (out.empty())
+    throw UsageError("--out DIR is required\n" + std::string(kUsage));
+  bm::PhantomInfo info =
+      bm::WritePhantomSeries(name, out, ct, dicom, bm::Progress(TerminalProgress(quiet)));
+  if (!quiet && isatty(2))
+    std::fprintf(stderr, "\n");
   const auto& c = info.centreMm;
   const auto& n = info.axisOut;
   const auto& b = info.boneBounds;
-  std::cout << std::fixed << std::setprecision(3) << "phantom:     " << name << " (DICOM series, CT)\n"
+  std::cout << std::fixed << std::setprecision(3) << "phantom:     " << name
+            << " (DICOM series, CT)\n"
             << "wrote:       " << out << "\n"
             << "centre:      (" << c[0] << ", " << c[1] << ", " << c[2] << ") mm"
             << (name == "glenoid" ? " (glenoid face centre)" : " (top face centre)") << "\n"
-            << "axis out:    (" << n[0] << ", " << n[1] << ", " << n[2] << ") (tools feed along minus this)\n"
-            << "bone bounds: [" << b.lo[0] << ", " << b.hi[0] << "] x [" << b.lo[1] << ", " << b.hi[1] << "] x ["
-            << b.lo[2] << ", " << b.hi[2] << "] mm\n"
+            << "axis out:    (" << n[0] << ", " << n[1] << ", " << n[2]
+            << ") (tools feed along minus this)\n"
+            << "bone bounds: [" << b.lo[0] << ", " << b.hi[0] << "] x [" << b.lo[1] << ", "
+            << b.hi[1] << "] x [" << b.lo[2] << ", " << b.hi[2] << "] mm\n"
             << "bone volume: " << info.boneVolumeMm3 << " mm^3 (analytic)\n";
   return 0;
 }
 
-BM_REGISTER_COMMAND(phantom, "write a synthetic CT (glenoid or block) as a DICOM series", PhantomCommand);
+BM_REGISTER_COMMAND(phantom, "write a synthetic CT (glenoid or block) as a DICOM series",
+                    PhantomCommand);
 
 } // namespace bm::cli
 #endif

@@ -25,8 +25,8 @@ std::string FormatPoint(const std::array<double, 3>& p) {
 
 std::string FormatBox(const Box3& b) {
   std::ostringstream os;
-  os << "[" << b.lo[0] << ", " << b.hi[0] << "] x [" << b.lo[1] << ", " << b.hi[1] << "] x [" << b.lo[2] << ", "
-     << b.hi[2] << "] mm";
+  os << "[" << b.lo[0] << ", " << b.hi[0] << "] x [" << b.lo[1] << ", " << b.hi[1] << "] x ["
+     << b.lo[2] << ", " << b.hi[2] << "] mm";
   return os.str();
 }
 
@@ -55,7 +55,8 @@ CTImage CropCT(const CTImage& ct, const Box3& roi, int margin) {
   std::array<double, 3> lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
   for (int c = 0; c < 8; ++c) {
     itk::Point<double, 3> p;
-    for (int a = 0; a < 3; ++a) p[a] = (c >> a & 1) ? roi.hi[a] : roi.lo[a];
+    for (int a = 0; a < 3; ++a)
+      p[a] = (c >> a & 1) ? roi.hi[a] : roi.lo[a];
     itk::ContinuousIndex<double, 3> ci;
     img->TransformPhysicalPointToContinuousIndex(p, ci);
     for (int a = 0; a < 3; ++a) {
@@ -69,7 +70,8 @@ CTImage CropCT(const CTImage& ct, const Box3& roi, int margin) {
     i0 = std::max<long>(i0, full.GetIndex(a));
     i1 = std::min<long>(i1, full.GetIndex(a) + long(full.GetSize(a)) - 1);
     if (i1 < i0)
-      throw std::runtime_error("the region of interest " + FormatBox(roi) + " lies outside the CT, whose bounds are " +
+      throw std::runtime_error("the region of interest " + FormatBox(roi) +
+                               " lies outside the CT, whose bounds are " +
                                FormatBox(ct.WorldBounds()));
     region.SetIndex(a, i0);
     region.SetSize(a, size_t(i1 - i0 + 1));
@@ -85,7 +87,8 @@ CTImage CropCT(const CTImage& ct, const Box3& roi, int margin) {
   return out;
 }
 
-BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt, const Progress& progress) {
+BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt,
+                             const Progress& progress) {
   const HUImage* hu = ct.hu.GetPointer();
   const auto region = hu->GetLargestPossibleRegion();
   const int nx = int(region.GetSize(0)), ny = int(region.GetSize(1)), nz = int(region.GetSize(2));
@@ -93,19 +96,23 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt, 
   const auto sp = hu->GetSpacing();
   const double voxelVolume = sp[0] * sp[1] * sp[2];
   const float* H = hu->GetBufferPointer();
-  auto idx = [&](int i, int j, int k) { return int64_t(i) + int64_t(nx) * (int64_t(j) + int64_t(ny) * k); };
+  auto idx = [&](int i, int j, int k) {
+    return int64_t(i) + int64_t(nx) * (int64_t(j) + int64_t(ny) * k);
+  };
 
   // Seed: inside the image?
   std::array<int, 3> seedIdx{-1, -1, -1};
   if (opt.seedMm) {
     itk::Point<double, 3> p;
-    for (int a = 0; a < 3; ++a) p[a] = (*opt.seedMm)[a];
+    for (int a = 0; a < 3; ++a)
+      p[a] = (*opt.seedMm)[a];
     itk::ContinuousIndex<double, 3> ci;
     hu->TransformPhysicalPointToContinuousIndex(p, ci);
     for (int a = 0; a < 3; ++a) {
       double f = std::floor(ci[a] + 0.5) - double(region.GetIndex(a));
       if (!(f >= 0 && f < double(region.GetSize(a))))
-        throw std::runtime_error("the seed point " + FormatPoint(*opt.seedMm) + " lies outside the image, whose bounds are " +
+        throw std::runtime_error("the seed point " + FormatPoint(*opt.seedMm) +
+                                 " lies outside the image, whose bounds are " +
                                  FormatBox(ct.WorldBounds()));
       seedIdx[a] = int(f);
     }
@@ -123,10 +130,12 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt, 
   mask->DisconnectPipeline();
   uint8_t* M = mask->GetBufferPointer();
   BoneSegmentation seg;
-  for (int64_t v = 0; v < n; ++v) seg.thresholdVoxels += M[v];
+  for (int64_t v = 0; v < n; ++v)
+    seg.thresholdVoxels += M[v];
   if (seg.thresholdVoxels == 0) {
     float mx = -std::numeric_limits<float>::infinity();
-    for (int64_t v = 0; v < n; ++v) mx = std::max(mx, H[v]);
+    for (int64_t v = 0; v < n; ++v)
+      mx = std::max(mx, H[v]);
     std::ostringstream os;
     os << "no bone found: no voxel reaches the bone threshold of " << opt.thresholdHU
        << " HU (the highest value in the CT is " << mx << " HU); lower the threshold";
@@ -148,7 +157,8 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt, 
         for (int dj = -1; dj <= 1; ++dj)
           for (int di = -1; di <= 1; ++di) {
             int i = seedIdx[0] + di, j = seedIdx[1] + dj, k = seedIdx[2] + dk;
-            if (i < 0 || j < 0 || k < 0 || i >= nx || j >= ny || k >= nz) continue;
+            if (i < 0 || j < 0 || k < 0 || i >= nx || j >= ny || k >= nz)
+              continue;
             uint32_t l = L[idx(i, j, k)];
             double d = di * di + dj * dj + dk * dk;
             if (l && d < best) {
@@ -159,16 +169,18 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt, 
       if (!keep) {
         std::ostringstream os;
         os << "the seed point " << FormatPoint(*opt.seedMm) << " is not on bone: its voxel is "
-           << H[idx(seedIdx[0], seedIdx[1], seedIdx[2])] << " HU, below the bone threshold of " << opt.thresholdHU
-           << " HU (place the seed on the bone to keep)";
+           << H[idx(seedIdx[0], seedIdx[1], seedIdx[2])] << " HU, below the bone threshold of "
+           << opt.thresholdHU << " HU (place the seed on the bone to keep)";
         throw std::runtime_error(os.str());
       }
     }
-    for (int64_t v = 0; v < n; ++v) M[v] = L[v] == keep ? 1 : 0;
+    for (int64_t v = 0; v < n; ++v)
+      M[v] = L[v] == keep ? 1 : 0;
   } else {
     seg.numComponents = -1; // not counted
   }
-  for (int64_t v = 0; v < n; ++v) seg.keptVoxels += M[v];
+  for (int64_t v = 0; v < n; ++v)
+    seg.keptVoxels += M[v];
 
   // 3. Fill interior holes: background components (6-connected) off the border.
   if (opt.fillHoles) {
@@ -177,7 +189,8 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt, 
     notBone->CopyInformation(mask);
     notBone->Allocate();
     uint8_t* B = notBone->GetBufferPointer();
-    for (int64_t v = 0; v < n; ++v) B[v] = M[v] ? 0 : 1;
+    for (int64_t v = 0; v < n; ++v)
+      B[v] = M[v] ? 0 : 1;
     std::vector<itk::SizeValueType> sizes;
     LabelImage::Pointer holes = Components(notBone, false, progress.Range(0.35, 0.6), sizes);
     notBone = nullptr;
@@ -190,14 +203,17 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt, 
         for (int i = 0; i < nx; ++i) {
           int64_t v = idx(i, j, k);
           uint32_t l = L[v];
-          if (!l) continue;
+          if (!l)
+            continue;
           sumHU[l] += H[v];
-          if (i == 0 || j == 0 || k == 0 || i == nx - 1 || j == ny - 1 || k == nz - 1) touches[l] = 1;
+          if (i == 0 || j == 0 || k == 0 || i == nx - 1 || j == ny - 1 || k == nz - 1)
+            touches[l] = 1;
         }
     std::vector<uint8_t> fill(nl, 0);
     for (size_t l = 1; l < nl; ++l) {
       double count = double(sizes[l - 1]);
-      if (!touches[l] && count * voxelVolume <= opt.maxHoleVolumeMm3 && sumHU[l] / count >= opt.holeMinMeanHU) {
+      if (!touches[l] && count * voxelVolume <= opt.maxHoleVolumeMm3 &&
+          sumHU[l] / count >= opt.holeMinMeanHU) {
         fill[l] = 1;
         ++seg.holesFilled;
       }
@@ -233,47 +249,62 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt, 
           for (int dj = -1; dj <= 1 && !b; ++dj)
             for (int di = -1; di <= 1 && !b; ++di) {
               int ii = i + di, jj = j + dj, kk = k + dk;
-              if (ii < 0 || jj < 0 || kk < 0 || ii >= nx || jj >= ny || kk >= nz) continue;
+              if (ii < 0 || jj < 0 || kk < 0 || ii >= nx || jj >= ny || kk >= nz)
+                continue;
               b = (M[idx(ii, jj, kk)] != 0) != in;
             }
         band[size_t(v)] = b;
         F[v] = in ? 1.0f : 0.0f;
         BH[v] = in ? H[v] : nan;
       }
-    if (k % 8 == 0) progress(0.65 + 0.15 * k / nz, "segmenting bone: partial volume");
+    if (k % 8 == 0)
+      progress(0.65 + 0.15 * k / nz, "segmenting bone: partial volume");
   }
   if (opt.partialVolume) {
     for (int k = 0; k < nz; ++k) {
       for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) {
           int64_t v = idx(i, j, k);
-          if (!band[size_t(v)] || M[v] == 2) continue;
-          double softSum = 0, softN = 0, boneMax = -1e30, near3Bone = -1e30, near3Soft = 0, near3SoftN = 0;
+          if (!band[size_t(v)] || M[v] == 2)
+            continue;
+          double softSum = 0, softN = 0, boneMax = -1e30, near3Bone = -1e30, near3Soft = 0,
+                 near3SoftN = 0;
           for (int dk = -2; dk <= 2; ++dk)
             for (int dj = -2; dj <= 2; ++dj)
               for (int di = -2; di <= 2; ++di) {
                 int ii = i + di, jj = j + dj, kk = k + dk;
-                if (ii < 0 || jj < 0 || kk < 0 || ii >= nx || jj >= ny || kk >= nz) continue;
+                if (ii < 0 || jj < 0 || kk < 0 || ii >= nx || jj >= ny || kk >= nz)
+                  continue;
                 int64_t w = idx(ii, jj, kk);
-                if (w == v) continue;
+                if (w == v)
+                  continue;
                 bool in = M[w] != 0;
                 bool pure = !band[size_t(w)];
-                if (pure && in) boneMax = std::max(boneMax, double(H[w]));
-                if (pure && !in) softSum += H[w], softN += 1;
+                if (pure && in)
+                  boneMax = std::max(boneMax, double(H[w]));
+                if (pure && !in)
+                  softSum += H[w], softN += 1;
                 if (std::abs(di) <= 1 && std::abs(dj) <= 1 && std::abs(dk) <= 1) {
-                  if (in) near3Bone = std::max(near3Bone, double(H[w]));
-                  else near3Soft += H[w], near3SoftN += 1;
+                  if (in)
+                    near3Bone = std::max(near3Bone, double(H[w]));
+                  else
+                    near3Soft += H[w], near3SoftN += 1;
                 }
               }
           double bone = boneMax > -1e29 ? boneMax : near3Bone;
-          double soft = softN > 0 ? softSum / softN : (near3SoftN > 0 ? near3Soft / near3SoftN : double(opt.thresholdHU) - 200.0);
-          if (bone < -1e29) bone = std::max<double>(H[v], opt.thresholdHU);
-          if (bone - soft < 50.0) continue; // no contrast to estimate from: keep the mask's 0/1
+          double soft = softN > 0 ? softSum / softN
+                                  : (near3SoftN > 0 ? near3Soft / near3SoftN
+                                                    : double(opt.thresholdHU) - 200.0);
+          if (bone < -1e29)
+            bone = std::max<double>(H[v], opt.thresholdHU);
+          if (bone - soft < 50.0)
+            continue; // no contrast to estimate from: keep the mask's 0/1
           double f = std::clamp((double(H[v]) - soft) / (bone - soft), 0.0, 1.0);
           F[v] = float(f);
           BH[v] = f > 0 ? float(bone) : nan;
         }
-      if (k % 8 == 0) progress(0.8 + 0.15 * k / nz, "segmenting bone: partial volume");
+      if (k % 8 == 0)
+        progress(0.8 + 0.15 * k / nz, "segmenting bone: partial volume");
     }
   }
 
@@ -284,7 +315,8 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt, 
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) {
         float f = F[idx(i, j, k)];
-        if (f <= 0) continue;
+        if (f <= 0)
+          continue;
         vol += f;
         lo[0] = std::min(lo[0], i), hi[0] = std::max(hi[0], i);
         lo[1] = std::min(lo[1], j), hi[1] = std::max(hi[1], j);

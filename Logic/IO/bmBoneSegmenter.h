@@ -7,8 +7,9 @@
 //     keep the component holding the seed point, else the largest, else (keepAllComponents) all;
 //  3. fill interior holes: background components (6-connected) that do not touch the image border,
 //     are at most maxHoleVolumeMm3 and whose mean HU is at least holeMinMeanHU become bone. Marrow
-//     and low-density cancellous bone inside a cortical shell are bone; air cells (mastoid, sinuses,
-//     mean HU far below 0) and large cavities (the cranial cavity, above the volume limit) are not;
+//     and low-density cancellous bone inside a cortical shell are bone; air cells (mastoid,
+//     sinuses, mean HU far below 0) and large cavities (the cranial cavity, above the volume limit)
+//     are not;
 //  4. partial volume: bone fraction per voxel. Voxels away from the bone surface are 1 (bone) or 0;
 //     a voxel within one voxel of the surface gets (HU - soft) / (bone - soft) clamped to [0, 1],
 //     with soft = mean HU of the pure non-bone voxels and bone = the highest HU of the pure bone
@@ -42,7 +43,8 @@ struct SegmentationOptions {
   double maxHoleVolumeMm3 = 20000.0;
   /// Holes whose mean HU is below this stay empty (air cells), HU.
   float holeMinMeanHU = -200.0f;
-  /// Estimate the bone fraction of surface voxels from their HU (else 1 inside the mask, 0 outside).
+  /// Estimate the bone fraction of surface voxels from their HU (else 1 inside the mask, 0
+  /// outside).
   bool partialVolume = true;
 };
 

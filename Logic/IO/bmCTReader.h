@@ -1,12 +1,14 @@
 // bmCTReader.h - read a CT in Hounsfield units from a DICOM folder or a single volume file.
 //
 // Inputs:
-//  - a folder of DICOM files (one level, not recursive): every file's header is read with GDCM, files
-//    are grouped by SeriesInstanceUID, the chosen series' slices are ordered by their position along
-//    the slice normal (ImagePositionPatient projected on ImageOrientationPatient's normal), checked
-//    (same size, orientation and pixel spacing; uniform slice spacing), then each slice's pixels are
-//    read through ITK's GDCMImageIO, which decodes the compressed transfer syntaxes GDCM supports
-//    (RLE, JPEG lossless/lossy, JPEG-LS, JPEG 2000) and applies RescaleSlope/Intercept -> HU;
+//  - a folder of DICOM files (one level, not recursive): every file's header is read with GDCM,
+//  files
+//    are grouped by SeriesInstanceUID, the chosen series' slices are ordered by their position
+//    along the slice normal (ImagePositionPatient projected on ImageOrientationPatient's normal),
+//    checked (same size, orientation and pixel spacing; uniform slice spacing), then each slice's
+//    pixels are read through ITK's GDCMImageIO, which decodes the compressed transfer syntaxes GDCM
+//    supports (RLE, JPEG lossless/lossy, JPEG-LS, JPEG 2000) and applies RescaleSlope/Intercept ->
+//    HU;
 //  - a single volume: .nrrd/.nhdr, .mha/.mhd, .nii/.nii.gz (values taken as HU);
 //  - an InVesalius project (.inv3: a tar.gz holding main.plist and the raw matrix), which is how
 //    Debian's invesalius-examples ships its head CT.
@@ -57,13 +59,14 @@ uint64_t DefaultMemoryLimit();
 std::vector<DicomSeriesInfo> ListDicomSeries(const std::string& folder);
 
 /// Read a CT (folder or file, see above). Progress: "reading DICOM" / "reading volume".
-CTImage ReadCT(const std::string& path, const ReadOptions& options = {}, const Progress& progress = {});
+CTImage ReadCT(const std::string& path, const ReadOptions& options = {},
+               const Progress& progress = {});
 
 } // namespace bm
 
 namespace bm {
-/// Throw std::runtime_error "<what> needs N MiB ..., more than the M MiB allowed" when bytes exceeds
-/// limitBytes (0 = DefaultMemoryLimit()). Called before any large allocation.
+/// Throw std::runtime_error "<what> needs N MiB ..., more than the M MiB allowed" when bytes
+/// exceeds limitBytes (0 = DefaultMemoryLimit()). Called before any large allocation.
 void CheckMemoryBudget(uint64_t bytes, uint64_t limitBytes, const std::string& what);
 /// Set ct.huMin/huMax from the voxels; adds a warning when the range does not look like HU.
 void UpdateHURange(CTImage& ct);

@@ -20,7 +20,8 @@ namespace bm {
 namespace {
 
 void Put(gdcm::DataSet& ds, uint16_t g, uint16_t e, gdcm::VR vr, std::string value) {
-  if (value.size() % 2) value.push_back(vr == gdcm::VR::UI ? '\0' : ' ');
+  if (value.size() % 2)
+    value.push_back(vr == gdcm::VR::UI ? '\0' : ' ');
   gdcm::DataElement de(gdcm::Tag(g, e));
   de.SetVR(vr);
   de.SetByteValue(value.data(), uint32_t(value.size()));
@@ -35,25 +36,32 @@ std::string Num(double v) {
 }
 
 gdcm::TransferSyntax::TSType Syntax(const std::string& name) {
-  if (name.empty() || name == "explicit") return gdcm::TransferSyntax::ExplicitVRLittleEndian;
-  if (name == "rle") return gdcm::TransferSyntax::RLELossless;
-  if (name == "jpeg-lossless") return gdcm::TransferSyntax::JPEGLosslessProcess14_1;
-  if (name == "jpeg-ls") return gdcm::TransferSyntax::JPEGLSLossless;
-  if (name == "jpeg2000") return gdcm::TransferSyntax::JPEG2000Lossless;
+  if (name.empty() || name == "explicit")
+    return gdcm::TransferSyntax::ExplicitVRLittleEndian;
+  if (name == "rle")
+    return gdcm::TransferSyntax::RLELossless;
+  if (name == "jpeg-lossless")
+    return gdcm::TransferSyntax::JPEGLosslessProcess14_1;
+  if (name == "jpeg-ls")
+    return gdcm::TransferSyntax::JPEGLSLossless;
+  if (name == "jpeg2000")
+    return gdcm::TransferSyntax::JPEG2000Lossless;
   throw std::runtime_error("unknown transfer syntax '" + name +
                            "' (explicit, rle, jpeg-lossless, jpeg-ls or jpeg2000)");
 }
 
 } // namespace
 
-std::string WriteDicomSeries(const CTImage& ct, const std::string& folder, const DicomWriteOptions& opt,
-                             const Progress& progress) {
+std::string WriteDicomSeries(const CTImage& ct, const std::string& folder,
+                             const DicomWriteOptions& opt, const Progress& progress) {
   const auto ts = Syntax(opt.transferSyntax);
   fs::path out(folder);
   if (fs::exists(out) && (!fs::is_directory(out) || !fs::is_empty(out)))
-    throw std::runtime_error("'" + folder + "' already exists and is not an empty folder: not overwriting it");
+    throw std::runtime_error("'" + folder +
+                             "' already exists and is not an empty folder: not overwriting it");
   fs::path parent = out.parent_path().empty() ? fs::path(".") : out.parent_path();
-  if (!fs::is_directory(parent)) throw std::runtime_error("folder '" + parent.string() + "' does not exist");
+  if (!fs::is_directory(parent))
+    throw std::runtime_error("folder '" + parent.string() + "' does not exist");
 
   const HUImage* img = ct.hu.GetPointer();
   const auto size = img->GetLargestPossibleRegion().GetSize();
@@ -68,7 +76,8 @@ std::string WriteDicomSeries(const CTImage& ct, const std::string& folder, const
   const std::string frameUID = uid.Generate();
   double iop[6] = {D[0][0], D[1][0], D[2][0], D[0][1], D[1][1], D[2][1]};
 
-  const fs::path tmp = fs::path(TemporarySibling((parent / (out.filename().string() + ".d")).string()));
+  const fs::path tmp =
+      fs::path(TemporarySibling((parent / (out.filename().string() + ".d")).string()));
   fs::create_directory(tmp);
   try {
     std::vector<uint16_t> pixels(nx * ny);
@@ -90,12 +99,14 @@ std::string WriteDicomSeries(const CTImage& ct, const std::string& folder, const
       im->SetSpacing(0, sp[0]);
       im->SetSpacing(1, sp[1]);
       im->SetSpacing(2, sp[2]);
-      for (unsigned a = 0; a < 3; ++a) im->SetOrigin(a, pos[a]); // SetOrigin(double*) keeps only 2 for 2-D
+      for (unsigned a = 0; a < 3; ++a)
+        im->SetOrigin(a, pos[a]); // SetOrigin(double*) keeps only 2 for 2-D
       im->SetDirectionCosines(iop);
       im->SetIntercept(-1024.0);
       im->SetSlope(1.0);
       gdcm::DataElement pixeldata(gdcm::Tag(0x7fe0, 0x0010));
-      pixeldata.SetByteValue(reinterpret_cast<const char*>(pixels.data()), uint32_t(pixels.size() * 2));
+      pixeldata.SetByteValue(reinterpret_cast<const char*>(pixels.data()),
+                             uint32_t(pixels.size() * 2));
       im->SetDataElement(pixeldata);
       im->SetTransferSyntax(gdcm::TransferSyntax::ExplicitVRLittleEndian);
 
@@ -105,7 +116,8 @@ std::string WriteDicomSeries(const CTImage& ct, const std::string& folder, const
         change.SetTransferSyntax(ts);
         change.SetInput(*im);
         if (!change.Change())
-          throw std::runtime_error("GDCM cannot encode slice " + std::to_string(k + 1) + " as " + opt.transferSyntax);
+          throw std::runtime_error("GDCM cannot encode slice " + std::to_string(k + 1) + " as " +
+                                   opt.transferSyntax);
         writer.SetImage(change.GetOutput());
       } else {
         writer.SetImage(*im);
@@ -130,9 +142,11 @@ std::string WriteDicomSeries(const CTImage& ct, const std::string& folder, const
       std::snprintf(name, sizeof name, "IM%05zu.dcm", k + 1);
       const fs::path file = tmp / name;
       writer.SetFileName(file.c_str());
-      if (!writer.Write()) throw std::runtime_error("cannot write DICOM file '" + file.string() + "'");
+      if (!writer.Write())
+        throw std::runtime_error("cannot write DICOM file '" + file.string() + "'");
     }
-    if (fs::exists(out)) fs::remove(out); // an empty folder (checked above)
+    if (fs::exists(out))
+      fs::remove(out); // an empty folder (checked above)
     fs::rename(tmp, out);
   } catch (...) {
     std::error_code ec;

@@ -20,8 +20,8 @@ namespace bm {
 
 struct DicomWriteOptions {
   std::string modality = "CT";
-  std::string seriesUID;   ///< "" = generate one
-  std::string studyUID;    ///< "" = generate one
+  std::string seriesUID; ///< "" = generate one
+  std::string studyUID;  ///< "" = generate one
   std::string seriesDescription = "BoneMachining";
   std::string patientName = "BoneMachining^Phantom";
   std::string patientID = "BM-PHANTOM";
@@ -32,7 +32,7 @@ struct DicomWriteOptions {
 
 /// Write ct.hu as a DICOM series into `folder` (see above); returns the SeriesInstanceUID.
 /// Throws std::runtime_error when the folder exists and is not empty, or a slice cannot be written.
-std::string WriteDicomSeries(const CTImage& ct, const std::string& folder, const DicomWriteOptions& options = {},
-                             const Progress& progress = {});
+std::string WriteDicomSeries(const CTImage& ct, const std::string& folder,
+                             const DicomWriteOptions& options = {}, const Progress& progress = {});
 
 } // namespace bm

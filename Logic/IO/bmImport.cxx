@@ -18,14 +18,15 @@ namespace {
 
 std::string Box(const Box3& b) {
   std::ostringstream os;
-  os << std::fixed << std::setprecision(2) << "[" << b.lo[0] << ", " << b.hi[0] << "] x [" << b.lo[1] << ", "
-     << b.hi[1] << "] x [" << b.lo[2] << ", " << b.hi[2] << "] mm";
+  os << std::fixed << std::setprecision(2) << "[" << b.lo[0] << ", " << b.hi[0] << "] x ["
+     << b.lo[1] << ", " << b.hi[1] << "] x [" << b.lo[2] << ", " << b.hi[2] << "] mm";
   return os.str();
 }
 
 bool Inside(const Box3& b, const std::array<double, 3>& p) {
   for (int a = 0; a < 3; ++a)
-    if (p[a] < b.lo[a] || p[a] > b.hi[a]) return false;
+    if (p[a] < b.lo[a] || p[a] > b.hi[a])
+      return false;
   return true;
 }
 
@@ -33,23 +34,27 @@ bool Inside(const Box3& b, const std::array<double, 3>& p) {
 
 void CheckVoxmapOutputPath(const std::string& output) {
   std::string ext = fs::path(output).extension().string();
-  for (auto& c : ext) c = char(std::tolower((unsigned char)c));
+  for (auto& c : ext)
+    c = char(std::tolower((unsigned char)c));
   if (ext != ".nrrd" && ext != ".mha")
     throw std::runtime_error("output '" + output + "' must end in .nrrd or .mha");
   fs::path dir = fs::path(output).parent_path();
   if (!dir.empty() && !fs::is_directory(dir))
     throw std::runtime_error("output folder '" + dir.string() + "' does not exist");
-  if (fs::is_directory(output)) throw std::runtime_error("output '" + output + "' is a folder");
+  if (fs::is_directory(output))
+    throw std::runtime_error("output '" + output + "' is a folder");
 }
 
-ImportResult ImportVoxmap(const std::string& input, const ImportOptions& opt, const Progress& progress) {
+ImportResult ImportVoxmap(const std::string& input, const ImportOptions& opt,
+                          const Progress& progress) {
   CTImage ct = ReadCT(input, opt.read, progress.Range(0, 0.35));
   return ImportVoxmap(std::move(ct), opt, progress.Range(0.35, 1));
 }
 
 ImportResult ImportVoxmap(CTImage ct, const ImportOptions& opt, const Progress& progress) {
   if (opt.resolution < 8 || opt.resolution > 8192)
-    throw std::runtime_error("resolution " + std::to_string(opt.resolution) + " is out of range (8 .. 8192 cells)");
+    throw std::runtime_error("resolution " + std::to_string(opt.resolution) +
+                             " is out of range (8 .. 8192 cells)");
   ImportResult r;
   r.source = ct.source;
   r.format = ct.format;
@@ -75,12 +80,14 @@ ImportResult ImportVoxmap(CTImage ct, const ImportOptions& opt, const Progress& 
   if (opt.roiMm) {
     for (int a = 0; a < 3; ++a)
       if (!(opt.roiMm->hi[a] > opt.roiMm->lo[a]))
-        throw std::runtime_error("the region of interest " + Box(*opt.roiMm) + " is empty along an axis");
+        throw std::runtime_error("the region of interest " + Box(*opt.roiMm) +
+                                 " is empty along an axis");
     if (!opt.roiMm->Intersects(r.ctBounds))
-      throw std::runtime_error("the region of interest " + Box(*opt.roiMm) + " lies outside the CT, whose bounds are " +
-                               Box(r.ctBounds));
+      throw std::runtime_error("the region of interest " + Box(*opt.roiMm) +
+                               " lies outside the CT, whose bounds are " + Box(r.ctBounds));
     if (seed && !Inside(*opt.roiMm, *seed))
-      throw std::runtime_error("the seed point lies outside the region of interest " + Box(*opt.roiMm));
+      throw std::runtime_error("the seed point lies outside the region of interest " +
+                               Box(*opt.roiMm));
     ct = CropCT(ct, *opt.roiMm, 2);
   }
   // Segmentation working memory: mask, two label images, fraction, bone HU, band (per CT voxel).
@@ -98,17 +105,19 @@ ImportResult ImportVoxmap(CTImage ct, const ImportOptions& opt, const Progress& 
   const uint64_t segBytes = ctVoxels * 2 * sizeof(float);
   // The voxmap, plus a same-size copy when it is saved.
   CheckMemoryBudget(segBytes + 2 * VoxmapBytes(grid), opt.read.maxMemoryBytes,
-                    "the voxmap (" + std::to_string(grid.dims[0]) + " x " + std::to_string(grid.dims[1]) + " x " +
-                        std::to_string(grid.dims[2]) + " voxels)");
+                    "the voxmap (" + std::to_string(grid.dims[0]) + " x " +
+                        std::to_string(grid.dims[1]) + " x " + std::to_string(grid.dims[2]) +
+                        " voxels)");
   r.voxmap = ResampleToVoxmap(seg, grid, opt.material, progress.Range(0.5, 1), opt.threads);
   if (r.voxmap.CountBone() == 0)
-    throw std::runtime_error("no bone inside the region of interest " + Box(r.roi) + " at threshold " +
-                             std::to_string(int(opt.segmentation.thresholdHU)) + " HU");
+    throw std::runtime_error("no bone inside the region of interest " + Box(r.roi) +
+                             " at threshold " + std::to_string(int(opt.segmentation.thresholdHU)) +
+                             " HU");
   return r;
 }
 
-ImportResult ImportToFile(const std::string& input, const std::string& output, const ImportOptions& opt,
-                          const Progress& progress) {
+ImportResult ImportToFile(const std::string& input, const std::string& output,
+                          const ImportOptions& opt, const Progress& progress) {
   CheckVoxmapOutputPath(output);
   ImportResult r = ImportVoxmap(input, opt, progress.Range(0, 0.9));
   SaveVoxmap(r.voxmap, output, progress.Range(0.9, 1));
@@ -119,52 +128,66 @@ std::string ImportResult::Report() const {
   std::ostringstream os;
   os << std::fixed;
   os << "read:        " << source << " (" << format;
-  if (numFiles > 1) os << ", " << numFiles << " files";
+  if (numFiles > 1)
+    os << ", " << numFiles << " files";
   os << ")\n";
-  os << "modality:    " << (modality.empty() ? "not stated (values taken as HU)" : modality) << "\n";
-  if (!seriesUID.empty()) os << "series:      " << seriesUID << (seriesDescription.empty() ? "" : " \"" + seriesDescription + "\"") << "\n";
-  if (!transferSyntax.empty()) os << "encoding:    " << transferSyntax << "\n";
+  os << "modality:    " << (modality.empty() ? "not stated (values taken as HU)" : modality)
+     << "\n";
+  if (!seriesUID.empty())
+    os << "series:      " << seriesUID
+       << (seriesDescription.empty() ? "" : " \"" + seriesDescription + "\"") << "\n";
+  if (!transferSyntax.empty())
+    os << "encoding:    " << transferSyntax << "\n";
   os << "size:        " << ctSize[0] << " x " << ctSize[1] << " x " << ctSize[2] << " voxels\n";
-  os << std::setprecision(4) << "spacing:     " << ctSpacing[0] << " x " << ctSpacing[1] << " x " << ctSpacing[2]
-     << " mm\n";
+  os << std::setprecision(4) << "spacing:     " << ctSpacing[0] << " x " << ctSpacing[1] << " x "
+     << ctSpacing[2] << " mm\n";
   os << "bounds:      " << Box(ctBounds) << "\n";
   os << std::setprecision(0) << "HU range:    " << huMin << " .. " << huMax << " HU\n";
   os << std::setprecision(1) << "bone (CT):   " << segmentedVolumeMm3 << " mm^3";
-  if (numComponents > 0) os << " (1 of " << numComponents << " components kept";
-  if (numComponents > 0) os << ", " << holesFilled << " holes filled)";
+  if (numComponents > 0)
+    os << " (1 of " << numComponents << " components kept";
+  if (numComponents > 0)
+    os << ", " << holesFilled << " holes filled)";
   os << "\n";
   const auto& d = voxmap.Dims();
-  os << std::setprecision(4) << "voxmap:      " << d[0] << " x " << d[1] << " x " << d[2] << " voxels of "
-     << voxmap.Spacing() << " mm over " << Box(roi) << "\n";
-  os << std::setprecision(1) << "bone volume: " << voxmap.BoneVolume() << " mm^3 (" << voxmap.CountBone()
-     << " voxels with bone)\n";
-  for (const auto& w : warnings) os << "warning:     " << w << "\n";
+  os << std::setprecision(4) << "voxmap:      " << d[0] << " x " << d[1] << " x " << d[2]
+     << " voxels of " << voxmap.Spacing() << " mm over " << Box(roi) << "\n";
+  os << std::setprecision(1) << "bone volume: " << voxmap.BoneVolume() << " mm^3 ("
+     << voxmap.CountBone() << " voxels with bone)\n";
+  for (const auto& w : warnings)
+    os << "warning:     " << w << "\n";
   return os.str();
 }
 
 ImportOptions ImportOptionsFromJson(const nlohmann::json& j) {
   ImportOptions o;
   auto num = [&](const char* key) {
-    if (!j.at(key).is_number()) throw std::runtime_error(std::string("bone: '") + key + "' must be a number");
+    if (!j.at(key).is_number())
+      throw std::runtime_error(std::string("bone: '") + key + "' must be a number");
     return j.at(key).get<double>();
   };
   auto flag = [&](const char* key) {
-    if (!j.at(key).is_boolean()) throw std::runtime_error(std::string("bone: '") + key + "' must be true or false");
+    if (!j.at(key).is_boolean())
+      throw std::runtime_error(std::string("bone: '") + key + "' must be true or false");
     return j.at(key).get<bool>();
   };
   auto vec = [&](const char* key, size_t n) {
     const auto& v = j.at(key);
     if (!v.is_array() || v.size() != n)
-      throw std::runtime_error(std::string("bone: '") + key + "' must be an array of " + std::to_string(n) + " numbers");
+      throw std::runtime_error(std::string("bone: '") + key + "' must be an array of " +
+                               std::to_string(n) + " numbers");
     std::vector<double> out;
     for (const auto& x : v) {
-      if (!x.is_number()) throw std::runtime_error(std::string("bone: '") + key + "' must hold numbers");
+      if (!x.is_number())
+        throw std::runtime_error(std::string("bone: '") + key + "' must hold numbers");
       out.push_back(x.get<double>());
     }
     return out;
   };
-  if (!j.is_object()) throw std::runtime_error("bone: expected an object");
-  if (j.contains("threshold")) o.segmentation.thresholdHU = float(num("threshold"));
+  if (!j.is_object())
+    throw std::runtime_error("bone: expected an object");
+  if (j.contains("threshold"))
+    o.segmentation.thresholdHU = float(num("threshold"));
   if (j.contains("seed")) {
     auto s = vec("seed", 3);
     o.segmentation.seedMm = std::array<double, 3>{s[0], s[1], s[2]};
@@ -180,34 +203,49 @@ ImportOptions ImportOptionsFromJson(const nlohmann::json& j) {
   }
   if (j.contains("resolution")) {
     double n = num("resolution");
-    if (n != std::floor(n) || n < 8 || n > 8192) throw std::runtime_error("bone: 'resolution' must be an integer 8 .. 8192");
+    if (n != std::floor(n) || n < 8 || n > 8192)
+      throw std::runtime_error("bone: 'resolution' must be an integer 8 .. 8192");
     o.resolution = int(n);
   }
   if (j.contains("series")) {
-    if (!j["series"].is_string()) throw std::runtime_error("bone: 'series' must be a SeriesInstanceUID string");
+    if (!j["series"].is_string())
+      throw std::runtime_error("bone: 'series' must be a SeriesInstanceUID string");
     o.read.seriesUID = j["series"].get<std::string>();
   }
-  if (j.contains("keepAllComponents")) o.segmentation.keepAllComponents = flag("keepAllComponents");
-  if (j.contains("fillHoles")) o.segmentation.fillHoles = flag("fillHoles");
-  if (j.contains("maxHoleVolume")) o.segmentation.maxHoleVolumeMm3 = num("maxHoleVolume");
-  if (j.contains("maxMemoryMB")) o.read.maxMemoryBytes = uint64_t(num("maxMemoryMB") * 1048576.0);
-  if (j.contains("corticalHU")) o.material.corticalHU = float(num("corticalHU"));
+  if (j.contains("keepAllComponents"))
+    o.segmentation.keepAllComponents = flag("keepAllComponents");
+  if (j.contains("fillHoles"))
+    o.segmentation.fillHoles = flag("fillHoles");
+  if (j.contains("maxHoleVolume"))
+    o.segmentation.maxHoleVolumeMm3 = num("maxHoleVolume");
+  if (j.contains("maxMemoryMB"))
+    o.read.maxMemoryBytes = uint64_t(num("maxMemoryMB") * 1048576.0);
+  if (j.contains("corticalHU"))
+    o.material.corticalHU = float(num("corticalHU"));
   return o;
 }
 
-Voxmap VoxmapFromScene(const nlohmann::json& bone, const std::string& baseDir, const Progress& progress) {
-  if (!bone.is_object()) throw std::runtime_error("bone: expected an object");
-  int sources = int(bone.contains("voxmap")) + int(bone.contains("ct")) + int(bone.contains("phantom"));
-  if (sources != 1) throw std::runtime_error("bone: name exactly one of 'voxmap', 'ct' or 'phantom'");
+Voxmap VoxmapFromScene(const nlohmann::json& bone, const std::string& baseDir,
+                       const Progress& progress) {
+  if (!bone.is_object())
+    throw std::runtime_error("bone: expected an object");
+  int sources =
+      int(bone.contains("voxmap")) + int(bone.contains("ct")) + int(bone.contains("phantom"));
+  if (sources != 1)
+    throw std::runtime_error("bone: name exactly one of 'voxmap', 'ct' or 'phantom'");
   auto resolve = [&](const std::string& key) {
-    if (!bone[key].is_string()) throw std::runtime_error("bone: '" + key + "' must be a path string");
+    if (!bone[key].is_string())
+      throw std::runtime_error("bone: '" + key + "' must be a path string");
     fs::path p(bone[key].get<std::string>());
     return (p.is_absolute() || baseDir.empty() ? p : fs::path(baseDir) / p).string();
   };
-  if (bone.contains("voxmap")) return LoadVoxmap(resolve("voxmap"), progress);
+  if (bone.contains("voxmap"))
+    return LoadVoxmap(resolve("voxmap"), progress);
   ImportOptions opt = ImportOptionsFromJson(bone);
-  if (bone.contains("ct")) return ImportVoxmap(resolve("ct"), opt, progress).voxmap;
-  if (!bone["phantom"].is_string()) throw std::runtime_error("bone: 'phantom' must be glenoid or block");
+  if (bone.contains("ct"))
+    return ImportVoxmap(resolve("ct"), opt, progress).voxmap;
+  if (!bone["phantom"].is_string())
+    throw std::runtime_error("bone: 'phantom' must be glenoid or block");
   std::string name = bone["phantom"].get<std::string>();
   CTImage ct = MakePhantomCT(name, {}, progress.Range(0, 0.3));
   return ImportVoxmap(std::move(ct), opt, progress.Range(0.3, 1)).voxmap;

@@ -21,8 +21,8 @@
 namespace bm {
 
 struct ImportOptions {
-  ReadOptions read;                  ///< series choice, memory limit (also used for the later steps)
-  SegmentationOptions segmentation;  ///< threshold (HU), seed (mm), holes
+  ReadOptions read;                 ///< series choice, memory limit (also used for the later steps)
+  SegmentationOptions segmentation; ///< threshold (HU), seed (mm), holes
   /// Region of interest, world mm. Without one: the bounding box of the segmented bone.
   std::optional<Box3> roiMm;
   /// Voxmap resolution: cells along the ROI's longest axis (MODEL_NOTES section 5). Default 256.
@@ -45,18 +45,19 @@ struct ImportResult {
   double segmentedVolumeMm3 = 0; ///< bone volume at CT resolution (sum of fractions), mm^3
   int numComponents = 0;
   int holesFilled = 0;
-  Box3 roi;                      ///< the box the voxmap covers, world mm
+  Box3 roi; ///< the box the voxmap covers, world mm
   /// Human-readable summary (several lines): modality, size, spacing, HU range, bone volume.
   std::string Report() const;
 };
 
 /// Import a CT (folder or file) into a voxmap. Throws std::runtime_error (bad input), Cancelled.
-ImportResult ImportVoxmap(const std::string& input, const ImportOptions& options = {}, const Progress& progress = {});
+ImportResult ImportVoxmap(const std::string& input, const ImportOptions& options = {},
+                          const Progress& progress = {});
 /// The same from a CT already in memory (e.g. a phantom made by MakePhantomCT).
 ImportResult ImportVoxmap(CTImage ct, const ImportOptions& options, const Progress& progress = {});
 /// Import and save to `output` (.nrrd or .mha; atomic). The output path is checked first.
-ImportResult ImportToFile(const std::string& input, const std::string& output, const ImportOptions& options = {},
-                          const Progress& progress = {});
+ImportResult ImportToFile(const std::string& input, const std::string& output,
+                          const ImportOptions& options = {}, const Progress& progress = {});
 
 /// Check that `output` can receive a voxmap (.nrrd/.mha, its folder exists); throws otherwise.
 void CheckVoxmapOutputPath(const std::string& output);
@@ -71,6 +72,7 @@ ImportOptions ImportOptionsFromJson(const nlohmann::json& bone);
 /// A scene's bone as a voxmap. `bone` holds exactly one source, paths relative to baseDir:
 ///   {"voxmap": "file.nrrd"} (loaded as is), {"ct": "folder-or-file", ...ImportOptions keys} or
 ///   {"phantom": "glenoid"|"block", ...ImportOptions keys} (the phantom CT is made in memory).
-Voxmap VoxmapFromScene(const nlohmann::json& bone, const std::string& baseDir, const Progress& progress = {});
+Voxmap VoxmapFromScene(const nlohmann::json& bone, const std::string& baseDir,
+                       const Progress& progress = {});
 
 } // namespace bm

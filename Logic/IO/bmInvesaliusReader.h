@@ -14,7 +14,8 @@
 namespace bm {
 
 /// Read the CT of an InVesalius project. Throws std::runtime_error on a broken archive, a missing
-/// or inconsistent main.plist, a non-CT modality (unless allowed) or a volume over the memory limit.
+/// or inconsistent main.plist, a non-CT modality (unless allowed) or a volume over the memory
+/// limit.
 CTImage ReadInvesaliusProject(const std::string& path, const ReadOptions& options = {},
                               const Progress& progress = {});
 

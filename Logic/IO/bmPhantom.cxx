@@ -29,9 +29,12 @@ Glenoid ClassifyGlenoid(const std::array<double, 3>& p) {
   std::array<double, 3> d{p[0] - gC[0], p[1] - gC[1], p[2] - gC[2]};
   double u = Dot(d, gU), v = Dot(d, gV), w = Dot(d, gN);
   double r2 = u * u + v * v;
-  if ((u / gA) * (u / gA) + (v / gB) * (v / gB) > 1.0 || w < -gH) return Glenoid::Outside;
-  if (w > gRc - std::sqrt(gRc * gRc - r2)) return Glenoid::Outside;
-  if (r2 <= gRp * gRp && w >= -gDp) return Glenoid::Hole;
+  if ((u / gA) * (u / gA) + (v / gB) * (v / gB) > 1.0 || w < -gH)
+    return Glenoid::Outside;
+  if (w > gRc - std::sqrt(gRc * gRc - r2))
+    return Glenoid::Outside;
+  if (r2 <= gRp * gRp && w >= -gDp)
+    return Glenoid::Hole;
   const double ai = gA - gTc, bi = gB - gTc, ri = gRc + gTc;
   bool inner = (u / ai) * (u / ai) + (v / bi) * (v / bi) <= 1.0 && w >= -gH + gTc && r2 < ri * ri &&
                w <= gRc - std::sqrt(ri * ri - r2);
@@ -44,18 +47,23 @@ double GlenoidVolume() {
   double sum = 0;
   for (int i = 0; i < n; ++i) {
     double t = 2 * kPi * i / n;
-    double rho2 = (gA * gB) * (gA * gB) / ((gB * std::cos(t)) * (gB * std::cos(t)) + (gA * std::sin(t)) * (gA * std::sin(t)));
+    double rho2 =
+        (gA * gB) * (gA * gB) /
+        ((gB * std::cos(t)) * (gB * std::cos(t)) + (gA * std::sin(t)) * (gA * std::sin(t)));
     sum += gRc * gRc * gRc - std::pow(gRc * gRc - rho2, 1.5);
   }
   double capIntegral = sum * (2 * kPi / n) / 3.0; // integral over the ellipse of sqrt(Rc^2 - r^2)
   double solid = kPi * gA * gB * (gH + gRc) - capIntegral;
-  double hole = kPi * gRp * gRp * (gDp + gRc) - 2 * kPi / 3 * (gRc * gRc * gRc - std::pow(gRc * gRc - gRp * gRp, 1.5));
+  double hole = kPi * gRp * gRp * (gDp + gRc) -
+                2 * kPi / 3 * (gRc * gRc * gRc - std::pow(gRc * gRc - gRp * gRp, 1.5));
   return solid - hole;
 }
 
 } // namespace
 
-std::vector<std::string> PhantomNames() { return {"glenoid", "block"}; }
+std::vector<std::string> PhantomNames() {
+  return {"glenoid", "block"};
+}
 
 PhantomInfo GetPhantomInfo(const std::string& name) {
   PhantomInfo info;
@@ -85,14 +93,20 @@ PhantomInfo GetPhantomInfo(const std::string& name) {
 float PhantomHU(const std::string& name, const std::array<double, 3>& p) {
   if (name == "glenoid") {
     switch (ClassifyGlenoid(p)) {
-    case Glenoid::Outside: return kSoftHU;
-    case Glenoid::Hole: return kFluidHU;
-    case Glenoid::Cortical: return kCorticalHU;
-    case Glenoid::Cancellous: return kCancellousHU;
+    case Glenoid::Outside:
+      return kSoftHU;
+    case Glenoid::Hole:
+      return kFluidHU;
+    case Glenoid::Cortical:
+      return kCorticalHU;
+    case Glenoid::Cancellous:
+      return kCancellousHU;
     }
   }
   if (name == "block")
-    return (std::abs(p[0]) <= bHalf && std::abs(p[1]) <= bHalf && p[2] <= 0 && p[2] >= -bDepth) ? kBlockHU : kAirHU;
+    return (std::abs(p[0]) <= bHalf && std::abs(p[1]) <= bHalf && p[2] <= 0 && p[2] >= -bDepth)
+               ? kBlockHU
+               : kAirHU;
   throw std::invalid_argument("unknown phantom '" + name + "' (glenoid or block)");
 }
 
@@ -104,13 +118,15 @@ bool PhantomIsBone(const std::string& name, const std::array<double, 3>& p) {
   return PhantomHU(name, p) == kBlockHU;
 }
 
-CTImage MakePhantomCT(const std::string& name, const PhantomCTOptions& opt, const Progress& progress) {
+CTImage MakePhantomCT(const std::string& name, const PhantomCTOptions& opt,
+                      const Progress& progress) {
   PhantomInfo info = GetPhantomInfo(name);
   const double sp[3] = {opt.inPlaneSpacingMm, opt.inPlaneSpacingMm, opt.sliceSpacingMm};
   size_t n[3];
   double origin[3];
   for (int a = 0; a < 3; ++a) {
-    if (!(sp[a] > 0)) throw std::invalid_argument("phantom CT spacing must be > 0");
+    if (!(sp[a] > 0))
+      throw std::invalid_argument("phantom CT spacing must be > 0");
     double lo = info.boneBounds.lo[a] - opt.marginMm, hi = info.boneBounds.hi[a] + opt.marginMm;
     n[a] = size_t(std::ceil((hi - lo) / sp[a]));
     origin[a] = lo + 0.5 * sp[a];
@@ -128,7 +144,8 @@ CTImage MakePhantomCT(const std::string& name, const PhantomCTOptions& opt, cons
   std::mt19937 rng(opt.noiseSeed);
   std::normal_distribution<double> noise(0.0, 1.0);
   for (size_t k = 0; k < n[2]; ++k) {
-    if (k % 4 == 0) progress(double(k) / n[2], "making the " + name + " phantom");
+    if (k % 4 == 0)
+      progress(double(k) / n[2], "making the " + name + " phantom");
     for (size_t j = 0; j < n[1]; ++j)
       for (size_t i = 0; i < n[0]; ++i) {
         double centre[3] = {origin[0] + i * sp[0], origin[1] + j * sp[1], origin[2] + k * sp[2]};
@@ -142,7 +159,8 @@ CTImage MakePhantomCT(const std::string& name, const PhantomCTOptions& opt, cons
               sum += PhantomHU(name, p);
             }
         double hu = sum / (ss * ss * ss);
-        if (opt.noiseHU > 0) hu += opt.noiseHU * noise(rng);
+        if (opt.noiseHU > 0)
+          hu += opt.noiseHU * noise(rng);
         buf[i + n[0] * (j + n[1] * k)] = float(hu);
       }
   }
@@ -152,15 +170,17 @@ CTImage MakePhantomCT(const std::string& name, const PhantomCTOptions& opt, cons
   ct.seriesDescription = "BoneMachining " + name + " phantom";
   ct.numFiles = 0;
   float lo = buf[0], hi = buf[0];
-  for (size_t v = 0; v < n[0] * n[1] * n[2]; ++v) lo = std::min(lo, buf[v]), hi = std::max(hi, buf[v]);
+  for (size_t v = 0; v < n[0] * n[1] * n[2]; ++v)
+    lo = std::min(lo, buf[v]), hi = std::max(hi, buf[v]);
   ct.huMin = lo;
   ct.huMax = hi;
   progress(1.0, "making the " + name + " phantom");
   return ct;
 }
 
-PhantomInfo WritePhantomSeries(const std::string& name, const std::string& folder, const PhantomCTOptions& ctOptions,
-                               DicomWriteOptions dicomOptions, const Progress& progress) {
+PhantomInfo WritePhantomSeries(const std::string& name, const std::string& folder,
+                               const PhantomCTOptions& ctOptions, DicomWriteOptions dicomOptions,
+                               const Progress& progress) {
   PhantomInfo info = GetPhantomInfo(name);
   CTImage ct = MakePhantomCT(name, ctOptions, progress.Range(0, 0.6));
   if (dicomOptions.seriesDescription == DicomWriteOptions().seriesDescription)

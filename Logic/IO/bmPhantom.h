@@ -1,9 +1,10 @@
 // bmPhantom.h - synthetic CTs with analytic bone, for demos, scene tests and the import checks.
 //
 // Glenoid phantom ("glenoid"), world mm in the CT's LPS frame, a right shoulder:
-//   face centre C = (-60, 20, 40) mm, outward reaming axis n = (-1, 0, 0) (lateral), the face's long
-//   (superior-inferior) axis e_u = (0, 0, 1), its short (anterior-posterior) axis e_v = (0, 1, 0).
-//   In local coordinates (u, v, w) = ((p-C).e_u, (p-C).e_v, (p-C).n) and r^2 = u^2 + v^2 the bone is
+//   face centre C = (-60, 20, 40) mm, outward reaming axis n = (-1, 0, 0) (lateral), the face's
+//   long (superior-inferior) axis e_u = (0, 0, 1), its short (anterior-posterior) axis e_v = (0, 1,
+//   0). In local coordinates (u, v, w) = ((p-C).e_u, (p-C).e_v, (p-C).n) and r^2 = u^2 + v^2 the
+//   bone is
 //     (u/a)^2 + (v/b)^2 <= 1,  -H <= w <= s(r) = Rc - sqrt(Rc^2 - r^2)
 //   minus the pilot (guide pin) hole r <= rp, w >= -Dp:
 //   a = 20 mm, b = 14.5 mm (face 40 x 29 mm), Rc = 35 mm (concave face, radius of curvature),
@@ -34,21 +35,22 @@
 namespace bm {
 
 struct PhantomInfo {
-  std::string name;                   ///< "glenoid" or "block"
-  std::array<double, 3> centreMm{};   ///< glenoid face centre / block top-face centre, world mm
-  std::array<double, 3> axisOut{};    ///< outward unit axis at the centre (the tool feeds along -axisOut)
-  double boneVolumeMm3 = 0;           ///< analytic bone volume, mm^3
-  Box3 boneBounds;                    ///< analytic world box of the bone, mm
-  double pilotHoleRadiusMm = 0;       ///< glenoid: guide pin hole radius (0 for the block)
-  double pilotHoleDepthMm = 0;        ///< glenoid: depth below the face centre
+  std::string name;                 ///< "glenoid" or "block"
+  std::array<double, 3> centreMm{}; ///< glenoid face centre / block top-face centre, world mm
+  std::array<double, 3>
+      axisOut{};                ///< outward unit axis at the centre (the tool feeds along -axisOut)
+  double boneVolumeMm3 = 0;     ///< analytic bone volume, mm^3
+  Box3 boneBounds;              ///< analytic world box of the bone, mm
+  double pilotHoleRadiusMm = 0; ///< glenoid: guide pin hole radius (0 for the block)
+  double pilotHoleDepthMm = 0;  ///< glenoid: depth below the face centre
 };
 
 struct PhantomCTOptions {
   double inPlaneSpacingMm = 0.5;
   double sliceSpacingMm = 0.625;
   double marginMm = 5.0;
-  int supersample = 4;       ///< sub-samples per axis per voxel (partial volume)
-  double noiseHU = 10.0;     ///< Gaussian noise sigma, HU (0 = none)
+  int supersample = 4;   ///< sub-samples per axis per voxel (partial volume)
+  double noiseHU = 10.0; ///< Gaussian noise sigma, HU (0 = none)
   unsigned noiseSeed = 20240607;
 };
 
@@ -61,11 +63,12 @@ float PhantomHU(const std::string& name, const std::array<double, 3>& p);
 /// True when world point p (mm) is bone.
 bool PhantomIsBone(const std::string& name, const std::array<double, 3>& p);
 /// The phantom as a CT (axial, identity direction).
-CTImage MakePhantomCT(const std::string& name, const PhantomCTOptions& options = {}, const Progress& progress = {});
+CTImage MakePhantomCT(const std::string& name, const PhantomCTOptions& options = {},
+                      const Progress& progress = {});
 /// Make the phantom CT and write it as a DICOM series into folder (atomic, see
 /// WriteDicomSeries; the series description names the phantom). Returns the phantom's info.
 PhantomInfo WritePhantomSeries(const std::string& name, const std::string& folder,
-                               const PhantomCTOptions& ctOptions = {}, DicomWriteOptions dicomOptions = {},
-                               const Progress& progress = {});
+                               const PhantomCTOptions& ctOptions = {},
+                               DicomWriteOptions dicomOptions = {}, const Progress& progress = {});
 
 } // namespace bm

@@ -16,9 +16,11 @@ Progress Progress::Range(double a, double b) const {
 }
 
 void Progress::operator()(double f, const std::string& stage) const {
-  if (!Fn_) return;
+  if (!Fn_)
+    return;
   f = std::clamp(f, 0.0, 1.0);
-  if (!Fn_(Lo_ + (Hi_ - Lo_) * f, stage)) throw Cancelled();
+  if (!Fn_(Lo_ + (Hi_ - Lo_) * f, stage))
+    throw Cancelled();
 }
 
 namespace {
@@ -35,9 +37,11 @@ public:
   double Last = 0; // multi-threaded filters report out of order: only report forward
   void Execute(itk::Object* caller, const itk::EventObject& event) override {
     auto* po = dynamic_cast<itk::ProcessObject*>(caller);
-    if (!po || !itk::ProgressEvent().CheckEvent(&event)) return;
+    if (!po || !itk::ProgressEvent().CheckEvent(&event))
+      return;
     double f = po->GetProgress();
-    if (f <= Last) return;
+    if (f <= Last)
+      return;
     Last = f;
     try {
       P(f, Stage);
@@ -51,7 +55,8 @@ public:
 } // namespace
 
 void Progress::Observe(itk::ProcessObject* filter, const std::string& stage) const {
-  if (!Fn_) return;
+  if (!Fn_)
+    return;
   auto obs = ProgressObserver::New();
   obs->P = *this;
   obs->Stage = stage;
@@ -66,10 +71,12 @@ void RunFilter(itk::ProcessObject* filter, const Progress& progress, const std::
   } catch (const itk::ProcessAborted&) {
     throw Cancelled();
   } catch (const itk::ExceptionObject& e) {
-    if (filter->GetAbortGenerateData()) throw Cancelled();
+    if (filter->GetAbortGenerateData())
+      throw Cancelled();
     throw std::runtime_error(stage + ": " + e.GetDescription());
   }
-  if (filter->GetAbortGenerateData()) throw Cancelled();
+  if (filter->GetAbortGenerateData())
+    throw Cancelled();
   filter->RemoveAllObservers();
   progress(1.0, stage);
 }

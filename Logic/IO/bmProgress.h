@@ -1,7 +1,7 @@
 // bmProgress.h - progress reporting and cancellation for long IO steps (reading a CT, segmenting,
-// resampling, writing). One small callback: it gets the overall fraction done in [0, 1] and the name
-// of the current stage, and returns false to cancel. The command line prints it as a bar; the GUI
-// panel feeds the same callback to its progress widget.
+// resampling, writing). One small callback: it gets the overall fraction done in [0, 1] and the
+// name of the current stage, and returns false to cancel. The command line prints it as a bar; the
+// GUI panel feeds the same callback to its progress widget.
 //
 // A step that sees a cancel throws bm::Cancelled, so no caller can mistake a half-done result for a
 // finished one (and nothing is written: outputs are written only after the whole step succeeded).

@@ -25,15 +25,19 @@ using FileImage = itk::VectorImage<float, 3>;
 
 std::string LowerExt(const std::string& path) {
   std::string e = fs::path(path).extension().string();
-  for (auto& c : e) c = char(std::tolower((unsigned char)c));
+  for (auto& c : e)
+    c = char(std::tolower((unsigned char)c));
   return e;
 }
 
 itk::ImageIOBase::Pointer IOFor(const std::string& path) {
   std::string e = LowerExt(path);
-  if (e == ".nrrd") return itk::NrrdImageIO::New().GetPointer();
-  if (e == ".mha") return itk::MetaImageIO::New().GetPointer();
-  throw std::runtime_error("'" + path + "': a voxmap is saved as .nrrd or .mha (single-file formats)");
+  if (e == ".nrrd")
+    return itk::NrrdImageIO::New().GetPointer();
+  if (e == ".mha")
+    return itk::MetaImageIO::New().GetPointer();
+  throw std::runtime_error("'" + path +
+                           "': a voxmap is saved as .nrrd or .mha (single-file formats)");
 }
 
 std::string Hex(double v) {
@@ -58,10 +62,13 @@ std::string TemporarySibling(const std::string& path) {
 
 void SaveVoxmap(const Voxmap& vm, const std::string& path, const Progress& progress) {
   auto io = IOFor(path);
-  if (vm.NumVoxels() == 0) throw std::runtime_error("cannot save an empty voxmap");
+  if (vm.NumVoxels() == 0)
+    throw std::runtime_error("cannot save an empty voxmap");
   fs::path target(path);
   fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-  if (!fs::is_directory(dir)) throw std::runtime_error("cannot save '" + path + "': folder '" + dir.string() + "' does not exist");
+  if (!fs::is_directory(dir))
+    throw std::runtime_error("cannot save '" + path + "': folder '" + dir.string() +
+                             "' does not exist");
 
   auto img = FileImage::New();
   FileImage::RegionType region;
@@ -91,7 +98,8 @@ void SaveVoxmap(const Voxmap& vm, const std::string& path, const Progress& progr
   itk::EncapsulateMetaData<std::string>(dict, "bm_voxmap_version", "1");
   itk::EncapsulateMetaData<std::string>(dict, "bm_spacing", Hex(vm.Spacing()));
   itk::EncapsulateMetaData<std::string>(dict, "bm_origin",
-                                        Hex(vm.Origin()[0]) + " " + Hex(vm.Origin()[1]) + " " + Hex(vm.Origin()[2]));
+                                        Hex(vm.Origin()[0]) + " " + Hex(vm.Origin()[1]) + " " +
+                                            Hex(vm.Origin()[2]));
   itk::EncapsulateMetaData<std::string>(dict, "bm_components", "bone_fraction material_scale");
 
   const std::string tmp = TemporarySibling(path);
@@ -111,30 +119,36 @@ void SaveVoxmap(const Voxmap& vm, const std::string& path, const Progress& progr
 }
 
 Voxmap LoadVoxmap(const std::string& path, const Progress& progress) {
-  if (!fs::exists(path)) throw std::runtime_error("voxmap file '" + path + "' does not exist");
+  if (!fs::exists(path))
+    throw std::runtime_error("voxmap file '" + path + "' does not exist");
   auto reader = itk::ImageFileReader<FileImage>::New();
   reader->SetFileName(path);
   std::string e = LowerExt(path);
-  if (e == ".nrrd" || e == ".nhdr") reader->SetImageIO(itk::NrrdImageIO::New());
-  else if (e == ".mha" || e == ".mhd") reader->SetImageIO(itk::MetaImageIO::New());
+  if (e == ".nrrd" || e == ".nhdr")
+    reader->SetImageIO(itk::NrrdImageIO::New());
+  else if (e == ".mha" || e == ".mhd")
+    reader->SetImageIO(itk::MetaImageIO::New());
   RunFilter(reader, progress.Range(0, 0.8), "loading the voxmap");
   FileImage::Pointer img = reader->GetOutput();
   const unsigned nc = img->GetNumberOfComponentsPerPixel();
   if (nc < 1 || nc > 2)
-    throw std::runtime_error("'" + path + "' has " + std::to_string(nc) +
-                             " components per voxel; a voxmap has 2 (bone fraction, material) or 1");
+    throw std::runtime_error(
+        "'" + path + "' has " + std::to_string(nc) +
+        " components per voxel; a voxmap has 2 (bone fraction, material) or 1");
   const auto& dir = img->GetDirection();
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c)
       if (std::abs(dir[r][c] - (r == c ? 1.0 : 0.0)) > 1e-9)
-        throw std::runtime_error("'" + path + "' is not aligned with the world axes; a voxmap must be");
+        throw std::runtime_error("'" + path +
+                                 "' is not aligned with the world axes; a voxmap must be");
   auto sp = img->GetSpacing();
   auto org = img->GetOrigin();
   double spacing = sp[0];
   double origin[3] = {org[0], org[1], org[2]};
   for (int a = 1; a < 3; ++a)
     if (std::abs(sp[a] - sp[0]) > 1e-9 * sp[0])
-      throw std::runtime_error("'" + path + "' has anisotropic spacing; a voxmap's voxels are cubes");
+      throw std::runtime_error("'" + path +
+                               "' has anisotropic spacing; a voxmap's voxels are cubes");
   // Bit-exact geometry from our own fields when they agree with the header.
   const auto& dict = img->GetMetaDataDictionary();
   std::string s;
@@ -143,8 +157,10 @@ Voxmap LoadVoxmap(const std::string& path, const Progress& progress) {
       std::abs(hex[0] - spacing) <= 1e-6 * spacing)
     spacing = hex[0];
   if (itk::ExposeMetaData<std::string>(dict, "bm_origin", s) && ParseHexTriple(s, hex) &&
-      std::abs(hex[0] - origin[0]) < 1e-6 && std::abs(hex[1] - origin[1]) < 1e-6 && std::abs(hex[2] - origin[2]) < 1e-6)
-    for (int a = 0; a < 3; ++a) origin[a] = hex[a];
+      std::abs(hex[0] - origin[0]) < 1e-6 && std::abs(hex[1] - origin[1]) < 1e-6 &&
+      std::abs(hex[2] - origin[2]) < 1e-6)
+    for (int a = 0; a < 3; ++a)
+      origin[a] = hex[a];
   const auto size = img->GetLargestPossibleRegion().GetSize();
   Voxmap vm({int(size[0]), int(size[1]), int(size[2])}, spacing, {origin[0], origin[1], origin[2]});
   const float* buf = img->GetBufferPointer();
@@ -152,9 +168,11 @@ Voxmap LoadVoxmap(const std::string& path, const Progress& progress) {
   const int64_t n = vm.NumVoxels();
   for (int64_t v = 0; v < n; ++v) {
     double f = double(buf[nc * v]);
-    if (!std::isfinite(f)) throw std::runtime_error("'" + path + "' holds a non-finite bone fraction");
+    if (!std::isfinite(f))
+      throw std::runtime_error("'" + path + "' holds a non-finite bone fraction");
     fill[v] = Voxmap::Fill(std::llround(std::clamp(f, -1.0, 1.0) * Voxmap::kFull));
-    if (nc == 2 && buf[nc * v + 1] != 1.0f) vm.SetMaterial(v, buf[nc * v + 1]);
+    if (nc == 2 && buf[nc * v + 1] != 1.0f)
+      vm.SetMaterial(v, buf[nc * v + 1]);
   }
   vm.RebuildOccupancy();
   progress(1.0, "loading the voxmap");

@@ -7,9 +7,9 @@
 //                 [-kFull, kFull]; fills below -kFull, i.e. more than a whole voxel over-removed,
 //                 are saved as -kFull: void either way);
 //   component 1 = material scale (1 = cortical).
-// Key/value fields bm_voxmap_version, bm_spacing and bm_origin (hexadecimal floating point) keep the
-// geometry bit-exact whatever decimal precision the format writes. NRRD files are gzip-compressed
-// (cut voxmaps are mostly runs of 0 and 1), MetaImage files zlib-compressed.
+// Key/value fields bm_voxmap_version, bm_spacing and bm_origin (hexadecimal floating point) keep
+// the geometry bit-exact whatever decimal precision the format writes. NRRD files are
+// gzip-compressed (cut voxmaps are mostly runs of 0 and 1), MetaImage files zlib-compressed.
 //
 // Saving is atomic: the file is written under a temporary name in the target folder and renamed
 // over the target only when complete, so a crash or cancel never leaves a half-written voxmap.
@@ -26,9 +26,9 @@ namespace bm {
 /// Save to path (.nrrd or .mha; other extensions are refused with std::runtime_error).
 void SaveVoxmap(const Voxmap& voxmap, const std::string& path, const Progress& progress = {});
 
-/// Load a voxmap saved by SaveVoxmap (or a compatible image). Throws std::runtime_error on a missing
-/// or unreadable file, an oblique (non-identity direction) or anisotropic image, or more than 2
-/// components.
+/// Load a voxmap saved by SaveVoxmap (or a compatible image). Throws std::runtime_error on a
+/// missing or unreadable file, an oblique (non-identity direction) or anisotropic image, or more
+/// than 2 components.
 Voxmap LoadVoxmap(const std::string& path, const Progress& progress = {});
 
 /// Temporary sibling of `path` with the same extension ("dir/.name.tmp-PID-N.ext"), for atomic

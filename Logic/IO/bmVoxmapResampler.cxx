@@ -10,16 +10,19 @@
 namespace bm {
 
 float MaterialScaleFromHU(float hu, const MaterialMapping& m) {
-  if (std::isnan(hu)) return 1.0f;
+  if (std::isnan(hu))
+    return 1.0f;
   return std::clamp(hu / m.corticalHU, m.minScale, 1.0f);
 }
 
 VoxmapGrid GridForBox(const Box3& box, int resolution) {
-  if (resolution < 1) throw std::invalid_argument("voxmap resolution must be at least 1");
+  if (resolution < 1)
+    throw std::invalid_argument("voxmap resolution must be at least 1");
   double longest = 0;
   for (int a = 0; a < 3; ++a) {
     double e = box.hi[a] - box.lo[a];
-    if (!(e > 0) || !std::isfinite(e)) throw std::invalid_argument("voxmap box is empty along an axis");
+    if (!(e > 0) || !std::isfinite(e))
+      throw std::invalid_argument("voxmap box is empty along an axis");
     longest = std::max(longest, e);
   }
   VoxmapGrid g;
@@ -34,7 +37,8 @@ VoxmapGrid GridForBox(const Box3& box, int resolution) {
 
 uint64_t VoxmapBytes(const VoxmapGrid& g) {
   uint64_t n = uint64_t(g.NumVoxels());
-  return n * (sizeof(Voxmap::Fill) + sizeof(float)) + n / (Voxmap::kBrick * Voxmap::kBrick * Voxmap::kBrick) * 4 + 4096;
+  return n * (sizeof(Voxmap::Fill) + sizeof(float)) +
+         n / (Voxmap::kBrick * Voxmap::kBrick * Voxmap::kBrick) * 4 + 4096;
 }
 
 namespace {
@@ -43,12 +47,13 @@ struct Sampler {
   const float* F = nullptr;
   const float* BH = nullptr;
   int nx = 0, ny = 0, nz = 0;
-  double A[3][3]{};  // world offset (mm) -> continuous index
-  double o[3]{};     // CT origin (mm)
-  double hs = 1;     // sample spacing, mm
+  double A[3][3]{}; // world offset (mm) -> continuous index
+  double o[3]{};    // CT origin (mm)
+  double hs = 1;    // sample spacing, mm
 
   float At(int i, int j, int k) const {
-    if (i < 0 || j < 0 || k < 0 || i >= nx || j >= ny || k >= nz) return 0.0f;
+    if (i < 0 || j < 0 || k < 0 || i >= nx || j >= ny || k >= nz)
+      return 0.0f;
     return F[i + int64_t(nx) * (j + int64_t(ny) * k)];
   }
   /// Bone share of a sample at continuous CT index c.
@@ -67,39 +72,47 @@ struct Sampler {
       all0 &= v[q] == 0.0f;
       all1 &= v[q] == 1.0f;
     }
-    if (all0) return 0.0;
-    if (all1) return 1.0;
+    if (all0)
+      return 0.0;
+    if (all1)
+      return 1.0;
     // Trilinear value and its gradient in index space.
     double x = t[0], y = t[1], z = t[2];
     double c00 = v[0] + (v[1] - v[0]) * x, c10 = v[2] + (v[3] - v[2]) * x;
     double c01 = v[4] + (v[5] - v[4]) * x, c11 = v[6] + (v[7] - v[6]) * x;
     double c0 = c00 + (c10 - c00) * y, c1 = c01 + (c11 - c01) * y;
     double Fv = c0 + (c1 - c0) * z;
-    double gx0 = (v[1] - v[0]) * (1 - y) + (v[3] - v[2]) * y, gx1 = (v[5] - v[4]) * (1 - y) + (v[7] - v[6]) * y;
+    double gx0 = (v[1] - v[0]) * (1 - y) + (v[3] - v[2]) * y,
+           gx1 = (v[5] - v[4]) * (1 - y) + (v[7] - v[6]) * y;
     double gi = gx0 * (1 - z) + gx1 * z;
     double gj = (c10 - c00) * (1 - z) + (c11 - c01) * z;
     double gk = c1 - c0;
     // World gradient = A^T * index gradient.
     double gw[3];
-    for (int a = 0; a < 3; ++a) gw[a] = A[0][a] * gi + A[1][a] * gj + A[2][a] * gk;
+    for (int a = 0; a < 3; ++a)
+      gw[a] = A[0][a] * gi + A[1][a] * gj + A[2][a] * gk;
     double gn = std::sqrt(gw[0] * gw[0] + gw[1] * gw[1] + gw[2] * gw[2]);
-    if (gn < 1e-9) return Fv >= 0.5 ? 1.0 : 0.0;
+    if (gn < 1e-9)
+      return Fv >= 0.5 ? 1.0 : 0.0;
     double d = (Fv - 0.5) / gn;
     return std::clamp(0.5 + d / hs, 0.0, 1.0);
   }
   /// Bone HU near continuous index c (nearest voxel, else the nearest defined within one voxel).
   float BoneHU(const double c[3]) const {
     int n[3];
-    for (int a = 0; a < 3; ++a) n[a] = int(std::floor(c[a] + 0.5));
+    for (int a = 0; a < 3; ++a)
+      n[a] = int(std::floor(c[a] + 0.5));
     float best = std::numeric_limits<float>::quiet_NaN();
     for (int r = 0; r <= 1; ++r)
       for (int dk = -r; dk <= r; ++dk)
         for (int dj = -r; dj <= r; ++dj)
           for (int di = -r; di <= r; ++di) {
             int i = n[0] + di, j = n[1] + dj, k = n[2] + dk;
-            if (i < 0 || j < 0 || k < 0 || i >= nx || j >= ny || k >= nz) continue;
+            if (i < 0 || j < 0 || k < 0 || i >= nx || j >= ny || k >= nz)
+              continue;
             float h = BH[i + int64_t(nx) * (j + int64_t(ny) * k)];
-            if (!std::isnan(h) && (std::isnan(best) || h > best)) best = h;
+            if (!std::isnan(h) && (std::isnan(best) || h > best))
+              best = h;
           }
     return best;
   }
@@ -107,8 +120,8 @@ struct Sampler {
 
 } // namespace
 
-Voxmap ResampleToVoxmap(const BoneSegmentation& seg, const VoxmapGrid& grid, const MaterialMapping& material,
-                        const Progress& progress, int threads) {
+Voxmap ResampleToVoxmap(const BoneSegmentation& seg, const VoxmapGrid& grid,
+                        const MaterialMapping& material, const Progress& progress, int threads) {
   const FractionImage* fr = seg.fraction.GetPointer();
   const auto region = fr->GetLargestPossibleRegion();
   Sampler s;
@@ -121,7 +134,8 @@ Voxmap ResampleToVoxmap(const BoneSegmentation& seg, const VoxmapGrid& grid, con
   const auto D = fr->GetDirection();
   const auto O = fr->GetOrigin();
   for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) s.A[r][c] = D[c][r] / sp[r]; // diag(1/s) * D^T
+    for (int c = 0; c < 3; ++c)
+      s.A[r][c] = D[c][r] / sp[r]; // diag(1/s) * D^T
     s.o[r] = O[r];
   }
   const double minSp = std::min({sp[0], sp[1], sp[2]});
@@ -148,7 +162,8 @@ Voxmap ResampleToVoxmap(const BoneSegmentation& seg, const VoxmapGrid& grid, con
                              grid.origin[2] + grid.spacing * (k + ((qk + 0.5) / m - 0.5))};
               double c[3];
               for (int r = 0; r < 3; ++r)
-                c[r] = s.A[r][0] * (p[0] - s.o[0]) + s.A[r][1] * (p[1] - s.o[1]) + s.A[r][2] * (p[2] - s.o[2]);
+                c[r] = s.A[r][0] * (p[0] - s.o[0]) + s.A[r][1] * (p[1] - s.o[1]) +
+                       s.A[r][2] * (p[2] - s.o[2]);
               sum += s.Share(c);
             }
         const int64_t v = vm.Index(i, j, k);
@@ -159,7 +174,8 @@ Voxmap ResampleToVoxmap(const BoneSegmentation& seg, const VoxmapGrid& grid, con
                          grid.origin[2] + grid.spacing * k};
           double c[3];
           for (int r = 0; r < 3; ++r)
-            c[r] = s.A[r][0] * (p[0] - s.o[0]) + s.A[r][1] * (p[1] - s.o[1]) + s.A[r][2] * (p[2] - s.o[2]);
+            c[r] = s.A[r][0] * (p[0] - s.o[0]) + s.A[r][1] * (p[1] - s.o[1]) +
+                   s.A[r][2] * (p[2] - s.o[2]);
           vm.SetMaterial(v, MaterialScaleFromHU(s.BoneHU(c), material));
         } else {
           vm.SetMaterial(v, 1.0f);
@@ -175,8 +191,10 @@ Voxmap ResampleToVoxmap(const BoneSegmentation& seg, const VoxmapGrid& grid, con
   int nt = threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency()));
   nt = std::clamp(nt, 1, std::max(1, nz));
   std::vector<std::thread> pool;
-  for (int t = 1; t < nt; ++t) pool.emplace_back(worker);
-  // The calling thread works too, and alone reports progress (the callback need not be thread-safe).
+  for (int t = 1; t < nt; ++t)
+    pool.emplace_back(worker);
+  // The calling thread works too, and alone reports progress (the callback need not be
+  // thread-safe).
   try {
     for (int k; (k = nextSlice.fetch_add(1)) < nz;) {
       progress(double(doneSlices.load()) / nz, "resampling into the voxmap");
@@ -185,10 +203,12 @@ Voxmap ResampleToVoxmap(const BoneSegmentation& seg, const VoxmapGrid& grid, con
     }
   } catch (...) {
     stop = true;
-    for (auto& t : pool) t.join();
+    for (auto& t : pool)
+      t.join();
     throw;
   }
-  for (auto& t : pool) t.join();
+  for (auto& t : pool)
+    t.join();
   vm.RebuildOccupancy();
   progress(1.0, "resampling into the voxmap");
   return vm;

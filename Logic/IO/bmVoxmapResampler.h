@@ -4,11 +4,11 @@
 // longest axis (MODEL_NOTES section 5): isotropic spacing h = longest extent / N, dims[a] =
 // ceil(extent[a] / h), the grid anchored at the box's low corner (so it covers the box, exceeding
 // it by less than one voxel on the high side of the shorter axes). The voxmap's origin is the world
-// position (mm) of the centre of voxel (0, 0, 0); its axes are the world axes, so tools and CT agree
-// in mm whatever the CT's own orientation.
+// position (mm) of the centre of voxel (0, 0, 0); its axes are the world axes, so tools and CT
+// agree in mm whatever the CT's own orientation.
 //
-// Fill: each voxel is sampled at m^3 points (m = ceil(h / smallest CT spacing), at most 6; m = 1 when
-// the voxmap is finer than the CT). At each point the CT bone fraction is interpolated
+// Fill: each voxel is sampled at m^3 points (m = ceil(h / smallest CT spacing), at most 6; m = 1
+// when the voxmap is finer than the CT). At each point the CT bone fraction is interpolated
 // trilinearly and sharpened into a sub-voxel surface: the signed distance to the 0.5 iso-surface is
 // estimated as d = (F - 0.5) / |grad F| (mm) and the point's share of bone is clamp(0.5 + d / h_s)
 // with h_s = h / m the sample spacing. This keeps the CT's surface position (a symmetric ramp
@@ -42,8 +42,8 @@ float MaterialScaleFromHU(float hu, const MaterialMapping& m = {});
 
 struct VoxmapGrid {
   std::array<int, 3> dims{0, 0, 0};
-  double spacing = 0;              ///< mm
-  std::array<double, 3> origin{};  ///< world mm of the centre of voxel (0, 0, 0)
+  double spacing = 0;             ///< mm
+  std::array<double, 3> origin{}; ///< world mm of the centre of voxel (0, 0, 0)
   int64_t NumVoxels() const { return int64_t(dims[0]) * dims[1] * dims[2]; }
 };
 
@@ -56,7 +56,8 @@ uint64_t VoxmapBytes(const VoxmapGrid& grid);
 
 /// Resample the segmentation into a voxmap on `grid` (see above). threads = 0: all cores.
 /// Progress stage "resampling into the voxmap"; cancel -> Cancelled.
-Voxmap ResampleToVoxmap(const BoneSegmentation& seg, const VoxmapGrid& grid, const MaterialMapping& material = {},
-                        const Progress& progress = {}, int threads = 0);
+Voxmap ResampleToVoxmap(const BoneSegmentation& seg, const VoxmapGrid& grid,
+                        const MaterialMapping& material = {}, const Progress& progress = {},
+                        int threads = 0);
 
 } // namespace bm

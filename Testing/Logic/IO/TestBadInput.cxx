@@ -21,7 +21,8 @@ void ExpectRefused(const ScratchDir& dir, const fs::path& input, const std::stri
   const fs::path out = dir / "out.nrrd";
   try {
     bm::ImportToFile(input.string(), out.string(), opt);
-    ADD_FAILURE() << "import of " << input << " was accepted; expected a refusal naming '" << needle << "'";
+    ADD_FAILURE() << "import of " << input << " was accepted; expected a refusal naming '" << needle
+                  << "'";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << "message: " << e.what();
   }
@@ -51,7 +52,8 @@ TEST(BadInput, TwoSeriesNeedAChoice) {
   WriteBlock(d / "b", b);
   fs::create_directory(d / "ct");
   for (const char* s : {"a", "b"})
-    for (const auto& f : SeriesFiles(d / s)) fs::copy(f, d / "ct" / (std::string(s) += f.filename().string()));
+    for (const auto& f : SeriesFiles(d / s))
+      fs::copy(f, d / "ct" / (std::string(s) += f.filename().string()));
   ExpectRefused(d, d / "ct", "1.2.826.0.1.3680043.9.7.1");
   ExpectRefused(d, d / "ct", "1.2.826.0.1.3680043.9.7.2");
   auto list = bm::ListDicomSeries((d / "ct").string());
@@ -102,7 +104,8 @@ TEST(BadInput, NonCTModality) {
 TEST(BadInput, MissingPixelSpacing) {
   ScratchDir d("nospacing");
   WriteBlock(d / "ct");
-  for (const auto& f : SeriesFiles(d / "ct")) EditDicom(f, [](gdcm::DataSet& ds) { ds.Remove(gdcm::Tag(0x0028, 0x0030)); });
+  for (const auto& f : SeriesFiles(d / "ct"))
+    EditDicom(f, [](gdcm::DataSet& ds) { ds.Remove(gdcm::Tag(0x0028, 0x0030)); });
   ExpectRefused(d, d / "ct", "PixelSpacing");
 }
 
@@ -186,6 +189,7 @@ TEST(BadInput, BadOutputPathWritesNothing) {
   ScratchDir d("out");
   WriteBlock(d / "ct");
   EXPECT_THROW(bm::ImportToFile((d / "ct").string(), (d / "v.png").string()), std::runtime_error);
-  EXPECT_THROW(bm::ImportToFile((d / "ct").string(), (d / "no" / "v.nrrd").string()), std::runtime_error);
+  EXPECT_THROW(bm::ImportToFile((d / "ct").string(), (d / "no" / "v.nrrd").string()),
+               std::runtime_error);
   EXPECT_EQ(d.Entries(), std::vector<std::string>{"ct"});
 }

@@ -24,7 +24,8 @@ void ExpectSameVoxels(const bm::CTImage& a, const bm::CTImage& b, const std::str
   const float* pa = a.hu->GetBufferPointer();
   const float* pb = b.hu->GetBufferPointer();
   size_t diff = 0;
-  for (size_t v = 0; v < n; ++v) diff += pa[v] != pb[v];
+  for (size_t v = 0; v < n; ++v)
+    diff += pa[v] != pb[v];
   EXPECT_EQ(diff, 0u) << what;
   for (int a3 = 0; a3 < 3; ++a3) {
     EXPECT_NEAR(a.hu->GetOrigin()[a3], b.hu->GetOrigin()[a3], 1e-6) << what;
@@ -46,12 +47,14 @@ TEST(CTReader, DicomMatchesThePhantomInHU) {
   const size_t n = ct.hu->GetLargestPossibleRegion().GetNumberOfPixels();
   double worst = 0;
   for (size_t v = 0; v < n; ++v)
-    worst = std::max(worst, double(std::abs(ct.hu->GetBufferPointer()[v] -
-                                            std::max(ref.hu->GetBufferPointer()[v], -1024.0f)))); // stored >= 0
+    worst = std::max(
+        worst, double(std::abs(ct.hu->GetBufferPointer()[v] -
+                               std::max(ref.hu->GetBufferPointer()[v], -1024.0f)))); // stored >= 0
   EXPECT_LE(worst, 0.5 + 1e-3);
   EXPECT_LT(ct.huMin, -900);
   EXPECT_GT(ct.huMax, 1500);
-  for (int a = 0; a < 3; ++a) EXPECT_NEAR(ct.hu->GetOrigin()[a], ref.hu->GetOrigin()[a], 1e-6);
+  for (int a = 0; a < 3; ++a)
+    EXPECT_NEAR(ct.hu->GetOrigin()[a], ref.hu->GetOrigin()[a], 1e-6);
 }
 
 TEST(CTReader, CompressedTransferSyntaxes) {
@@ -75,7 +78,8 @@ TEST(CTReader, OrdersSlicesByPositionNotName) {
   // Rename the files in reverse order of position.
   auto files = SeriesFiles(d / "ct");
   fs::create_directory(d / "rev");
-  for (size_t i = 0; i < files.size(); ++i) fs::rename(files[i], d / "rev" / (std::string("S") += std::to_string(1000 - i)));
+  for (size_t i = 0; i < files.size(); ++i)
+    fs::rename(files[i], d / "rev" / (std::string("S") += std::to_string(1000 - i)));
   bm::CTImage c = bm::ReadCT((d / "rev").string());
   ExpectSameVoxels(c, ref, "reversed names");
 }
@@ -88,9 +92,12 @@ TEST(CTReader, VolumeFilesReadAsHU) {
     w->SetInput(ref.hu);
     w->SetFileName((d / name).string());
     std::string n = name;
-    if (n == "ct.nrrd") w->SetImageIO(itk::NrrdImageIO::New());
-    else if (n == "ct.mha") w->SetImageIO(itk::MetaImageIO::New());
-    else w->SetImageIO(itk::NiftiImageIO::New());
+    if (n == "ct.nrrd")
+      w->SetImageIO(itk::NrrdImageIO::New());
+    else if (n == "ct.mha")
+      w->SetImageIO(itk::MetaImageIO::New());
+    else
+      w->SetImageIO(itk::NiftiImageIO::New());
     w->Update();
     bm::CTImage c = bm::ReadCT((d / name).string());
     ExpectSameVoxels(c, ref, name);
@@ -109,7 +116,8 @@ TEST(CTReader, ProgressReachesTheEndAndCancelStops) {
   bm::ImportVoxmap((d / "ct").string(), opt, bm::Progress([&](double f, const std::string& s) {
                      if (f < last - 1e-12) {
                        monotone = false;
-                       ADD_FAILURE() << "progress went back from " << last << " to " << f << " in " << s;
+                       ADD_FAILURE()
+                           << "progress went back from " << last << " to " << f << " in " << s;
                      }
                      last = f;
                      stages.insert(s);
@@ -122,7 +130,9 @@ TEST(CTReader, ProgressReachesTheEndAndCancelStops) {
   // Cancel in each stage: Cancelled, nothing written.
   for (double at : {0.05, 0.3, 0.6, 0.9}) {
     bm::Progress cancel([at](double f, const std::string&) { return f < at; });
-    EXPECT_THROW(bm::ImportToFile((d / "ct").string(), (d / "v.nrrd").string(), opt, cancel), bm::Cancelled) << at;
+    EXPECT_THROW(bm::ImportToFile((d / "ct").string(), (d / "v.nrrd").string(), opt, cancel),
+                 bm::Cancelled)
+        << at;
     EXPECT_FALSE(fs::exists(d / "v.nrrd"));
   }
   EXPECT_EQ(d.Entries(), std::vector<std::string>{"ct"});

@@ -15,7 +15,8 @@ const char* kCranium = "/usr/share/doc/invesalius-examples/examples/Cranium.inv3
 }
 
 TEST(Invesalius, ReadsTheProjectLayoutFromItsPlist) {
-  if (!fs::exists(kCranium)) GTEST_SKIP() << "invesalius-examples is not installed";
+  if (!fs::exists(kCranium))
+    GTEST_SKIP() << "invesalius-examples is not installed";
   bm::CTImage ct = bm::ReadCT(kCranium);
   EXPECT_EQ(ct.format, "InVesalius");
   EXPECT_EQ(ct.modality, "CT");
@@ -31,7 +32,8 @@ TEST(Invesalius, ReadsTheProjectLayoutFromItsPlist) {
 }
 
 TEST(Invesalius, SkullImports) {
-  if (!fs::exists(kCranium)) GTEST_SKIP() << "invesalius-examples is not installed";
+  if (!fs::exists(kCranium))
+    GTEST_SKIP() << "invesalius-examples is not installed";
   ScratchDir d("cranium");
   bm::ImportOptions opt;
   opt.resolution = 256; // 0.79 mm voxels, finer than the CT's 0.96 mm: thin bone is kept
@@ -46,7 +48,8 @@ TEST(Invesalius, SkullImports) {
   EXPECT_LT(r.voxmap.BoneVolume(), r.segmentedVolumeMm3);
   EXPECT_GT(r.voxmap.BoneVolume(), 0.93 * r.segmentedVolumeMm3);
   // Extent: a head is ~140-160 mm wide and ~170-200 mm long; the scan covers 162 mm axially.
-  const double ex = r.roi.hi[0] - r.roi.lo[0], ey = r.roi.hi[1] - r.roi.lo[1], ez = r.roi.hi[2] - r.roi.lo[2];
+  const double ex = r.roi.hi[0] - r.roi.lo[0], ey = r.roi.hi[1] - r.roi.lo[1],
+               ez = r.roi.hi[2] - r.roi.lo[2];
   EXPECT_GT(ex, 120);
   EXPECT_LT(ex, 200);
   EXPECT_GT(ey, 150);
@@ -57,7 +60,8 @@ TEST(Invesalius, SkullImports) {
   // Cortical and cancellous bone are told apart in the material scale.
   int cortical = 0, softer = 0;
   for (int64_t v = 0; v < r.voxmap.NumVoxels(); ++v)
-    if (r.voxmap.GetFill(v) == bm::Voxmap::kFull) (r.voxmap.Material(v) >= 0.99f ? cortical : softer)++;
+    if (r.voxmap.GetFill(v) == bm::Voxmap::kFull)
+      (r.voxmap.Material(v) >= 0.99f ? cortical : softer)++;
   EXPECT_GT(cortical, 1000);
   EXPECT_GT(softer, 1000);
   bm::Voxmap back = bm::LoadVoxmap((d / "skull.nrrd").string());

@@ -30,10 +30,13 @@ TEST(Phantom, AnalyticVolumeMatchesQuadrature) {
     const int n = 2000000;
     int hits = 0;
     double boxVol = 1;
-    for (int a = 0; a < 3; ++a) boxVol *= info.boneBounds.hi[a] - info.boneBounds.lo[a] + 2.0;
+    for (int a = 0; a < 3; ++a)
+      boxVol *= info.boneBounds.hi[a] - info.boneBounds.lo[a] + 2.0;
     for (int i = 0; i < n; ++i) {
       std::array<double, 3> p;
-      for (int a = 0; a < 3; ++a) p[a] = info.boneBounds.lo[a] - 1.0 + U(rng) * (info.boneBounds.hi[a] - info.boneBounds.lo[a] + 2.0);
+      for (int a = 0; a < 3; ++a)
+        p[a] = info.boneBounds.lo[a] - 1.0 +
+               U(rng) * (info.boneBounds.hi[a] - info.boneBounds.lo[a] + 2.0);
       hits += bm::PhantomIsBone(name, p);
     }
     double mc = boxVol * hits / n;
@@ -52,8 +55,9 @@ TEST(Phantom, GlenoidDicomImportVolumeWithinOnePercent) {
   EXPECT_EQ(r.modality, "CT");
   EXPECT_EQ(r.format, "DICOM");
   double vol = r.voxmap.BoneVolume();
-  std::cout << "glenoid analytic " << info.boneVolumeMm3 << " mm^3, CT " << r.segmentedVolumeMm3 << ", voxmap "
-            << vol << "\n" << r.Report();
+  std::cout << "glenoid analytic " << info.boneVolumeMm3 << " mm^3, CT " << r.segmentedVolumeMm3
+            << ", voxmap " << vol << "\n"
+            << r.Report();
   EXPECT_NEAR(vol, info.boneVolumeMm3, 0.01 * info.boneVolumeMm3);
   EXPECT_NEAR(r.segmentedVolumeMm3, info.boneVolumeMm3, 0.01 * info.boneVolumeMm3);
   // Placement in world mm: the voxmap's half-full voxels span the analytic bone box within a CT
@@ -65,10 +69,12 @@ TEST(Phantom, GlenoidDicomImportVolumeWithinOnePercent) {
       for (int i = 0; i < vm.Dims()[0]; ++i)
         if (vm.GetFill(vm.Index(i, j, k)) >= bm::Voxmap::kFull / 2) {
           std::array<int, 3> ijk{i, j, k};
-          for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], ijk[a]), hi[a] = std::max(hi[a], ijk[a]);
+          for (int a = 0; a < 3; ++a)
+            lo[a] = std::min(lo[a], ijk[a]), hi[a] = std::max(hi[a], ijk[a]);
         }
   for (int a = 0; a < 3; ++a) {
-    double wlo = vm.Origin()[a] + (lo[a] - 0.5) * vm.Spacing(), whi = vm.Origin()[a] + (hi[a] + 0.5) * vm.Spacing();
+    double wlo = vm.Origin()[a] + (lo[a] - 0.5) * vm.Spacing(),
+           whi = vm.Origin()[a] + (hi[a] + 0.5) * vm.Spacing();
     EXPECT_NEAR(wlo, info.boneBounds.lo[a], 0.25 + vm.Spacing()) << "axis " << a;
     EXPECT_NEAR(whi, info.boneBounds.hi[a], 0.25 + vm.Spacing()) << "axis " << a;
   }

@@ -14,13 +14,16 @@ namespace {
 
 bm::Voxmap CutVoxmap() {
   // Odd spacing and origin that decimal text would not keep exactly.
-  bm::Voxmap vm({37, 29, 23}, 0.1234567890123, {-60.123456789012345, 20.000000000000004, 1.0 / 3.0});
+  bm::Voxmap vm({37, 29, 23}, 0.1234567890123,
+                {-60.123456789012345, 20.000000000000004, 1.0 / 3.0});
   std::mt19937 rng(3);
   std::uniform_int_distribution<int> any(-bm::Voxmap::kFull, bm::Voxmap::kFull);
   std::uniform_real_distribution<float> mat(0.05f, 1.0f);
   for (int64_t v = 0; v < vm.NumVoxels(); ++v) {
     int kind = int(v % 5);
-    vm.SetFill(v, kind == 0 ? 0 : kind == 1 ? bm::Voxmap::kFull : any(rng)); // void, full, partial/over-cut
+    vm.SetFill(v, kind == 0   ? 0
+                  : kind == 1 ? bm::Voxmap::kFull
+                              : any(rng)); // void, full, partial/over-cut
     vm.SetMaterial(v, kind == 2 ? 1.0f : mat(rng));
   }
   bool gone = false;
@@ -40,7 +43,8 @@ TEST(VoxmapFile, RoundTripIsExact) {
     EXPECT_EQ(back.Spacing(), vm.Spacing()) << name;
     EXPECT_EQ(back.Origin(), vm.Origin()) << name;
     EXPECT_EQ(back.CountBone(), vm.CountBone()) << name;
-    for (int64_t b = 0; b < int64_t(back.BrickDims()[0]) * back.BrickDims()[1] * back.BrickDims()[2]; ++b)
+    for (int64_t b = 0;
+         b < int64_t(back.BrickDims()[0]) * back.BrickDims()[1] * back.BrickDims()[2]; ++b)
       ASSERT_EQ(back.BrickCount(b), vm.BrickCount(b));
   }
   EXPECT_EQ(d.Entries().size(), 2u); // no temporary left behind

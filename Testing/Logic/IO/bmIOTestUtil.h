@@ -33,7 +33,8 @@ struct ScratchDir {
   /// Names of the entries in the folder (to check nothing was left behind).
   std::vector<std::string> Entries() const {
     std::vector<std::string> v;
-    for (const auto& e : fs::directory_iterator(path)) v.push_back(e.path().filename().string());
+    for (const auto& e : fs::directory_iterator(path))
+      v.push_back(e.path().filename().string());
     return v;
   }
 };
@@ -41,27 +42,30 @@ struct ScratchDir {
 /// Sorted DICOM files of a series folder.
 inline std::vector<fs::path> SeriesFiles(const fs::path& dir) {
   std::vector<fs::path> v;
-  for (const auto& e : fs::directory_iterator(dir)) v.push_back(e.path());
+  for (const auto& e : fs::directory_iterator(dir))
+    v.push_back(e.path());
   std::sort(v.begin(), v.end());
   return v;
 }
 
 /// Rewrite a DICOM file after `edit` changed its data set.
-template <class Edit>
-void EditDicom(const fs::path& file, Edit edit) {
+template <class Edit> void EditDicom(const fs::path& file, Edit edit) {
   gdcm::Reader r;
   r.SetFileName(file.c_str());
-  if (!r.Read()) throw std::runtime_error("test: cannot read " + file.string());
+  if (!r.Read())
+    throw std::runtime_error("test: cannot read " + file.string());
   edit(r.GetFile().GetDataSet());
   gdcm::Writer w;
   w.SetFile(r.GetFile());
   w.SetFileName(file.c_str());
-  if (!w.Write()) throw std::runtime_error("test: cannot write " + file.string());
+  if (!w.Write())
+    throw std::runtime_error("test: cannot write " + file.string());
 }
 
 /// Replace (or add) a string-valued tag.
 inline void SetTag(gdcm::DataSet& ds, uint16_t g, uint16_t e, gdcm::VR vr, std::string value) {
-  if (value.size() % 2) value.push_back(' ');
+  if (value.size() % 2)
+    value.push_back(' ');
   gdcm::DataElement de(gdcm::Tag(g, e));
   de.SetVR(vr);
   de.SetByteValue(value.data(), uint32_t(value.size()));
