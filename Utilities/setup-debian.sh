@@ -6,7 +6,7 @@ SUDO=""
 if [ "$(id -u)" != 0 ]; then SUDO="sudo"; fi
 PKGS=(
   build-essential cmake ninja-build pkg-config git
-  paraview paraview-dev
+  paraview paraview-dev python3-paraview libqt5opengl5-dev
   libinsighttoolkit5-dev libgdcm-dev libgdcm-tools
   libeigen3-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev

@@ -16,6 +16,12 @@ void FramePartial::Clear() {
   removals.clear();
 }
 
+double MaxRemovalUnits(const Eigen::Vector3d& d, double voxelMm, double unitsPerMm3) {
+  // Projected area of a voxel along d times |d|: h^2 (|dx| + |dy| + |dz|).
+  const double swept = voxelMm * voxelMm * (std::abs(d(0)) + std::abs(d(1)) + std::abs(d(2)));
+  return std::min(swept * unitsPerMm3, double(Voxmap::kFull));
+}
+
 FrameResult SumPartials(const std::vector<FramePartial>& parts, double voxelVolume) {
   FrameResult r;
   int64_t fx = 0, fy = 0, requested = 0;
@@ -42,7 +48,7 @@ FrameResult SumPartials(const std::vector<FramePartial>& parts, double voxelVolu
 CpuEngine::CpuEngine(Voxmap& bone, const ToolModel& tool, const PointShell& shell, const ForceModel& model,
                      int threads, CullingOptions culling)
     : Bone_(bone), Tool_(tool), Shell_(shell), Model_(model), Culling_(culling), Pool_(threads),
-      Partials_(size_t(threads)) {}
+      Partials_(size_t(threads)), State_(shell.Size()) {}
 
 void CpuEngine::UpdateForceTable(double f, double n) {
   if (f == TableFeed_ && n == TableSpeed_) return;
@@ -58,6 +64,7 @@ void CpuEngine::UpdateForceTable(double f, double n) {
 
 FrameResult CpuEngine::Step(const FrameInput& in) {
   for (auto& p : Partials_) p.Clear();
+  const uint32_t frameNo = ++Frame_;
   const bool cutting = in.speedRpm > 0 && in.feedMmPerRev > 0;
   if (cutting) UpdateForceTable(in.feedMmPerRev, in.speedRpm);
 
@@ -73,6 +80,10 @@ FrameResult CpuEngine::Step(const FrameInput& in) {
   const Eigen::Vector3d d = rot.transpose() * in.motion;
   const double unitsPerMm3 = Voxmap::kFull / Bone_.VoxelVolume();
   const bool remove = in.removeMaterial && d.squaredNorm() > 0;
+  // An element cuts only the voxel it lies in, so it may take at most what that voxel's own
+  // cross-section sweeps this frame (binds only when the shell is coarser than the voxmap: then
+  // columns between elements stay, and the summary's removed volume falls short of the swept).
+  const double maxUnits = MaxRemovalUnits(d, hv, unitsPerMm3);
   const auto dims = Bone_.Dims();
   const Voxmap::Fill* fill = Bone_.FillData();
   const float* material = Bone_.MaterialData();
@@ -122,15 +133,19 @@ FrameResult CpuEngine::Step(const FrameInput& in) {
         const float gz = Af[6] * x + Af[7] * y + Af[8] * z + bf[2];
         const int vi = int(std::floor(gx + 0.5f)), vj = int(std::floor(gy + 0.5f)), vk = int(std::floor(gz + 0.5f));
         ++P.visited;
-        if (vi < 0 || vj < 0 || vk < 0 || vi >= dims[0] || vj >= dims[1] || vk >= dims[2]) continue;
+        ElementResidency& st = State_[e];
+        if (vi < 0 || vj < 0 || vk < 0 || vi >= dims[0] || vj >= dims[1] || vk >= dims[2]) {
+          st.Visit(frameNo, -1, 0);
+          continue;
+        }
         const int64_t idx = vi + int64_t(dims[0]) * (vj + int64_t(dims[1]) * vk);
-        if (fill[idx] <= 0) continue;
+        if (!st.Visit(frameNo, idx, fill[idx])) continue;
         ++P.engaged;
         if (remove) {
           const auto& n = an[e];
           const double vol = n[0] * d(0) + n[1] * d(1) + n[2] * d(2);
           if (vol > 0) {
-            const int32_t units = int32_t(std::min(vol * unitsPerMm3, double(Voxmap::kFull)) + 0.5);
+            const int32_t units = int32_t(std::min(vol * unitsPerMm3, maxUnits) + 0.5);
             if (units > 0) {
               P.removals.emplace_back(idx, units);
               P.requested += units;

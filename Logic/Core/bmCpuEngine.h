@@ -14,6 +14,7 @@
 #include <memory>
 #include <vector>
 
+#include "bmElementResidency.h"
 #include "bmEngine.h"
 #include "bmForceModel.h"
 #include "bmPointShell.h"
@@ -56,9 +57,15 @@ private:
   CullingOptions Culling_;
   WorkerPool Pool_;
   std::vector<FramePartial> Partials_;
+  std::vector<ElementResidency> State_; // per element
+  uint32_t Frame_ = 0;
   std::vector<std::array<double, 3>> Table_; // per force bin: (fx, fy, fz) per mm of delta
   double TableFeed_ = -1, TableSpeed_ = -1;
 };
+
+/// Most fill units one element may remove from its voxel for motion d (tool frame, mm): the
+/// voxel's own swept cross-section, capped at a whole voxel (shared by the CPU engines).
+double MaxRemovalUnits(const Eigen::Vector3d& d, double voxelMm, double unitsPerMm3);
 
 /// Sums per-thread partials into a frame result (shared by the CPU engines).
 FrameResult SumPartials(const std::vector<FramePartial>& parts, double voxelVolumeMm3);

@@ -16,4 +16,30 @@ double ForemostCuttingZ(const ToolModel& tool) {
   return zMin;
 }
 
+double FullEngagementDepth(const ToolModel& tool) {
+  const double zMin = ForemostCuttingZ(tool);
+  double zMax = zMin, zLo = 0, zHi = 0;
+  for (EdgeKind k : {EdgeKind::Chisel, EdgeKind::Lip}) {
+    const auto range = tool.EdgeRange(k);
+    if (!(range[1] > range[0])) continue;
+    for (int i = 0; i <= 4096; ++i)
+      if (tool.ZRange(range[0] + (range[1] - range[0]) * i / 4096.0, zLo, zHi)) zMax = std::max(zMax, zLo);
+  }
+  return zMax - zMin;
+}
+
+double VolumeBelowDepth(const ToolModel& tool, double depthMm) {
+  // V = integral over rho of 2 pi rho * (length of the inside interval below the cut plane).
+  const double zCut = ForemostCuttingZ(tool) + depthMm, R = tool.OuterRadius();
+  const int n = 200000;
+  const double h = R / n;
+  double v = 0, zLo = 0, zHi = 0;
+  for (int i = 0; i < n; ++i) {
+    const double rho = (i + 0.5) * h;
+    if (!tool.ZRange(rho, zLo, zHi)) continue;
+    v += 2.0 * 3.14159265358979323846 * rho * std::max(0.0, std::min(zHi, zCut) - zLo) * h;
+  }
+  return v;
+}
+
 } // namespace bm

@@ -15,6 +15,11 @@ namespace bm {
 
 /// Axial height (mm, tool frame) of the foremost point of any cutting edge.
 double ForemostCuttingZ(const ToolModel& tool);
+/// Depth (mm) past the foremost cutting point at which every edge element is engaged.
+double FullEngagementDepth(const ToolModel& tool);
+/// Volume (mm^3) of the tool below depthMm from its foremost cutting point: what a tool fed that
+/// deep into a bone that contains its whole path removes.
+double VolumeBelowDepth(const ToolModel& tool, double depthMm);
 
 /// Calls fn(kind, r_mm, weight_mm) for every node on edges of `onlyKind` (None = all kinds)
 /// whose edge height above the foremost cutting point is below depthMm.

@@ -52,6 +52,9 @@ public:
   virtual std::string Name() const = 0;
   /// Advance one frame. Throws on a backend fault; the voxmap is then as before the frame.
   virtual FrameResult Step(const FrameInput& in) = 0;
+  /// Bring the Voxmap given at construction up to date when the backend keeps its own copy
+  /// (device memory, octree). Backends that cut the Voxmap in place need nothing.
+  virtual void SyncBone() {}
 };
 
 } // namespace bm

@@ -1,0 +1,48 @@
+#include "bmAtomicFile.h"
+
+#include <atomic>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <unistd.h>
+
+namespace bm {
+
+std::string TemporarySibling(const std::string& path) {
+  static std::atomic<unsigned> counter{0};
+  std::filesystem::path p(path);
+  std::string name(1, '.'); // built by appends: GCC 12 warns falsely on "." + std::string
+  name += p.filename().string();
+  name += ".tmp";
+  name += std::to_string(::getpid());
+  name += '_';
+  name += std::to_string(counter++);
+  return (p.parent_path() / name).string();
+}
+
+void WriteFileAtomic(const std::string& path, const std::function<void(std::ostream&)>& write) {
+  const std::string tmp = TemporarySibling(path);
+  try {
+    {
+      std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+      if (!out) throw std::runtime_error("cannot write '" + path + "' (cannot create a file in its directory)");
+      write(out);
+      out.flush();
+      if (!out) throw std::runtime_error("writing '" + path + "' failed");
+    }
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) throw std::runtime_error("cannot save '" + path + "': " + ec.message());
+  } catch (...) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    throw;
+  }
+}
+
+void WriteFileAtomic(const std::string& path, const std::string& content) {
+  WriteFileAtomic(path, [&](std::ostream& out) { out.write(content.data(), std::streamsize(content.size())); });
+}
+
+} // namespace bm

@@ -1,0 +1,22 @@
+// bmAtomicFile.h - saves that never leave a half-written file: write a temporary file beside the
+// target, flush it, then rename it over the target (atomic on POSIX file systems).
+#pragma once
+
+#include <functional>
+#include <ostream>
+#include <string>
+
+namespace bm {
+
+/// Writes `content` to `path` atomically. Throws std::runtime_error naming the path on failure;
+/// the target is then untouched.
+void WriteFileAtomic(const std::string& path, const std::string& content);
+
+/// Streams into a temporary file through `write`, then renames it to `path`. If `write` throws,
+/// the temporary file is removed and the exception propagates.
+void WriteFileAtomic(const std::string& path, const std::function<void(std::ostream&)>& write);
+
+/// A unique temporary path beside `path` (same directory, so rename is atomic).
+std::string TemporarySibling(const std::string& path);
+
+} // namespace bm

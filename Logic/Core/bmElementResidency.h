@@ -1,0 +1,36 @@
+// bmElementResidency.h - when an element counts as cutting bone (MODEL_NOTES section 8).
+//
+// Removal is material-conserving: each frame an engaged element lowers its voxel's fill by the
+// volume it sweeps. Where the two grids alias, a voxel can hold a little more (or less) element
+// area than its own cross-section and would empty before the tool surface has passed through it;
+// deciding engagement from the fill alone then drops elements for a while and the force dips with
+// the voxel phase. So engagement is decided when an element ENTERS a voxel: it is engaged if the
+// voxel holds bone then, and it stays engaged while it stays in that voxel, in consecutive frames.
+// An element that enters an emptied voxel (a hole already cut, a retraction) does not cut. The
+// state depends only on the previous frame, so results stay deterministic.
+#pragma once
+
+#include <cstdint>
+
+#include "bmVoxmap.h"
+
+namespace bm {
+
+struct ElementResidency {
+  int64_t voxel = -1;  ///< voxel index of the last visit, -1 outside the grid
+  uint32_t frame = 0;  ///< frame number of the last visit
+  uint32_t engaged = 0;
+
+  /// Updates the state for a visit in `frameNo` to voxel `idx` (-1: outside) whose fill at the
+  /// frame's start was `fill`; returns whether the element cuts this frame.
+  bool Visit(uint32_t frameNo, int64_t idx, Voxmap::Fill fill) {
+    const bool stayed = frame + 1 == frameNo && voxel == idx && engaged;
+    const bool e = idx >= 0 && (fill > 0 || stayed);
+    voxel = idx;
+    frame = frameNo;
+    engaged = e ? 1u : 0u;
+    return e;
+  }
+};
+
+} // namespace bm

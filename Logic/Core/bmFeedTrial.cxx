@@ -1,0 +1,151 @@
+#include "bmFeedTrial.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+
+#include "bmAtomicFile.h"
+#include "bmEdgeQuadrature.h"
+
+namespace bm {
+
+double Percentile(std::vector<double> v, double pct) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  size_t rank = size_t(std::ceil(pct / 100.0 * v.size()));
+  return v[std::clamp<size_t>(rank, 1, v.size()) - 1];
+}
+
+FeedTrial::FeedTrial(MachiningSetup& setup) : Setup_(setup) {
+  const Scene& s = setup.GetScene();
+  const double full = FullEngagementDepth(setup.Tool());
+  EngagedDepth_ = full + 2 * setup.Bone().Spacing() + setup.Shell().Spacing();
+  FinalDepth_ = s.trial.depthMm >= 0 ? s.trial.depthMm : full + s.trial.extraDepthMm;
+}
+
+bool FeedTrial::Run(const std::function<bool(double)>& progress) {
+  const Scene& s = Setup_.GetScene();
+  const TrialSpec& t = s.trial;
+  const Eigen::Matrix3d rot = Setup_.ToolRotation();
+  const Eigen::Vector3d axis = t.axis.normalized();
+  const double zf = ForemostCuttingZ(Setup_.Tool());
+  const double step = t.feedMmPerRev * t.speedRpm / 60.0 * t.frameS; // mm per frame
+  const int64_t frames = int64_t(std::ceil((FinalDepth_ + t.clearanceMm) / step));
+  Engine& engine = Setup_.GetEngine();
+  Frames_.clear();
+  Frames_.reserve(size_t(frames));
+  for (int64_t k = 0; k < frames; ++k) {
+    const double depth = -t.clearanceMm + step * double(k + 1);
+    FrameInput in;
+    in.rotation = rot;
+    in.position = t.entry - axis * depth - rot * Eigen::Vector3d(0, 0, zf);
+    in.motion = -axis * step;
+    in.feedMmPerRev = t.feedMmPerRev;
+    in.speedRpm = t.speedRpm;
+    in.spindleAngle = 2.0 * 3.14159265358979323846 * t.speedRpm / 60.0 * t.frameS * double(k + 1);
+    const auto t0 = std::chrono::steady_clock::now();
+    const FrameResult r = engine.Step(in);
+    const auto t1 = std::chrono::steady_clock::now();
+    TrialFrame f;
+    f.timeS = t.frameS * double(k + 1);
+    f.depthMm = depth;
+    f.feedMmPerRev = t.feedMmPerRev;
+    f.thrustN = r.thrustN;
+    f.torqueNmm = r.torqueNmm;
+    f.frameMs = std::chrono::duration<double, std::milli>(t1 - t0).count();
+    f.removedVoxels = r.removedVoxels;
+    f.removedVolumeMm3 = r.removedVolumeMm3;
+    f.lateralN = std::hypot(r.forceTool(0), r.forceTool(1));
+    Frames_.push_back(f);
+    SweptVolume_ += r.sweptVolumeMm3;
+    RemovedVolume_ += r.removedVolumeMm3;
+    RemovedVoxels_ += r.removedVoxels;
+    if (progress && (k % 256 == 0 || k + 1 == frames) && !progress(double(k + 1) / double(frames))) return false;
+  }
+  engine.SyncBone();
+  return true;
+}
+
+nlohmann::json FeedTrial::Summary() const {
+  const Scene& s = Setup_.GetScene();
+  std::vector<double> thrust, torque, lateral, ms;
+  for (const auto& f : Frames_) {
+    ms.push_back(f.frameMs);
+    if (f.depthMm >= EngagedDepth_) {
+      thrust.push_back(f.thrustN);
+      torque.push_back(f.torqueNmm);
+      lateral.push_back(f.lateralN);
+    }
+  }
+  auto mean = [](const std::vector<double>& v) {
+    double m = 0;
+    for (double x : v) m += x;
+    return v.empty() ? 0.0 : m / double(v.size());
+  };
+  auto sd = [&](const std::vector<double>& v) {
+    const double m = mean(v);
+    double q = 0;
+    for (double x : v) q += (x - m) * (x - m);
+    return v.size() < 2 ? 0.0 : std::sqrt(q / double(v.size() - 1));
+  };
+  const EdgeIntegral ref = IntegrateEdges(Setup_.Tool(), Setup_.Model(), s.trial.feedMmPerRev, s.trial.speedRpm);
+  const double mT = mean(thrust), mM = mean(torque);
+  const double analytic = s.bone.type == "block" ? VolumeBelowDepth(Setup_.Tool(), FinalDepth_) : -1.0;
+  nlohmann::json j = {
+      {"scene", s.name},
+      {"method", ToString(s.method)},
+      {"backend", s.backend},
+      {"engine", Setup_.GetEngine().Name()},
+      {"threads", s.threads},
+      {"lips", s.lips == LipMode::TimeAveraged ? "averaged" : "instantaneous"},
+      {"feed_mm_per_rev", s.trial.feedMmPerRev},
+      {"speed_rpm", s.trial.speedRpm},
+      {"voxmap_resolution", s.voxmapResolution},
+      {"shell_resolution", s.shellResolution},
+      {"voxel_mm", Setup_.Bone().Spacing()},
+      {"shell_spacing_mm", Setup_.Shell().Spacing()},
+      {"shell_elements", Setup_.Shell().Size()},
+      {"shell_cutting_elements", Setup_.Shell().NumCutting()},
+      {"frames", Frames_.size()},
+      {"engaged_frames", thrust.size()},
+      {"engaged_depth_mm", EngagedDepth_},
+      {"final_depth_mm", FinalDepth_},
+      {"thrust_N", mT},
+      {"torque_Nmm", mM},
+      {"thrust_ripple", mT != 0 ? sd(thrust) / std::abs(mT) : 0.0},
+      {"torque_ripple", mM != 0 ? sd(torque) / std::abs(mM) : 0.0},
+      {"lateral_N", mean(lateral)},
+      {"reference_thrust_N", ref.thrustN},
+      {"reference_torque_Nmm", ref.torqueNmm},
+      {"thrust_error", ref.thrustN != 0 ? (mT - ref.thrustN) / ref.thrustN : 0.0},
+      {"torque_error", ref.torqueNmm != 0 ? (mM - ref.torqueNmm) / ref.torqueNmm : 0.0},
+      {"frame_ms_p50", Percentile(ms, 50)},
+      {"frame_ms_p99", Percentile(ms, 99)},
+      {"frame_ms_max", ms.empty() ? 0.0 : *std::max_element(ms.begin(), ms.end())},
+      {"removed_volume_mm3", RemovedVolume_},
+      {"swept_volume_mm3", SweptVolume_},
+      {"removed_voxels", RemovedVoxels_},
+  };
+  if (analytic >= 0) {
+    j["analytic_removed_volume_mm3"] = analytic;
+    j["removed_volume_error"] = analytic > 0 ? (RemovedVolume_ - analytic) / analytic : 0.0;
+  }
+  return j;
+}
+
+void FeedTrial::WriteOutputs(const std::string& dir) const {
+  std::filesystem::create_directories(dir);
+  WriteFileAtomic((std::filesystem::path(dir) / "forces.csv").string(), [&](std::ostream& out) {
+    out << "time_s,depth_mm,feed_mm_per_rev,thrust_N,torque_Nmm,frame_ms,removed_voxels\n";
+    out << std::setprecision(9);
+    for (const auto& f : Frames_)
+      out << f.timeS << ',' << f.depthMm << ',' << f.feedMmPerRev << ',' << f.thrustN << ',' << f.torqueNmm << ','
+          << f.frameMs << ',' << f.removedVoxels << '\n';
+  });
+  WriteFileAtomic((std::filesystem::path(dir) / "summary.json").string(), Summary().dump(2) + "\n");
+}
+
+} // namespace bm

@@ -1,0 +1,60 @@
+// bmFeedTrial.h - a robot-driven trial: the tool fed along its axis at prescribed feed and speed
+// (the way the papers validate), one engine frame per haptic period, with the per-frame record
+// and the summary `bmsim run` writes (forces.csv, summary.json).
+//
+// "Fully engaged" = the foremost cutting point deeper than the edges' full-engagement depth plus
+// two voxels and one shell spacing; means and ripple (std / mean) are taken there. The reference
+// is the same force model integrated along the edges (bmForceModel.h IntegrateEdges).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bmMachiningSetup.h"
+
+namespace bm {
+
+struct TrialFrame {
+  double timeS = 0;       ///< s since the start
+  double depthMm = 0;     ///< foremost cutting point below the entry point, mm (< 0 above)
+  double feedMmPerRev = 0;
+  double thrustN = 0;
+  double torqueNmm = 0;
+  double frameMs = 0;     ///< engine time of this frame, ms
+  int64_t removedVoxels = 0; ///< voxels taken to void this frame
+  double removedVolumeMm3 = 0;
+  double lateralN = 0;    ///< |lateral force| in the tool frame, N
+};
+
+class FeedTrial {
+public:
+  explicit FeedTrial(MachiningSetup& setup);
+  /// Runs every frame to the final depth. progress(fraction) may return false to cancel
+  /// (then Run returns false and the record holds the frames so far).
+  bool Run(const std::function<bool(double)>& progress = {});
+
+  const std::vector<TrialFrame>& Frames() const { return Frames_; }
+  double FinalDepthMm() const { return FinalDepth_; }
+  double EngagedDepthMm() const { return EngagedDepth_; }
+  /// Summary as documented in README (thrust_N, torque_Nmm, thrust_ripple, reference_*,
+  /// frame_ms_p50/p99, removed_volume_mm3, resolutions, method, threads, ...).
+  nlohmann::json Summary() const;
+  /// Writes DIR/forces.csv and DIR/summary.json, each atomically; creates DIR if missing.
+  void WriteOutputs(const std::string& dir) const;
+
+private:
+  MachiningSetup& Setup_;
+  std::vector<TrialFrame> Frames_;
+  double FinalDepth_ = 0, EngagedDepth_ = 0;
+  double SweptVolume_ = 0, RemovedVolume_ = 0;
+  int64_t RemovedVoxels_ = 0;
+};
+
+/// Percentile (0..100) of a sample, by nearest rank; 0 for an empty sample.
+double Percentile(std::vector<double> v, double pct);
+
+} // namespace bm

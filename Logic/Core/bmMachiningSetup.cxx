@@ -1,0 +1,31 @@
+#include "bmMachiningSetup.h"
+
+#include <stdexcept>
+
+#include <Eigen/Geometry>
+
+#include "bmBoneBlock.h"
+#include "bmEngineFactory.h"
+
+namespace bm {
+
+MachiningSetup::MachiningSetup(const Scene& scene, Voxmap bone, const std::string& device)
+    : Scene_(scene), Tool_(MakeTool(scene.tool)), Shell_(PointShell::Build(*Tool_, scene.shellResolution, scene.lips)),
+      Model_(scene.forceModel.is_null() ? ForceModel::Default(scene.method, *Tool_)
+                                        : ForceModel::FromJson(scene.forceModel, *Tool_)),
+      Bone_(std::move(bone)) {
+  if (Model_.GetMethod() != scene.method)
+    throw std::invalid_argument("force_model.method disagrees with the scene's method");
+  Engine_ = MakeEngine(scene.backend, EngineContext{Bone_, *Tool_, Shell_, Model_, scene.threads, device});
+}
+
+Eigen::Matrix3d MachiningSetup::ToolRotation() const {
+  return Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), Scene_.trial.axis.normalized()).toRotationMatrix();
+}
+
+Voxmap MakeSceneBlock(const Scene& scene) {
+  if (scene.bone.type != "block") throw std::invalid_argument("scene bone is not a block");
+  return MakeBoneBlock(scene.bone.sizeMm, scene.voxmapResolution, float(scene.bone.material));
+}
+
+} // namespace bm

@@ -1,0 +1,155 @@
+#include "bmScene.h"
+
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+namespace bm {
+
+namespace {
+using json = nlohmann::json;
+
+void CheckKeys(const json& j, const std::set<std::string>& allowed, const std::string& where) {
+  if (!j.is_object()) throw std::invalid_argument(where + " must be a JSON object");
+  for (auto it = j.begin(); it != j.end(); ++it)
+    if (!allowed.count(it.key())) throw std::invalid_argument("unknown field '" + it.key() + "' in " + where);
+}
+
+template <class T> T Get(const json& j, const char* key, const T& def, const std::string& where) {
+  if (!j.contains(key) || j.at(key).is_null()) return def;
+  try {
+    return j.at(key).get<T>();
+  } catch (const std::exception&) {
+    throw std::invalid_argument("field '" + std::string(key) + "' in " + where + " has the wrong type");
+  }
+}
+
+Eigen::Vector3d GetVec(const json& j, const char* key, const Eigen::Vector3d& def, const std::string& where) {
+  auto v = Get<std::vector<double>>(j, key, {def(0), def(1), def(2)}, where);
+  if (v.size() != 3) throw std::invalid_argument("field '" + std::string(key) + "' in " + where + " needs 3 numbers");
+  return {v[0], v[1], v[2]};
+}
+} // namespace
+
+Scene Scene::FromJson(const json& j) {
+  CheckKeys(j, {"name", "tool", "bone", "trial", "voxmap_resolution", "shell_resolution", "method", "lips",
+                "threads", "backend", "force_model", "description"},
+            "scene");
+  Scene s;
+  s.name = Get<std::string>(j, "name", s.name, "scene");
+  if (j.contains("tool")) s.tool = j.at("tool");
+  MakeTool(s.tool); // validates the tool now
+  if (j.contains("bone")) {
+    const json& b = j.at("bone");
+    CheckKeys(b, {"type", "size_mm", "material", "ct"}, "bone");
+    s.bone.type = Get<std::string>(b, "type", s.bone.type, "bone");
+    auto size = Get<std::vector<double>>(b, "size_mm", {s.bone.sizeMm[0], s.bone.sizeMm[1], s.bone.sizeMm[2]}, "bone");
+    if (size.size() != 3) throw std::invalid_argument("field 'size_mm' in bone needs 3 numbers");
+    s.bone.sizeMm = {size[0], size[1], size[2]};
+    s.bone.material = Get<double>(b, "material", s.bone.material, "bone");
+    if (b.contains("ct")) s.bone.ct = b.at("ct");
+  }
+  if (j.contains("trial")) {
+    const json& t = j.at("trial");
+    CheckKeys(t, {"feed_mm_per_rev", "speed_rpm", "entry_mm", "axis", "clearance_mm", "depth_mm", "extra_depth_mm", "frame_s"},
+              "trial");
+    s.trial.feedMmPerRev = Get<double>(t, "feed_mm_per_rev", s.trial.feedMmPerRev, "trial");
+    s.trial.speedRpm = Get<double>(t, "speed_rpm", s.trial.speedRpm, "trial");
+    s.trial.entry = GetVec(t, "entry_mm", s.trial.entry, "trial");
+    s.trial.axis = GetVec(t, "axis", s.trial.axis, "trial");
+    s.trial.clearanceMm = Get<double>(t, "clearance_mm", s.trial.clearanceMm, "trial");
+    s.trial.depthMm = Get<double>(t, "depth_mm", s.trial.depthMm, "trial");
+    s.trial.extraDepthMm = Get<double>(t, "extra_depth_mm", s.trial.extraDepthMm, "trial");
+    s.trial.frameS = Get<double>(t, "frame_s", s.trial.frameS, "trial");
+  }
+  s.voxmapResolution = Get<int>(j, "voxmap_resolution", s.voxmapResolution, "scene");
+  s.shellResolution = Get<int>(j, "shell_resolution", s.shellResolution, "scene");
+  s.method = MethodFromString(Get<std::string>(j, "method", ToString(s.method), "scene"));
+  const std::string lips = Get<std::string>(j, "lips", "averaged", "scene");
+  if (lips == "averaged") s.lips = LipMode::TimeAveraged;
+  else if (lips == "instantaneous") s.lips = LipMode::Instantaneous;
+  else throw std::invalid_argument("field 'lips' must be 'averaged' or 'instantaneous', got '" + lips + "'");
+  s.threads = Get<int>(j, "threads", s.threads, "scene");
+  s.backend = Get<std::string>(j, "backend", s.backend, "scene");
+  if (j.contains("force_model")) s.forceModel = j.at("force_model");
+  s.Validate();
+  return s;
+}
+
+void Scene::Validate() const {
+  auto range = [](double v, double lo, double hi, const std::string& what) {
+    if (!(v >= lo && v <= hi))
+      throw std::invalid_argument(what + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
+                                  std::to_string(v));
+  };
+  range(voxmapResolution, 8, 4096, "voxmap resolution");
+  range(shellResolution, 8, 4096, "shell resolution");
+  range(threads, 1, 64, "threads");
+  range(trial.feedMmPerRev, 1e-5, 1.0, "feed (mm/rev)");
+  range(trial.speedRpm, 1.0, 100000.0, "speed (rpm)");
+  range(trial.frameS, 1e-5, 0.1, "frame period (s)");
+  range(trial.clearanceMm, 0.0, 100.0, "clearance (mm)");
+  range(trial.extraDepthMm, 0.0, 100.0, "extra depth (mm)");
+  if (trial.depthMm >= 0) range(trial.depthMm, 0.0, 200.0, "depth (mm)");
+  if (!(trial.axis.norm() > 0.5 && trial.axis.norm() < 2.0) || !trial.axis.allFinite())
+    throw std::invalid_argument("trial axis must be a unit vector");
+  if (!trial.entry.allFinite()) throw std::invalid_argument("trial entry must be finite");
+  if (bone.type == "block") {
+    for (double v : bone.sizeMm) range(v, 1e-3, 1000.0, "block size (mm)");
+    range(bone.material, 0.0, 10.0, "block material scale");
+  } else if (bone.type == "ct") {
+    if (!bone.ct.is_object() || !bone.ct.contains("path"))
+      throw std::invalid_argument("bone of type 'ct' needs a 'ct' object with a 'path'");
+  } else {
+    throw std::invalid_argument("bone type must be 'block' or 'ct', got '" + bone.type + "'");
+  }
+  if (backend != "cpu" && backend != "opencl")
+    throw std::invalid_argument("backend must be 'cpu' or 'opencl', got '" + backend + "'");
+}
+
+Scene Scene::Builtin(const std::string& name) {
+  if (name == "drilling") return Scene{};
+  throw std::invalid_argument("no built-in scene '" + name + "' (built-in: drilling)");
+}
+
+Scene Scene::Load(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot read scene file '" + path + "'");
+  json j;
+  try {
+    j = json::parse(in);
+  } catch (const json::parse_error& e) {
+    throw std::runtime_error("scene file '" + path + "' is not valid JSON: " + e.what());
+  }
+  return FromJson(j);
+}
+
+json Scene::ToJson() const {
+  json j;
+  j["name"] = name;
+  j["tool"] = tool;
+  j["bone"] = {{"type", bone.type}};
+  if (bone.type == "block") {
+    j["bone"]["size_mm"] = bone.sizeMm;
+    j["bone"]["material"] = bone.material;
+  } else {
+    j["bone"]["ct"] = bone.ct;
+  }
+  j["trial"] = {{"feed_mm_per_rev", trial.feedMmPerRev}, {"speed_rpm", trial.speedRpm},
+                {"entry_mm", {trial.entry(0), trial.entry(1), trial.entry(2)}},
+                {"axis", {trial.axis(0), trial.axis(1), trial.axis(2)}},
+                {"clearance_mm", trial.clearanceMm}, {"extra_depth_mm", trial.extraDepthMm},
+                {"frame_s", trial.frameS}};
+  if (trial.depthMm >= 0) j["trial"]["depth_mm"] = trial.depthMm;
+  j["voxmap_resolution"] = voxmapResolution;
+  j["shell_resolution"] = shellResolution;
+  j["method"] = ToString(method);
+  j["lips"] = lips == LipMode::TimeAveraged ? "averaged" : "instantaneous";
+  j["threads"] = threads;
+  j["backend"] = backend;
+  if (!forceModel.is_null()) j["force_model"] = forceModel;
+  return j;
+}
+
+} // namespace bm
