@@ -7,12 +7,12 @@
 // {
 //   "name": "drilling",
 //   "tool": {"type": "drill", ...bmToolModel.h parameters},
-//   "bone": {"type": "block", "size_mm": [3, 3, 1.5], "material": 1.0}
+//   "bone": {"type": "block", "size_mm": [5, 5, 1.5], "material": 1.0}
 //         | {"type": "ct", "path": "...", ... import settings read by the CT importer},
 //   "trial": {"feed_mm_per_rev": 0.02, "speed_rpm": 1000, "entry_mm": [0, 0, 0],
 //             "axis": [0, 0, 1], "clearance_mm": 0.02, "depth_mm": null, "extra_depth_mm": 0.3,
 //             "frame_s": 0.001},
-//   "voxmap_resolution": 256, "shell_resolution": 512,
+//   "voxmap_resolution": 256, "shell_resolution": 1024,
 //   "method": "lazar" | "zheng", "lips": "averaged" | "instantaneous", "threads": 2,
 //   "backend": "cpu" | "opencl", "force_model": {...bmForceModel.h ToJson()}
 // }
@@ -20,6 +20,11 @@
 // tool is fed along -axis at v = f n / 60 mm/s from `clearance_mm` above the entry point until its
 // foremost cutting point is `depth_mm` below it (default: full engagement of the edges plus
 // `extra_depth_mm`).
+//
+// Default resolutions: with the reference drill (10 mm modelled) at shell 1024 (9.8 um) and the
+// 5 mm block at voxmap 256 (19.5 um) the two grids align 2:1 on the axis, which keeps the
+// removal's aliasing small (removed volume within ~5 % of the swept volume) while the forces
+// match the quadrature within 0.5 %.
 #pragma once
 
 #include <array>
@@ -48,7 +53,7 @@ struct TrialSpec {
 
 struct BoneSpec {
   std::string type = "block";                ///< "block" or "ct"
-  std::array<double, 3> sizeMm{3.0, 3.0, 1.5}; ///< block: x, y, z extent; top face at z = 0, centred
+  std::array<double, 3> sizeMm{5.0, 5.0, 1.5}; ///< block: x, y, z extent; top face at z = 0, centred
   double material = 1.0;                     ///< block: material scale (1 = cortical)
   nlohmann::json ct;                         ///< ct: the importer's settings (path, threshold, roi...)
 };
@@ -59,7 +64,7 @@ struct Scene {
   BoneSpec bone;
   TrialSpec trial;
   int voxmapResolution = 256; ///< cells along the bone's (cropped) bounding box's longest side
-  int shellResolution = 512;  ///< cells along the tool's bounding box's longest side
+  int shellResolution = 1024; ///< cells along the tool's bounding box's longest side
   Method method = Method::Lazar;
   LipMode lips = LipMode::TimeAveraged;
   int threads = 2;
