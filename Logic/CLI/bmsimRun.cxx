@@ -3,6 +3,9 @@
 #include <iostream>
 
 #include "bmFeedTrial.h"
+#ifdef BM_WITH_IO
+#include "bmCTVoxmap.h"
+#endif
 #include "bmMachiningSetup.h"
 #include "bmScene.h"
 #include "bmsimArgs.h"
@@ -11,8 +14,19 @@
 
 namespace {
 
+bm::Voxmap SceneBone(const bm::Scene& scene) {
+  if (scene.bone.type == "block") return bm::MakeSceneBlock(scene);
+#ifdef BM_WITH_IO
+  bm::cli::ProgressBar bar("import bone");
+  return bm::MakeCTVoxmap(scene.bone.ct, scene.baseDir, scene.voxmapResolution,
+                          [&](double f, const std::string&) { return bar.Update(f); });
+#else
+  throw std::runtime_error("scene '" + scene.name + "' needs CT import, which this build leaves out");
+#endif
+}
+
 const char* kUsage = R"(usage: bmsim run SCENE [options]
-  SCENE                    built-in scene (drilling) or a scene file (.json)
+  SCENE                    built-in scene (drilling, glenoid, ...) or a scene file (.json)
   --out DIR                output folder (default out/<scene>); gets forces.csv, summary.json
   --feed F                 feed per revolution, mm/rev (drilling default 0.02)
   --speed N                spindle speed, rpm (default 1000)
@@ -58,9 +72,7 @@ int RunCommand(const bm::cli::Args& args) {
     throw UsageError(e.what());
   }
   const std::string out = p.Get("out", "out/" + scene.name);
-  if (scene.bone.type != "block") throw UsageError("scene '" + scene.name + "': this build runs block scenes only");
-
-  bm::MachiningSetup setup(scene, bm::MakeSceneBlock(scene), p.Get("device", ""));
+  bm::MachiningSetup setup(scene, SceneBone(scene), p.Get("device", ""));
   bm::FeedTrial trial(setup);
   {
     bm::cli::ProgressBar bar("run " + scene.name);

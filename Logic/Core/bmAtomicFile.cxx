@@ -12,12 +12,14 @@ namespace bm {
 std::string TemporarySibling(const std::string& path) {
   static std::atomic<unsigned> counter{0};
   std::filesystem::path p(path);
+  // Keeps the extension, so writers that pick a format by extension (ITK) still recognise it.
   std::string name(1, '.'); // built by appends: GCC 12 warns falsely on "." + std::string
-  name += p.filename().string();
-  name += ".tmp";
+  name += p.stem().string();
+  name += ".tmp-";
   name += std::to_string(::getpid());
-  name += '_';
+  name += '-';
   name += std::to_string(counter++);
+  name += p.extension().string();
   return (p.parent_path() / name).string();
 }
 

@@ -16,7 +16,8 @@ void WriteFileAtomic(const std::string& path, const std::string& content);
 /// the temporary file is removed and the exception propagates.
 void WriteFileAtomic(const std::string& path, const std::function<void(std::ostream&)>& write);
 
-/// A unique temporary path beside `path` (same directory, so rename is atomic).
+/// A unique hidden temporary path beside `path` (same directory, so rename is atomic), with the
+/// same extension: "dir/.name.tmp-PID-N.ext".
 std::string TemporarySibling(const std::string& path);
 
 } // namespace bm

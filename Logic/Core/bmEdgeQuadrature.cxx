@@ -5,25 +5,23 @@
 namespace bm {
 
 double ForemostCuttingZ(const ToolModel& tool) {
-  double zMin = 1e300, zLo = 0, zHi = 0;
+  double zMin = 1e300;
   for (EdgeKind k : {EdgeKind::Chisel, EdgeKind::Lip}) {
     const auto range = tool.EdgeRange(k);
     if (!(range[1] > range[0])) continue;
     // Edges are smooth over mm; 4096 samples find the foremost point to well under a micron.
-    for (int i = 0; i <= 4096; ++i)
-      if (tool.ZRange(range[0] + (range[1] - range[0]) * i / 4096.0, zLo, zHi)) zMin = std::min(zMin, zLo);
+    for (int i = 0; i <= 4096; ++i) zMin = std::min(zMin, tool.EdgeZ(k, range[0] + (range[1] - range[0]) * i / 4096.0));
   }
   return zMin;
 }
 
 double FullEngagementDepth(const ToolModel& tool) {
   const double zMin = ForemostCuttingZ(tool);
-  double zMax = zMin, zLo = 0, zHi = 0;
+  double zMax = zMin;
   for (EdgeKind k : {EdgeKind::Chisel, EdgeKind::Lip}) {
     const auto range = tool.EdgeRange(k);
     if (!(range[1] > range[0])) continue;
-    for (int i = 0; i <= 4096; ++i)
-      if (tool.ZRange(range[0] + (range[1] - range[0]) * i / 4096.0, zLo, zHi)) zMax = std::max(zMax, zLo);
+    for (int i = 0; i <= 4096; ++i) zMax = std::max(zMax, tool.EdgeZ(k, range[0] + (range[1] - range[0]) * i / 4096.0));
   }
   return zMax - zMin;
 }

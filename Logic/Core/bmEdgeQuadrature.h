@@ -39,8 +39,7 @@ void ForEachEdgeNode(const ToolModel& tool, double depthMm, EdgeKind onlyKind, i
       const double mid = range[0] + (p + 0.5) * h;
       for (int q = 0; q < 4; ++q) {
         const double r = mid + 0.5 * h * x[q];
-        double zLo = 0, zHi = 0;
-        if (!tool.ZRange(r, zLo, zHi) || zLo - zMin >= depthMm) continue;
+        if (tool.EdgeZ(kind, r) - zMin >= depthMm) continue;
         fn(kind, r, tool.NumLips() * 0.5 * h * w[q]);
       }
     }

@@ -72,9 +72,13 @@ bool FeedTrial::Run(const std::function<bool(double)>& progress) {
 nlohmann::json FeedTrial::Summary() const {
   const Scene& s = Setup_.GetScene();
   std::vector<double> thrust, torque, lateral, ms;
+  // Statistics over full engagement; a trial that never engages every edge element (reaming to a
+  // shallow depth) takes its last fifth of travel instead, and says so.
+  const bool full = FinalDepth_ >= EngagedDepth_;
+  const double from = full ? EngagedDepth_ : FinalDepth_ - 0.2 * (FinalDepth_ + s.trial.clearanceMm);
   for (const auto& f : Frames_) {
     ms.push_back(f.frameMs);
-    if (f.depthMm >= EngagedDepth_) {
+    if (f.depthMm >= from) {
       thrust.push_back(f.thrustN);
       torque.push_back(f.torqueNmm);
       lateral.push_back(f.lateralN);
@@ -111,6 +115,7 @@ nlohmann::json FeedTrial::Summary() const {
       {"shell_cutting_elements", Setup_.Shell().NumCutting()},
       {"frames", Frames_.size()},
       {"engaged_frames", thrust.size()},
+      {"statistics_phase", full ? "full_engagement" : "last_fifth_of_travel"},
       {"engaged_depth_mm", EngagedDepth_},
       {"final_depth_mm", FinalDepth_},
       {"thrust_N", mT},

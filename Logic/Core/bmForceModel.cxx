@@ -145,9 +145,8 @@ ElementForce ForceModel::Evaluate(const ToolModel& tool, EdgeKind kind, double r
 }
 
 double EdgeHeight(const ToolModel& tool, double r) {
-  double zLo = 0, zHi = 0;
-  if (!tool.ZRange(r, zLo, zHi)) return 1e300;
-  return zLo - ForemostCuttingZ(tool);
+  const EdgeKind kind = r < tool.EdgeRange(EdgeKind::Lip)[0] ? EdgeKind::Chisel : EdgeKind::Lip;
+  return tool.EdgeZ(kind, r) - ForemostCuttingZ(tool);
 }
 
 EdgeIntegral IntegrateEdges(const ToolModel& tool, const ForceModel& model, double f, double n,

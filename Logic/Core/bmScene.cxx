@@ -1,5 +1,7 @@
 #include "bmScene.h"
 
+#include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -99,8 +101,8 @@ void Scene::Validate() const {
     for (double v : bone.sizeMm) range(v, 1e-3, 1000.0, "block size (mm)");
     range(bone.material, 0.0, 10.0, "block material scale");
   } else if (bone.type == "ct") {
-    if (!bone.ct.is_object() || !bone.ct.contains("path"))
-      throw std::invalid_argument("bone of type 'ct' needs a 'ct' object with a 'path'");
+    if (!bone.ct.is_object() || !(bone.ct.contains("ct") || bone.ct.contains("phantom") || bone.ct.contains("voxmap")))
+      throw std::invalid_argument("bone of type 'ct' needs a 'ct' object naming a \"ct\", \"phantom\" or \"voxmap\"");
   } else {
     throw std::invalid_argument("bone type must be 'block' or 'ct', got '" + bone.type + "'");
   }
@@ -108,12 +110,29 @@ void Scene::Validate() const {
     throw std::invalid_argument("backend must be 'cpu' or 'opencl', got '" + backend + "'");
 }
 
+std::vector<std::string> Scene::BuiltinNames() {
+  std::vector<std::string> names{"drilling"};
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(BM_SCENE_DIR, ec))
+    if (e.path().extension() == ".json" && e.path().stem() != "drilling") names.push_back(e.path().stem().string());
+  std::sort(names.begin() + 1, names.end());
+  return names;
+}
+
 Scene Scene::Builtin(const std::string& name) {
   if (name == "drilling") return Scene{};
-  throw std::invalid_argument("no built-in scene '" + name + "' (built-in: drilling)");
+  const std::filesystem::path file = std::filesystem::path(BM_SCENE_DIR) / (name + ".json");
+  if (name.find('/') == std::string::npos && std::filesystem::exists(file)) {
+    Scene s = Load(file.string());
+    return s;
+  }
+  std::string list;
+  for (const auto& n : BuiltinNames()) list += (list.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("no built-in scene '" + name + "' (built-in: " + list + ")");
 }
 
 Scene Scene::Load(const std::string& path) {
+  if (std::filesystem::is_directory(path)) throw std::runtime_error("scene file '" + path + "' is a folder");
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot read scene file '" + path + "'");
   json j;
@@ -122,7 +141,9 @@ Scene Scene::Load(const std::string& path) {
   } catch (const json::parse_error& e) {
     throw std::runtime_error("scene file '" + path + "' is not valid JSON: " + e.what());
   }
-  return FromJson(j);
+  Scene s = FromJson(j);
+  s.baseDir = std::filesystem::absolute(path).parent_path().string();
+  return s;
 }
 
 json Scene::ToJson() const {

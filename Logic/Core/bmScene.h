@@ -30,6 +30,7 @@
 #include <array>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
@@ -73,8 +74,14 @@ struct Scene {
 
   /// Parse and validate; throws std::invalid_argument naming the bad field.
   static Scene FromJson(const nlohmann::json& j);
-  /// A built-in scene by name ("drilling"); throws std::invalid_argument listing the names.
+  /// Folder that relative paths in the scene (CT, voxmap) are taken from; "" = current folder.
+  std::string baseDir;
+
+  /// A built-in scene by name: "drilling" (in code) or Resources/Scenes/<name>.json; throws
+  /// std::invalid_argument listing the names.
   static Scene Builtin(const std::string& name);
+  /// Names of the built-in scenes, "drilling" first.
+  static std::vector<std::string> BuiltinNames();
   /// Read a scene file; throws std::runtime_error if unreadable or not JSON.
   static Scene Load(const std::string& path);
   nlohmann::json ToJson() const;

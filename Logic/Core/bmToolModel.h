@@ -57,6 +57,8 @@ public:
   virtual bool ZRange(double rho, double& zLo, double& zHi) const = 0;
   /// Radial range [rMin, rMax] (mm) of the cutting edges of the given kind; rMin == rMax if none.
   virtual std::array<double, 2> EdgeRange(EdgeKind kind) const = 0;
+  /// Axial height (mm, tool frame) of the cutting edge of `kind` at radius r within EdgeRange.
+  virtual double EdgeZ(EdgeKind kind, double r) const = 0;
   /// Cutting angles at radius r (mm) on an edge of the given kind, at feed f (mm/rev).
   /// useFeedAngle = false takes mu = 0 (Zheng et al.'s simplification on the lips).
   virtual CuttingAngles Angles(EdgeKind kind, double r, double feedMmPerRev, bool useFeedAngle) const = 0;
@@ -97,6 +99,7 @@ public:
   std::array<double, 2> AxialRange() const override { return {0.0, P_.fluteLength}; }
   bool ZRange(double rho, double& zLo, double& zHi) const override;
   std::array<double, 2> EdgeRange(EdgeKind kind) const override;
+  double EdgeZ(EdgeKind, double r) const override { return TipHeight(r); }
   CuttingAngles Angles(EdgeKind kind, double r, double f, bool useFeedAngle) const override;
   double LipAzimuth(int lip, double r) const override;
   std::vector<ProfilePoint> Profile(double maxSegmentMm) const override;
@@ -143,6 +146,7 @@ public:
   std::array<double, 2> AxialRange() const override;
   bool ZRange(double rho, double& zLo, double& zHi) const override;
   std::array<double, 2> EdgeRange(EdgeKind kind) const override;
+  double EdgeZ(EdgeKind, double r) const override { return FaceHeight(r); }
   CuttingAngles Angles(EdgeKind kind, double r, double f, bool useFeedAngle) const override;
   double LipAzimuth(int lip, double r) const override;
   std::vector<ProfilePoint> Profile(double maxSegmentMm) const override;

@@ -1,6 +1,6 @@
 #include "bmDicomSeriesWriter.h"
 
-#include "bmVoxmapFile.h" // TemporarySibling
+#include "bmAtomicFile.h" // TemporarySibling
 
 #include <gdcmImageChangeTransferSyntax.h>
 #include <gdcmImageWriter.h>

@@ -1,5 +1,7 @@
 #include "bmVoxmapFile.h"
 
+#include "bmAtomicFile.h"
+
 #include <itkImageFileReader.h>
 #include <itkImageFileWriter.h>
 #include <itkMetaDataObject.h>
@@ -51,14 +53,6 @@ bool ParseHexTriple(const std::string& s, double out[3]) {
 }
 
 } // namespace
-
-std::string TemporarySibling(const std::string& path) {
-  static std::atomic<int> counter{0};
-  fs::path p(path);
-  std::string name = "." + p.stem().string() + ".tmp-" + std::to_string(getpid()) + "-" +
-                     std::to_string(counter.fetch_add(1)) + p.extension().string();
-  return (p.parent_path() / name).string();
-}
 
 void SaveVoxmap(const Voxmap& vm, const std::string& path, const Progress& progress) {
   auto io = IOFor(path);

@@ -31,8 +31,4 @@ void SaveVoxmap(const Voxmap& voxmap, const std::string& path, const Progress& p
 /// than 2 components.
 Voxmap LoadVoxmap(const std::string& path, const Progress& progress = {});
 
-/// Temporary sibling of `path` with the same extension ("dir/.name.tmp-PID-N.ext"), for atomic
-/// writes: write there, then std::filesystem::rename onto path.
-std::string TemporarySibling(const std::string& path);
-
 } // namespace bm
