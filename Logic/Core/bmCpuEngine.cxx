@@ -48,7 +48,8 @@ FrameResult SumPartials(const std::vector<FramePartial>& parts, double voxelVolu
 CpuEngine::CpuEngine(Voxmap& bone, const ToolModel& tool, const PointShell& shell, const ForceModel& model,
                      int threads, CullingOptions culling)
     : Bone_(bone), Tool_(tool), Shell_(shell), Model_(model), Culling_(culling), Pool_(threads),
-      Partials_(size_t(threads)), State_(shell.Size()) {}
+      Partials_(size_t(threads)), State_(shell.Size()),
+      VoxelScratch_(size_t(threads), std::vector<int64_t>(kBatch)) {}
 
 void CpuEngine::UpdateForceTable(double f, double n) {
   if (f == TableFeed_ && n == TableSpeed_) return;
@@ -93,6 +94,7 @@ FrameResult CpuEngine::Step(const FrameInput& in) {
   const auto& deltas = Shell_.Deltas();
   const auto& fbins = Shell_.ForceBins();
   const auto& blocks = Shell_.Blocks();
+  const auto& radial = Shell_.RadialDirs();
   const float Af[9] = {float(A(0, 0)), float(A(0, 1)), float(A(0, 2)), float(A(1, 0)), float(A(1, 1)),
                        float(A(1, 2)), float(A(2, 0)), float(A(2, 1)), float(A(2, 2))};
   const float bf[3] = {float(b(0)), float(b(1)), float(b(2))};
@@ -124,46 +126,57 @@ FrameResult CpuEngine::Step(const FrameInput& in) {
     for (int bi = task * chunk; bi < bEnd; ++bi) {
       const ShellBlock& blk = blocks[size_t(bi)];
       if (!blockVisible(blk)) continue;
-      for (uint32_t e = blk.begin; e < blk.end; ++e) {
-        const uint64_t code = codes[e];
-        const auto ijk = ElementCoords(code);
-        const float x = float(ijk[0]), y = float(ijk[1]), z = float(ijk[2]);
-        const float gx = Af[0] * x + Af[1] * y + Af[2] * z + bf[0];
-        const float gy = Af[3] * x + Af[4] * y + Af[5] * z + bf[1];
-        const float gz = Af[6] * x + Af[7] * y + Af[8] * z + bf[2];
-        const int vi = int(std::floor(gx + 0.5f)), vj = int(std::floor(gy + 0.5f)), vk = int(std::floor(gz + 0.5f));
-        ++P.visited;
-        ElementResidency& st = State_[e];
-        if (vi < 0 || vj < 0 || vk < 0 || vi >= dims[0] || vj >= dims[1] || vk >= dims[2]) {
-          st.Visit(frameNo, -1, 0);
-          continue;
+      // Pass A: voxel of every element of the block, prefetching the fills (the voxel reads
+      // miss the cache: hiding that latency is most of the frame's cost).
+      for (uint32_t base = blk.begin; base < blk.end; base += kBatch) {
+        const uint32_t end = std::min(blk.end, base + kBatch);
+        int64_t* vox = VoxelScratch_[size_t(thread)].data();
+        for (uint32_t e = base; e < end; ++e) {
+          const auto ijk = ElementCoords(codes[e]);
+          const float x = float(ijk[0]), y = float(ijk[1]), z = float(ijk[2]);
+          const float gx = Af[0] * x + Af[1] * y + Af[2] * z + bf[0];
+          const float gy = Af[3] * x + Af[4] * y + Af[5] * z + bf[1];
+          const float gz = Af[6] * x + Af[7] * y + Af[8] * z + bf[2];
+          const int vi = int(std::floor(gx + 0.5f)), vj = int(std::floor(gy + 0.5f)), vk = int(std::floor(gz + 0.5f));
+          int64_t idx = -1;
+          if (vi >= 0 && vj >= 0 && vk >= 0 && vi < dims[0] && vj < dims[1] && vk < dims[2]) {
+            idx = vi + int64_t(dims[0]) * (vj + int64_t(dims[1]) * vk);
+            __builtin_prefetch(fill + idx);
+          }
+          vox[e - base] = idx;
         }
-        const int64_t idx = vi + int64_t(dims[0]) * (vj + int64_t(dims[1]) * vk);
-        if (!st.Visit(frameNo, idx, fill[idx])) continue;
-        ++P.engaged;
-        if (remove) {
-          const auto& n = an[e];
-          const double vol = n[0] * d(0) + n[1] * d(1) + n[2] * d(2);
-          if (vol > 0) {
-            const int32_t units = int32_t(std::min(vol * unitsPerMm3, maxUnits) + 0.5);
-            if (units > 0) {
-              P.removals.emplace_back(idx, units);
-              P.requested += units;
+        // Pass B: engagement, removal requests, elemental forces.
+        for (uint32_t e = base; e < end; ++e) {
+          const int64_t idx = vox[e - base];
+          ++P.visited;
+          if (!State_[e].Visit(frameNo, idx, idx >= 0 ? fill[idx] : 0)) continue;
+          ++P.engaged;
+          if (remove) {
+            const auto& n = an[e];
+            const double vol = n[0] * d(0) + n[1] * d(1) + n[2] * d(2);
+            if (vol > 0) {
+              const int32_t units = int32_t(std::min(vol * unitsPerMm3, maxUnits) + 0.5);
+              if (units > 0) {
+                // Consecutive elements often share a voxel: one request per run (same result,
+                // since the clamped decrement telescopes).
+                if (!P.removals.empty() && P.removals.back().first == idx) P.removals.back().second += units;
+                else P.removals.emplace_back(idx, units);
+                P.requested += units;
+              }
             }
           }
-        }
-        if (cutting && ElementIsCutting(code)) {
-          ++P.engagedCutting;
-          const uint16_t bin = bins[e];
-          const double w = deltas[e] * (material ? material[idx] : 1.0f);
-          const auto& t = Table_[bin];
-          const double px = so(0) + hs * ijk[0], py = so(1) + hs * ijk[1];
-          const double rho = std::sqrt(px * px + py * py);
-          const double c = rho > 0 ? px / rho : 1.0, s = rho > 0 ? py / rho : 0.0;
-          P.thrust += int64_t(w * t[2] * kForceFixedScale);
-          P.torque += int64_t(-w * fbins[bin].r * t[1] * kForceFixedScale);
-          P.fx += int64_t(w * (t[0] * c - t[1] * s) * kForceFixedScale);
-          P.fy += int64_t(w * (t[0] * s + t[1] * c) * kForceFixedScale);
+          const uint64_t code = codes[e];
+          if (cutting && ElementIsCutting(code)) {
+            ++P.engagedCutting;
+            const uint16_t bin = bins[e];
+            const double w = deltas[e] * (material ? material[idx] : 1.0f);
+            const auto& t = Table_[bin];
+            const double c = radial[e][0], s = radial[e][1];
+            P.thrust += int64_t(w * t[2] * kForceFixedScale);
+            P.torque += int64_t(-w * fbins[bin].r * t[1] * kForceFixedScale);
+            P.fx += int64_t(w * (t[0] * c - t[1] * s) * kForceFixedScale);
+            P.fy += int64_t(w * (t[0] * s + t[1] * c) * kForceFixedScale);
+          }
         }
       }
     }

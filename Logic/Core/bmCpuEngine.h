@@ -59,6 +59,8 @@ private:
   std::vector<FramePartial> Partials_;
   std::vector<ElementResidency> State_; // per element
   uint32_t Frame_ = 0;
+  static constexpr uint32_t kBatch = 64;            // elements whose voxels are fetched ahead
+  std::vector<std::vector<int64_t>> VoxelScratch_;  // per thread: the batch's voxel indices
   std::vector<std::array<double, 3>> Table_; // per force bin: (fx, fy, fz) per mm of delta
   double TableFeed_ = -1, TableSpeed_ = -1;
 };

@@ -267,6 +267,13 @@ PointShell PointShell::Build(const ToolModel& tool, int resolution, LipMode mode
     ps.Bin_[e] = raw[e].bin;
     ps.Delta_[e] = raw[e].bin == kNoBin ? 0.0f : raw[e].delta;
   }
+  ps.RadialDir_.resize(n);
+  for (size_t e = 0; e < n; ++e) {
+    const auto ijk = ElementCoords(ps.Codes_[e]);
+    const double px = ps.Origin_[0] + h * ijk[0], py = ps.Origin_[1] + h * ijk[1];
+    const double rho = std::sqrt(px * px + py * py);
+    ps.RadialDir_[e] = {rho > 0 ? px / rho : 1.0, rho > 0 ? py / rho : 0.0};
+  }
   for (size_t b = 0; b < n; b += size_t(blockSize)) {
     ShellBlock blk;
     blk.begin = uint32_t(b);
@@ -302,7 +309,8 @@ double PointShell::SurfaceArea() const {
 }
 
 size_t PointShell::MemoryBytes() const {
-  return Codes_.size() * (sizeof(uint64_t) + sizeof(std::array<float, 3>) + sizeof(uint16_t) + sizeof(float)) +
+  return Codes_.size() * (sizeof(uint64_t) + sizeof(std::array<float, 3>) + sizeof(uint16_t) + sizeof(float) +
+                          sizeof(std::array<double, 2>)) +
          ForceBins_.size() * sizeof(ForceBin) + Blocks_.size() * sizeof(ShellBlock);
 }
 

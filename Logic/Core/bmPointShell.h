@@ -66,6 +66,9 @@ public:
   const std::vector<float>& Deltas() const { return Delta_; }
   const std::vector<ForceBin>& ForceBins() const { return ForceBins_; }
   const std::vector<ShellBlock>& Blocks() const { return Blocks_; }
+  /// Per element (cos phi, sin phi) of its azimuth: px / rho, py / rho in double with px =
+  /// Origin()[0] + Spacing() * i (exactly how a backend would compute it), (1, 0) on the axis.
+  const std::vector<std::array<double, 2>>& RadialDirs() const { return RadialDir_; }
 
   /// Tool-frame position (mm) of element e's centre.
   std::array<double, 3> Position(size_t e) const;
@@ -86,6 +89,7 @@ private:
   std::vector<float> Delta_;
   std::vector<ForceBin> ForceBins_;
   std::vector<ShellBlock> Blocks_;
+  std::vector<std::array<double, 2>> RadialDir_;
 };
 
 } // namespace bm

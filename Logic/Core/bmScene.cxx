@@ -85,21 +85,21 @@ void Scene::Validate() const {
       throw std::invalid_argument(what + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
                                   std::to_string(v));
   };
-  range(voxmapResolution, 8, 4096, "voxmap resolution");
-  range(shellResolution, 8, 4096, "shell resolution");
-  range(threads, 1, 64, "threads");
-  range(trial.feedMmPerRev, 1e-5, 1.0, "feed (mm/rev)");
-  range(trial.speedRpm, 1.0, 100000.0, "speed (rpm)");
-  range(trial.frameS, 1e-5, 0.1, "frame period (s)");
-  range(trial.clearanceMm, 0.0, 100.0, "clearance (mm)");
-  range(trial.extraDepthMm, 0.0, 100.0, "extra depth (mm)");
-  if (trial.depthMm >= 0) range(trial.depthMm, 0.0, 200.0, "depth (mm)");
+  range(voxmapResolution, 8, 4096, "field 'voxmap_resolution' (voxmap resolution)");
+  range(shellResolution, 8, 4096, "field 'shell_resolution' (shell resolution)");
+  range(threads, 1, 64, "field 'threads'");
+  range(trial.feedMmPerRev, 1e-5, 1.0, "field 'feed_mm_per_rev' in trial (feed)");
+  range(trial.speedRpm, 1.0, 100000.0, "field 'speed_rpm' in trial (spindle speed)");
+  range(trial.frameS, 1e-5, 0.1, "field 'frame_s' in trial (frame period)");
+  range(trial.clearanceMm, 0.0, 100.0, "field 'clearance_mm' in trial");
+  range(trial.extraDepthMm, 0.0, 100.0, "field 'extra_depth_mm' in trial");
+  if (trial.depthMm >= 0) range(trial.depthMm, 0.0, 200.0, "field 'depth_mm' in trial");
   if (!(trial.axis.norm() > 0.5 && trial.axis.norm() < 2.0) || !trial.axis.allFinite())
-    throw std::invalid_argument("trial axis must be a unit vector");
-  if (!trial.entry.allFinite()) throw std::invalid_argument("trial entry must be finite");
+    throw std::invalid_argument("field 'axis' in trial must be a unit vector");
+  if (!trial.entry.allFinite()) throw std::invalid_argument("field 'entry_mm' in trial must be finite");
   if (bone.type == "block") {
-    for (double v : bone.sizeMm) range(v, 1e-3, 1000.0, "block size (mm)");
-    range(bone.material, 0.0, 10.0, "block material scale");
+    for (double v : bone.sizeMm) range(v, 1e-3, 1000.0, "field 'size_mm' in bone (block size)");
+    range(bone.material, 0.0, 10.0, "field 'material' in bone (material scale)");
   } else if (bone.type == "ct") {
     if (!bone.ct.is_object() || !(bone.ct.contains("ct") || bone.ct.contains("phantom") || bone.ct.contains("voxmap")))
       throw std::invalid_argument("bone of type 'ct' needs a 'ct' object naming a \"ct\", \"phantom\" or \"voxmap\"");

@@ -1,0 +1,313 @@
+#include "bmBenchmark.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstring>
+#include <iomanip>
+#include <map>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+
+#include <poll.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "bmEdgeQuadrature.h"
+#include "bmFeedTrial.h"
+#include "bmMachiningSetup.h"
+
+namespace bm {
+
+Scene BenchScene(Method method, const std::string& backend, int shell, int voxmap, int threads) {
+  Scene s = Scene::Builtin("drilling");
+  s.method = method;
+  s.forceModel = nlohmann::json();
+  s.backend = backend;
+  s.shellResolution = shell;
+  s.voxmapResolution = voxmap;
+  s.threads = threads;
+  s.Validate();
+  return s;
+}
+
+namespace {
+
+// Sets to void every voxel whose centre lies in the envelope the tool swept on its way down the
+// trial axis to `depth` (foremost cutting point below the entry point).
+void PreCut(MachiningSetup& setup, double depth) {
+  const Scene& s = setup.GetScene();
+  const ToolModel& tool = setup.Tool();
+  Voxmap& bone = setup.Bone();
+  const Eigen::Matrix3d rot = setup.ToolRotation();
+  const Eigen::Vector3d axis = s.trial.axis.normalized();
+  const double zf = ForemostCuttingZ(tool);
+  const Eigen::Vector3d origin = s.trial.entry - axis * depth - rot * Eigen::Vector3d(0, 0, zf);
+  const double R = tool.OuterRadius();
+  const auto dims = bone.Dims();
+  Voxmap::Fill* fill = bone.MutableFill();
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i) {
+        const auto w = bone.GridToWorld({double(i), double(j), double(k)});
+        const Eigen::Vector3d p = rot.transpose() * (Eigen::Vector3d(w[0], w[1], w[2]) - origin);
+        const double rho = std::hypot(p(0), p(1));
+        if (rho > R) continue;
+        double zLo = 0, zHi = 0;
+        if (tool.ZRange(rho, zLo, zHi) && p(2) >= zLo) fill[bone.Index(i, j, k)] = 0;
+      }
+  bone.RebuildOccupancy();
+}
+
+} // namespace
+
+BenchCell RunBenchCell(Method method, const std::string& backend, int shell, int voxmap,
+                       const BenchOptions& o) {
+  BenchCell c;
+  c.method = method;
+  c.backend = backend;
+  c.shell = shell;
+  c.voxmap = voxmap;
+  const auto t0 = std::chrono::steady_clock::now();
+  const Scene scene = BenchScene(method, backend, shell, voxmap, o.threads);
+  // The pre-cut must happen before the engine copies the voxmap (OpenCL, octree), so the setup
+  // is built on a CPU engine first only to get tool and shell geometry right: instead, cut the
+  // block alone with a throw-away setup of the same scene on the CPU backend.
+  Voxmap block = MakeSceneBlock(scene);
+  const double start = [&] {
+    Scene probe = scene;
+    probe.backend = "cpu";
+    probe.voxmapResolution = 8;
+    probe.shellResolution = 16;
+    MachiningSetup tiny(probe, MakeSceneBlock(probe));
+    const FeedTrial trial(tiny);
+    return trial.EngagedDepthMm() + 2 * block.Spacing();
+  }();
+  {
+    Scene cutScene = scene;
+    cutScene.backend = "cpu";
+    cutScene.shellResolution = 16;
+    MachiningSetup cut(cutScene, std::move(block));
+    PreCut(cut, start);
+    block = cut.Bone();
+  }
+  MachiningSetup setup(scene, std::move(block), o.device);
+  c.setupS = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  c.engine = setup.GetEngine().Name();
+  c.elements = int64_t(setup.Shell().Size());
+
+  const TrialSpec& t = scene.trial;
+  const Eigen::Matrix3d rot = setup.ToolRotation();
+  const Eigen::Vector3d axis = t.axis.normalized();
+  const double zf = ForemostCuttingZ(setup.Tool());
+  const double step = t.feedMmPerRev * t.speedRpm / 60.0 * t.frameS;
+  Engine& engine = setup.GetEngine();
+  std::vector<double> ms;
+  ms.reserve(size_t(o.frames));
+  double thrust = 0, torque = 0, engaged = 0;
+  for (int k = 0; k < o.warmup + o.frames; ++k) {
+    const double depth = start + step * double(k + 1);
+    FrameInput in;
+    in.rotation = rot;
+    in.position = t.entry - axis * depth - rot * Eigen::Vector3d(0, 0, zf);
+    in.motion = -axis * step;
+    in.feedMmPerRev = t.feedMmPerRev;
+    in.speedRpm = t.speedRpm;
+    in.spindleAngle = 2.0 * 3.14159265358979323846 * t.speedRpm / 60.0 * t.frameS * double(k + 1);
+    const auto a = std::chrono::steady_clock::now();
+    const FrameResult r = engine.Step(in);
+    const auto b = std::chrono::steady_clock::now();
+    if (k < o.warmup) continue;
+    ms.push_back(std::chrono::duration<double, std::milli>(b - a).count());
+    thrust += r.thrustN;
+    torque += r.torqueNmm;
+    engaged += double(r.engagedCutting);
+  }
+  c.frames = o.frames;
+  c.thrustN = thrust / o.frames;
+  c.torqueNmm = torque / o.frames;
+  c.engagedCutting = engaged / o.frames;
+  c.medianMs = Percentile(ms, 50);
+  c.p99Ms = Percentile(ms, 99);
+  c.maxMs = *std::max_element(ms.begin(), ms.end());
+  c.meanMs = std::accumulate(ms.begin(), ms.end(), 0.0) / double(ms.size());
+  double var = 0;
+  for (double v : ms) var += (v - c.meanMs) * (v - c.meanMs);
+  c.sdMs = std::sqrt(var / double(ms.size()));
+  const EdgeIntegral ref = IntegrateEdges(setup.Tool(), setup.Model(), t.feedMmPerRev, t.speedRpm);
+  c.refThrustN = ref.thrustN;
+  c.refTorqueNmm = ref.torqueNmm;
+  c.thrustError = std::abs(c.thrustN - ref.thrustN) / std::abs(ref.thrustN);
+  c.torqueError = std::abs(c.torqueNmm - ref.torqueNmm) / std::abs(ref.torqueNmm);
+  c.forceError = std::max(c.thrustError, c.torqueError);
+  return c;
+}
+
+namespace {
+
+nlohmann::json ToJson(const BenchCell& c) {
+  return {{"status", c.status},         {"engine", c.engine},       {"elements", c.elements},
+          {"frames", c.frames},         {"median", c.medianMs},     {"p99", c.p99Ms},
+          {"mean", c.meanMs},           {"sd", c.sdMs},             {"max", c.maxMs},
+          {"thrust", c.thrustN},        {"torque", c.torqueNmm},    {"refThrust", c.refThrustN},
+          {"refTorque", c.refTorqueNmm}, {"thrustErr", c.thrustError}, {"torqueErr", c.torqueError},
+          {"forceErr", c.forceError},   {"engaged", c.engagedCutting}, {"setup", c.setupS}};
+}
+
+void FromJson(const nlohmann::json& j, BenchCell& c) {
+  c.status = j.at("status");
+  c.engine = j.at("engine");
+  c.elements = j.at("elements");
+  c.frames = j.at("frames");
+  c.medianMs = j.at("median");
+  c.p99Ms = j.at("p99");
+  c.meanMs = j.at("mean");
+  c.sdMs = j.at("sd");
+  c.maxMs = j.at("max");
+  c.thrustN = j.at("thrust");
+  c.torqueNmm = j.at("torque");
+  c.refThrustN = j.at("refThrust");
+  c.refTorqueNmm = j.at("refTorque");
+  c.thrustError = j.at("thrustErr");
+  c.torqueError = j.at("torqueErr");
+  c.forceError = j.at("forceErr");
+  c.engagedCutting = j.at("engaged");
+  c.setupS = j.at("setup");
+}
+
+} // namespace
+
+BenchCell RunBenchCellIsolated(Method method, const std::string& backend, int shell, int voxmap,
+                               const BenchOptions& o) {
+  BenchCell c;
+  c.method = method;
+  c.backend = backend;
+  c.shell = shell;
+  c.voxmap = voxmap;
+  int fds[2];
+  if (pipe(fds) != 0) throw std::runtime_error("bench: pipe failed");
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error("bench: fork failed");
+  if (pid == 0) {
+    close(fds[0]);
+    std::string out;
+    try {
+      out = ToJson(RunBenchCell(method, backend, shell, voxmap, o)).dump();
+    } catch (const std::exception& e) {
+      BenchCell failed;
+      failed.status = std::string("failed: ") + e.what();
+      out = ToJson(failed).dump();
+    }
+    size_t done = 0;
+    while (done < out.size()) {
+      const ssize_t w = write(fds[1], out.data() + done, out.size() - done);
+      if (w <= 0) break;
+      done += size_t(w);
+    }
+    close(fds[1]);
+    _exit(0);
+  }
+  close(fds[1]);
+  std::string text;
+  char buf[4096];
+  const auto t0 = std::chrono::steady_clock::now();
+  bool timedOut = false;
+  for (;;) {
+    pollfd p{fds[0], POLLIN, 0};
+    const double left = o.cellLimitS - std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (left <= 0) {
+      timedOut = true;
+      kill(pid, SIGKILL);
+      break;
+    }
+    const int ready = poll(&p, 1, int(std::min(left, 1.0) * 1000) + 1);
+    if (ready <= 0) continue;
+    const ssize_t r = read(fds[0], buf, sizeof buf);
+    if (r <= 0) break;
+    text.append(buf, size_t(r));
+  }
+  close(fds[0]);
+  int status = 0;
+  rusage usage{};
+  wait4(pid, &status, 0, &usage);
+  c.peakMemoryMb = double(usage.ru_maxrss) / 1024.0;
+  if (timedOut) {
+    c.status = "stopped after " + std::to_string(int(o.cellLimitS)) + " s";
+    return c;
+  }
+  try {
+    FromJson(nlohmann::json::parse(text), c);
+  } catch (const std::exception&) {
+    c.status = WIFSIGNALED(status) ? "crashed (signal " + std::to_string(WTERMSIG(status)) + ")"
+                                   : "failed: no result";
+  }
+  return c;
+}
+
+std::string BenchCsv(const std::vector<BenchCell>& cells) {
+  std::ostringstream os;
+  os << std::setprecision(6);
+  os << "method,backend,shell,voxmap,status,engine,elements,frames,median_ms,p99_ms,mean_ms,sd_ms,"
+        "max_ms,thrust_N,torque_Nmm,ref_thrust_N,ref_torque_Nmm,thrust_error,torque_error,"
+        "force_error,engaged_cutting,peak_memory_MiB,setup_s\n";
+  for (const auto& c : cells) {
+    std::string status = c.status;
+    std::replace(status.begin(), status.end(), ',', ';');
+    std::replace(status.begin(), status.end(), '\n', ' ');
+    os << ToString(c.method) << ',' << c.backend << ',' << c.shell << ',' << c.voxmap << ','
+       << status << ',' << c.engine << ',' << c.elements << ',' << c.frames << ',' << c.medianMs
+       << ',' << c.p99Ms << ',' << c.meanMs << ',' << c.sdMs << ',' << c.maxMs << ',' << c.thrustN
+       << ',' << c.torqueNmm << ',' << c.refThrustN << ',' << c.refTorqueNmm << ','
+       << c.thrustError << ',' << c.torqueError << ',' << c.forceError << ','
+       << c.engagedCutting << ',' << c.peakMemoryMb << ',' << c.setupS << '\n';
+  }
+  return os.str();
+}
+
+std::string BenchTable(const std::vector<BenchCell>& cells, Method method, const std::string& title,
+                       const std::vector<int>& shells, const std::vector<int>& voxmaps) {
+  std::ostringstream os;
+  os << std::fixed;
+  os << "# " << title << "\n";
+  std::vector<std::string> backends;
+  for (const auto& c : cells)
+    if (c.method == method && std::find(backends.begin(), backends.end(), c.backend) == backends.end())
+      backends.push_back(c.backend);
+  auto find = [&](const std::string& be, int s, int v) -> const BenchCell* {
+    for (const auto& c : cells)
+      if (c.method == method && c.backend == be && c.shell == s && c.voxmap == v) return &c;
+    return nullptr;
+  };
+  for (const auto& be : backends) {
+    for (int table = 0; table < 3; ++table) {
+      static const char* what[] = {"median (sd) of the frame time, ms", "p99 of the frame time, ms",
+                                   "force error (max of thrust and torque relative error)"};
+      os << "\n## " << be << " backend: " << what[table] << "\n\n| Point shell resolution |";
+      for (int v : voxmaps) os << ' ' << v << "^3 |";
+      os << "\n|---|";
+      for (size_t i = 0; i < voxmaps.size(); ++i) os << "---|";
+      os << '\n';
+      for (int s : shells) {
+        os << "| " << s << "^3 |";
+        for (int v : voxmaps) {
+          const BenchCell* c = find(be, s, v);
+          if (!c) os << " |";
+          else if (c->status != "ok") os << " " << c->status << " |";
+          else if (table == 0)
+            os << std::setprecision(3) << ' ' << c->medianMs << " (" << c->sdMs << ") |";
+          else if (table == 1) os << std::setprecision(3) << ' ' << c->p99Ms << " |";
+          else os << std::setprecision(2) << ' ' << 100 * c->forceError << " % |";
+        }
+        os << '\n';
+      }
+    }
+  }
+  return os.str();
+}
+
+} // namespace bm
