@@ -1,5 +1,6 @@
 #include "bmMachiningSetup.h"
 
+#include <iostream>
 #include <stdexcept>
 
 #include <Eigen/Geometry>
@@ -16,7 +17,17 @@ MachiningSetup::MachiningSetup(const Scene& scene, Voxmap bone, const std::strin
       Bone_(std::move(bone)) {
   if (Model_.GetMethod() != scene.method)
     throw std::invalid_argument("force_model.method disagrees with the scene's method");
-  Engine_ = MakeEngine(scene.backend, EngineContext{Bone_, *Tool_, Shell_, Model_, scene.threads, device});
+  const EngineContext ctx{Bone_, *Tool_, Shell_, Model_, scene.threads, device};
+  try {
+    Engine_ = MakeEngine(scene.backend, ctx);
+  } catch (const std::runtime_error& e) {
+    // A backend that fails to start (no OpenCL platform, unusable device) falls back to the
+    // CPU backend, saying so; unknown backend names (std::invalid_argument) still throw.
+    if (scene.backend == "cpu") throw;
+    std::cerr << "backend '" << scene.backend << "' failed: " << e.what()
+              << "; running on the CPU backend\n";
+    Engine_ = MakeEngine("cpu", ctx);
+  }
 }
 
 Eigen::Matrix3d MachiningSetup::ToolRotation() const {
