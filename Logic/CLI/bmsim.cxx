@@ -4,6 +4,10 @@
 #include <exception>
 #include <iostream>
 
+#ifdef BM_WITH_OPENCL
+#include "bmOpenCLBackend.h"
+#endif
+
 namespace bm::cli {
 std::map<std::string, Command>& Registry() {
   static std::map<std::string, Command> r;
@@ -18,6 +22,9 @@ static void PrintUsage(std::ostream& os) {
 }
 
 int main(int argc, char** argv) {
+#ifdef BM_WITH_OPENCL
+  bm::RegisterOpenCLBackend();
+#endif
   if (argc < 2) {
     PrintUsage(std::cerr);
     return 2;
