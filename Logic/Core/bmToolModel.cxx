@@ -267,7 +267,7 @@ std::vector<ProfilePoint> ArcLipTool::Profile(double maxSeg) const {
         out,
         [&](double s) {
           double th = kPi / 2 - s * (kPi / 2 - th1); // from the equator up to the shaft
-          return std::pair{R * std::sin(th), R - R * std::cos(th)};
+          return std::pair{R * std::sin(th), R + R * std::cos(th)};
         },
         EdgeKind::None, R * (kPi / 2 - th1), maxSeg);
   } else {
