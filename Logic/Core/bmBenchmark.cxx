@@ -21,6 +21,9 @@
 #include "bmEdgeQuadrature.h"
 #include "bmFeedTrial.h"
 #include "bmMachiningSetup.h"
+#include "bmToolModel.h"
+
+#include <Eigen/Geometry>
 
 namespace bm {
 
@@ -39,16 +42,15 @@ Scene BenchScene(Method method, const std::string& backend, int shell, int voxma
 namespace {
 
 // Sets to void every voxel whose centre lies in the envelope the tool swept on its way down the
-// trial axis to `depth` (foremost cutting point below the entry point).
-void PreCut(MachiningSetup& setup, double depth) {
-  const Scene& s = setup.GetScene();
-  const ToolModel& tool = setup.Tool();
-  Voxmap& bone = setup.Bone();
-  const Eigen::Matrix3d rot = setup.ToolRotation();
+// trial axis until its foremost cutting point is `depth` below the entry point.
+void PreCut(const Scene& s, Voxmap& bone, double depth) {
+  const auto tool = MakeTool(s.tool);
   const Eigen::Vector3d axis = s.trial.axis.normalized();
-  const double zf = ForemostCuttingZ(tool);
+  const Eigen::Matrix3d rot =
+      Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), axis).toRotationMatrix();
+  const double zf = ForemostCuttingZ(*tool);
   const Eigen::Vector3d origin = s.trial.entry - axis * depth - rot * Eigen::Vector3d(0, 0, zf);
-  const double R = tool.OuterRadius();
+  const double R = tool->OuterRadius();
   const auto dims = bone.Dims();
   Voxmap::Fill* fill = bone.MutableFill();
   for (int k = 0; k < dims[2]; ++k)
@@ -59,7 +61,7 @@ void PreCut(MachiningSetup& setup, double depth) {
         const double rho = std::hypot(p(0), p(1));
         if (rho > R) continue;
         double zLo = 0, zHi = 0;
-        if (tool.ZRange(rho, zLo, zHi) && p(2) >= zLo) fill[bone.Index(i, j, k)] = 0;
+        if (tool->ZRange(rho, zLo, zHi) && p(2) >= zLo) fill[bone.Index(i, j, k)] = 0;
       }
   bone.RebuildOccupancy();
 }
@@ -75,27 +77,11 @@ BenchCell RunBenchCell(Method method, const std::string& backend, int shell, int
   c.voxmap = voxmap;
   const auto t0 = std::chrono::steady_clock::now();
   const Scene scene = BenchScene(method, backend, shell, voxmap, o.threads);
-  // The pre-cut must happen before the engine copies the voxmap (OpenCL, octree), so the setup
-  // is built on a CPU engine first only to get tool and shell geometry right: instead, cut the
-  // block alone with a throw-away setup of the same scene on the CPU backend.
+  // Start past full engagement of the edges by four voxels and 0.1 mm (more than the coarsest
+  // shell spacing, 10 mm / 128), so every timed frame is fully engaged.
   Voxmap block = MakeSceneBlock(scene);
-  const double start = [&] {
-    Scene probe = scene;
-    probe.backend = "cpu";
-    probe.voxmapResolution = 8;
-    probe.shellResolution = 16;
-    MachiningSetup tiny(probe, MakeSceneBlock(probe));
-    const FeedTrial trial(tiny);
-    return trial.EngagedDepthMm() + 2 * block.Spacing();
-  }();
-  {
-    Scene cutScene = scene;
-    cutScene.backend = "cpu";
-    cutScene.shellResolution = 16;
-    MachiningSetup cut(cutScene, std::move(block));
-    PreCut(cut, start);
-    block = cut.Bone();
-  }
+  const double start = FullEngagementDepth(*MakeTool(scene.tool)) + 4 * block.Spacing() + 0.1;
+  PreCut(scene, block, start);
   MachiningSetup setup(scene, std::move(block), o.device);
   c.setupS = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   c.engine = setup.GetEngine().Name();

@@ -255,6 +255,40 @@ PointShell PointShell::Build(const ToolModel& tool, int resolution, LipMode mode
     }
   }
 
+  // Axial shares made exact per column: the tool is fed along its axis, and a column's elements
+  // facing down (or up) must sweep exactly the column's cross-section (h^2 times the part of the
+  // cell inside the tool's footprint). The arc-length shares above only hold on average (a column
+  // on a slope holds one or two elements), and a voxel under too much element area empties
+  // before the tool surface has passed it. Elements on walls (|n_z| <= 0.05) keep their shares.
+  {
+    std::vector<double> sum(2 * nCol, 0.0);
+    auto colOf = [&](const RawElement& e) {
+      const auto ijk = ElementCoords(e.code);
+      return size_t(ijk[1]) * dims[0] + ijk[0];
+    };
+    for (const auto& e : raw)
+      if (std::abs(e.unitNormal[2]) > 0.05f) sum[2 * colOf(e) + (e.unitNormal[2] > 0)] += std::abs(e.areaNormal[2]);
+    constexpr int kSub = 4;
+    std::vector<double> scale(2 * nCol, 1.0);
+    for (size_t c = 0; c < nCol; ++c) {
+      if (sum[2 * c] == 0 && sum[2 * c + 1] == 0) continue;
+      const int i = int(c % size_t(dims[0])), j = int(c / size_t(dims[0]));
+      int in = 0;
+      double zl = 0, zh = 0;
+      for (int a = 0; a < kSub; ++a)
+        for (int b = 0; b < kSub; ++b) {
+          const double x = ps.Origin_[0] + (i - 0.5 + (a + 0.5) / kSub) * h;
+          const double y = ps.Origin_[1] + (j - 0.5 + (b + 0.5) / kSub) * h;
+          in += tool.ZRange(std::hypot(x, y), zl, zh);
+        }
+      const double target = h * h * in / (kSub * kSub);
+      for (int g = 0; g < 2; ++g)
+        if (sum[2 * c + g] > 0) scale[2 * c + g] = target / sum[2 * c + g];
+    }
+    for (auto& e : raw)
+      if (std::abs(e.unitNormal[2]) > 0.05f) e.areaNormal[2] = float(e.areaNormal[2] * scale[2 * colOf(e) + (e.unitNormal[2] > 0)]);
+  }
+
   std::sort(raw.begin(), raw.end(), [](const RawElement& a, const RawElement& b) { return a.code < b.code; });
   const size_t n = raw.size();
   ps.Codes_.resize(n);
