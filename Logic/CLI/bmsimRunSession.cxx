@@ -1,0 +1,200 @@
+#include "bmsimRunSession.h"
+
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "bmAtomicFile.h"
+#include "bmEdgeQuadrature.h"
+#include "bmHapticSession.h"
+#include "bmMachiningSetup.h"
+#include "bmScriptedDevice.h"
+#include "bmSessionRecorder.h"
+#include "bmTouchDevice.h"
+
+namespace bm::cli {
+
+const std::set<std::string> kSessionRunOptions = {
+    "device", "mode", "force", "trajectory", "duration", "record", "contact", "rendering", "rate"};
+
+bool WantsSession(const ParsedArgs& args) {
+  if (args.Has("mode"))
+    return true;
+  const auto d = args.Get("device");
+  return d && (*d == "scripted" || *d == "touch");
+}
+
+namespace {
+struct Stats {
+  double mean = 0, sd = 0, max = 0;
+  size_t n = 0;
+};
+Stats Describe(const std::vector<double>& v) {
+  Stats s;
+  s.n = v.size();
+  if (v.empty())
+    return s;
+  for (double x : v) {
+    s.mean += x;
+    s.max = std::max(s.max, x);
+  }
+  s.mean /= double(v.size());
+  for (double x : v)
+    s.sd += (x - s.mean) * (x - s.mean);
+  s.sd = v.size() > 1 ? std::sqrt(s.sd / double(v.size() - 1)) : 0.0;
+  return s;
+}
+nlohmann::json ToJson(const Stats& s) {
+  return {{"mean", s.mean}, {"sd", s.sd}, {"max", s.max}, {"frames", s.n}};
+}
+} // namespace
+
+int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::string& outDir) {
+  const std::string deviceName = args.Get("device", "scripted");
+  if (deviceName != "scripted" && deviceName != "touch")
+    throw UsageError("--device must be scripted or touch for a session run, not '" + deviceName +
+                     "'");
+  const std::string mode = args.Get("mode", "feed");
+  if (mode != "feed" && mode != "force" && mode != "trajectory")
+    throw UsageError("--mode must be feed, force or trajectory, not '" + mode + "'");
+  if (scene.bone.type != "block")
+    throw UsageError("scene '" + scene.name + "': session runs need a block scene");
+  SessionOptions so;
+  try {
+    so.proxy.method = ContactMethodFromString(args.Get("contact", "cutting"));
+    so.proxy.rendering = RenderingFromString(args.Get("rendering", "coupled"));
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  if (auto r = args.GetDouble("rate", 10, 10000))
+    so.rateHz = *r;
+  so.realTime = true;
+  const double appliedN = args.GetDouble("force", 0.0, 100.0).value_or(2.0);
+  const auto durationOpt = args.GetDouble("duration", 0.001, 3600);
+  const auto record = args.Get("record");
+  if (record &&
+      (std::filesystem::path(*record).extension() == ".h5" ||
+       std::filesystem::path(*record).extension() == ".hdf5") &&
+      !HasHdf5())
+    throw UsageError("--record " + *record + ": this build has no HDF5; use a .csv file");
+  std::vector<TrajectorySample> trajectory;
+  if (mode == "trajectory") {
+    const auto file = args.Get("trajectory");
+    if (!file)
+      throw UsageError("--mode trajectory needs --trajectory FILE");
+    trajectory = LoadTrajectoryCsv(*file);
+  }
+
+  MachiningSetup setup(scene, MakeSceneBlock(scene));
+  const TrialSpec& t = scene.trial;
+  const Eigen::Vector3d axis = t.axis.normalized();
+  std::shared_ptr<Device> device;
+  double duration = 10;
+  if (deviceName == "touch") {
+    device = std::make_shared<TouchDevice>();
+  } else {
+    ScriptedDeviceOptions o;
+    o.mode = mode == "feed"    ? ScriptMode::Feed
+             : mode == "force" ? ScriptMode::Force
+                               : ScriptMode::Trajectory;
+    o.startMm = t.entry + axis * t.clearanceMm;
+    o.axis = axis;
+    o.rotation = setup.ToolRotation();
+    o.feedMmPerRev = t.feedMmPerRev;
+    o.speedRpm = t.speedRpm;
+    o.appliedForceN = appliedN;
+    o.trajectory = trajectory;
+    device = std::make_shared<ScriptedDevice>(o);
+    const double depth =
+        t.depthMm >= 0 ? t.depthMm : FullEngagementDepth(setup.Tool()) + t.extraDepthMm;
+    if (mode == "feed")
+      duration = (depth + t.clearanceMm) / (t.feedMmPerRev * t.speedRpm / 60.0);
+    else if (mode == "force")
+      duration = 2.0;
+    else
+      duration = trajectory.back().timeS;
+  }
+  if (durationOpt)
+    duration = *durationOpt;
+  so.maxFrames = int64_t(std::ceil(duration * so.rateHz));
+
+  HapticSession session(setup, device, so);
+  std::vector<FrameRecord> frames;
+  frames.reserve(size_t(so.maxFrames));
+  session.Start();
+  std::cout << "session " << scene.name << ": " << deviceName << " device, " << mode << " mode, "
+            << ToString(so.proxy.method) << "/" << ToString(so.proxy.rendering) << ", " << so.rateHz
+            << " Hz, " << duration << " s\n";
+  while (!session.WaitUntilPaused(0.05))
+    session.DrainRecords(frames);
+  const SessionSnapshot last = session.Snapshot();
+  session.Stop();
+  session.DrainRecords(frames);
+  const TimingStats ts = session.Timing();
+
+  std::vector<double> thrust, torque, feed, force;
+  for (const auto& f : frames) {
+    force.push_back(Eigen::Vector3d(f.deviceForce[0], f.deviceForce[1], f.deviceForce[2]).norm());
+    if (f.feedMmPerRev > 0) {
+      thrust.push_back(f.thrustN);
+      torque.push_back(f.torqueNmm);
+      feed.push_back(f.feedMmPerRev);
+    }
+  }
+  const Eigen::Vector3d p0 = t.entry;
+  const double depth = frames.empty()
+                           ? 0.0
+                           : -(Eigen::Vector3d(frames.back().proxyPos[0], frames.back().proxyPos[1],
+                                               frames.back().proxyPos[2]) -
+                               p0)
+                                  .dot(axis);
+  nlohmann::json s = {{"scene", scene.name},
+                      {"device", deviceName},
+                      {"mode", mode},
+                      {"applied_force_N", mode == "force" ? appliedN : 0.0},
+                      {"contact", ToString(so.proxy.method)},
+                      {"rendering", ToString(so.proxy.rendering)},
+                      {"engine", setup.GetEngine().Name()},
+                      {"rate_hz", so.rateHz},
+                      {"frames", frames.size()},
+                      {"duration_s", double(frames.size()) / so.rateHz},
+                      {"frame_ms_p50", ts.p50Ms},
+                      {"frame_ms_p99", ts.p99Ms},
+                      {"frame_ms_max", ts.maxMs},
+                      {"frame_ms_mean", ts.meanMs},
+                      {"overruns", ts.overruns},
+                      {"pause_reason", ToString(last.pauseReason)},
+                      {"thrust_N", ToJson(Describe(thrust))},
+                      {"torque_Nmm", ToJson(Describe(torque))},
+                      {"feed_mm_per_rev", ToJson(Describe(feed))},
+                      {"device_force_N", ToJson(Describe(force))},
+                      {"device_max_force_N", device->Limits().maxForceN},
+                      {"coupling_stiffness_N_per_mm", session.Coupling().Stiffness()},
+                      {"coupling_damping_Ns_per_mm", session.Coupling().Damping()},
+                      {"removed_volume_mm3", last.removedVolumeMm3},
+                      {"removed_voxels", last.removedVoxels},
+                      {"final_depth_mm", depth},
+                      {"dropped_records", last.droppedRecords},
+                      {"voxmap_resolution", scene.voxmapResolution},
+                      {"shell_resolution", scene.shellResolution}};
+  Recording rec;
+  rec.meta = {{"scene", scene.ToJson()}, {"session", SessionOptionsToJson(so, device->Limits())}};
+  rec.frames = std::move(frames);
+  std::filesystem::create_directories(outDir);
+  WriteRecordingCsv((std::filesystem::path(outDir) / "session.csv").string(), rec);
+  if (record)
+    WriteRecording(*record, rec);
+  WriteFileAtomic((std::filesystem::path(outDir) / "summary.json").string(), s.dump(2) + "\n");
+  std::cout << "  frames " << rec.frames.size() << ", frame p50 " << ts.p50Ms << " ms, p99 "
+            << ts.p99Ms << " ms, max " << ts.maxMs << " ms, overruns " << ts.overruns << "\n"
+            << "  thrust " << s["thrust_N"]["mean"].get<double>() << " N, torque "
+            << s["torque_Nmm"]["mean"].get<double>() << " N mm, feed "
+            << s["feed_mm_per_rev"]["mean"].get<double>() << " mm/rev, depth " << depth << " mm\n"
+            << "  pause reason: " << ToString(last.pauseReason) << "\n"
+            << "wrote " << outDir << "/session.csv and " << outDir << "/summary.json"
+            << (record ? " and " + *record : std::string()) << "\n";
+  return last.pauseReason == PauseReason::Finished ? 0 : 1;
+}
+
+} // namespace bm::cli

@@ -1,0 +1,272 @@
+#include "bmHapticSession.h"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Geometry>
+
+namespace bm {
+
+const char* ToString(SessionState s) {
+  switch (s) {
+  case SessionState::Idle:
+    return "idle";
+  case SessionState::Running:
+    return "running";
+  case SessionState::Paused:
+    return "paused";
+  case SessionState::Stopped:
+    return "stopped";
+  }
+  return "?";
+}
+
+const char* ToString(PauseReason r) {
+  switch (r) {
+  case PauseReason::None:
+    return "none";
+  case PauseReason::User:
+    return "user";
+  case PauseReason::Finished:
+    return "finished";
+  case PauseReason::Overrun:
+    return "overrun";
+  case PauseReason::DeviceError:
+    return "device error";
+  case PauseReason::DeviceSilent:
+    return "device not answering";
+  case PauseReason::FrameError:
+    return "frame error";
+  }
+  return "?";
+}
+
+HapticSession::HapticSession(MachiningSetup& setup, std::shared_ptr<Device> device,
+                             const SessionOptions& o)
+    : Setup_(setup), Device_(std::move(device)), O_(o), Ring_(o.recordCapacity) {
+  if (!Device_)
+    throw std::invalid_argument("session: no device");
+  if (!(O_.rateHz > 0))
+    throw std::invalid_argument("session: rate must be > 0 Hz");
+  Period_ = 1.0 / O_.rateHz;
+  SpeedRpm_.store(O_.speedRpm >= 0 ? O_.speedRpm : setup.GetScene().trial.speedRpm);
+  Proxy_ = std::make_unique<Proxy>(Setup_, Device_->Limits(), Period_, O_.proxy);
+  OverrunWindow_.assign(size_t(std::max(1, O_.overrunWindow)), 0);
+  Publish();
+}
+
+HapticSession::~HapticSession() {
+  Stop();
+}
+
+void HapticSession::SetDevice(std::shared_ptr<Device> device) {
+  if (State_.load() == int(SessionState::Running) || State_.load() == int(SessionState::Paused))
+    throw std::logic_error(
+        "session: the device can only be changed while the session is not running");
+  if (!device)
+    throw std::invalid_argument("session: no device");
+  Device_ = std::move(device);
+  Proxy_ = std::make_unique<Proxy>(Setup_, Device_->Limits(), Period_, O_.proxy);
+}
+
+void HapticSession::Start() {
+  if (Started_.exchange(true))
+    throw std::logic_error("session: already started");
+  Device_->Start();
+  // Limits are known now (the Touch reads them from the driver): rebuild the proxy's coupling.
+  Proxy_ = std::make_unique<Proxy>(Setup_, Device_->Limits(), Period_, O_.proxy);
+  State_.store(int(SessionState::Running));
+  Thread_ = std::thread([this] { Loop(); });
+}
+
+void HapticSession::Pause() {
+  Reason_.store(int(PauseReason::User));
+  PauseFlag_.store(true);
+}
+
+void HapticSession::Resume() {
+  Reason_.store(int(PauseReason::None));
+  PauseFlag_.store(false);
+}
+
+void HapticSession::Stop() {
+  StopFlag_.store(true);
+  if (Thread_.joinable())
+    Thread_.join();
+  if (Started_.load() && State_.load() != int(SessionState::Stopped)) {
+    Device_->Write(Eigen::Vector3d::Zero());
+    Device_->Stop();
+    State_.store(int(SessionState::Stopped));
+    Work_.state = SessionState::Stopped;
+    Work_.timing = Hist_.Stats();
+    Publish();
+  }
+}
+
+bool HapticSession::WaitUntilPaused(double timeoutS) const {
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeoutS);
+  while (std::chrono::steady_clock::now() < until) {
+    const int s = State_.load();
+    if (s == int(SessionState::Paused) || s == int(SessionState::Stopped))
+      return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return false;
+}
+
+SessionSnapshot HapticSession::Snapshot() const {
+  const int i = Latest_.load(std::memory_order_acquire);
+  std::lock_guard<std::mutex> lock(SlotMutex_[i]);
+  return Slot_[i];
+}
+
+TimingStats HapticSession::Timing() const {
+  if (State_.load() == int(SessionState::Stopped))
+    return Hist_.Stats(); // the thread has been joined
+  return Snapshot().timing;
+}
+
+void HapticSession::Publish() {
+  const int w = 1 - Latest_.load(std::memory_order_relaxed);
+  std::unique_lock<std::mutex> lock(SlotMutex_[w], std::try_to_lock);
+  if (!lock.owns_lock()) {
+    SkippedSnapshots_.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  Work_.droppedRecords = Ring_.Dropped();
+  Slot_[w] = Work_;
+  lock.unlock();
+  Latest_.store(w, std::memory_order_release);
+}
+
+void HapticSession::Fault(PauseReason why) {
+  // Zero force within this frame; the proxy and the cut stay as they are.
+  Device_->Write(Eigen::Vector3d::Zero());
+  Work_.deviceForceN.setZero();
+  Reason_.store(int(why));
+  PauseFlag_.store(true);
+}
+
+void HapticSession::Loop() {
+  using clock = std::chrono::steady_clock;
+  const auto period =
+      std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(Period_));
+  auto next = clock::now();
+  while (!StopFlag_.load(std::memory_order_acquire)) {
+    if (PauseFlag_.load(std::memory_order_acquire)) {
+      if (!WasPaused_) {
+        Device_->Write(Eigen::Vector3d::Zero());
+        WasPaused_ = true;
+        Work_.state = SessionState::Paused;
+        Work_.pauseReason = PauseReason(Reason_.load());
+        Work_.deviceForceN.setZero();
+        Work_.timing = Hist_.Stats();
+        State_.store(int(SessionState::Paused));
+        Publish();
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      next = clock::now();
+      continue;
+    }
+    if (WasPaused_) {
+      WasPaused_ = false;
+      Proxy_->ForgetDeviceMotion();
+      Resumed_ = true;
+      Work_.state = SessionState::Running;
+      Work_.pauseReason = PauseReason::None;
+      State_.store(int(SessionState::Running));
+    }
+    RunFrame();
+    if (O_.maxFrames >= 0 && Work_.frame >= O_.maxFrames && !PauseFlag_.load()) {
+      Reason_.store(int(PauseReason::Finished));
+      PauseFlag_.store(true);
+    }
+    if (O_.realTime) {
+      next += period;
+      const auto now = clock::now();
+      if (now > next + period)
+        next = now; // fell behind: do not try to catch up with a burst
+      std::this_thread::sleep_until(next);
+    }
+  }
+}
+
+void HapticSession::RunFrame() {
+  using clock = std::chrono::steady_clock;
+  const auto t0 = clock::now();
+  const double t = double(Work_.frame) * Period_;
+  Device_->Advance(t, Period_);
+  const DeviceStatus st = Device_->Read(Pose_);
+  if (st != DeviceStatus::Ok) {
+    Fault(st == DeviceStatus::Error ? PauseReason::DeviceError : PauseReason::DeviceSilent);
+    return;
+  }
+  const Eigen::Vector3d xd =
+      O_.deviceOffsetMm + O_.deviceScale * (O_.deviceRotation * Pose_.positionMm);
+  // The orientation goes through the recorded quaternion, so a replay sees bit-identical input.
+  const Eigen::Quaterniond q = Eigen::Quaterniond(O_.deviceRotation * Pose_.rotation).normalized();
+  const Eigen::Matrix3d R = ToolRotationFromQuaternion({q.w(), q.x(), q.y(), q.z()});
+  const double speed = SpeedRpm_.load(std::memory_order_relaxed);
+  ProxyFrame pf;
+  try {
+    pf = Proxy_->Step(xd, R, speed);
+  } catch (const std::exception&) {
+    Fault(PauseReason::FrameError);
+    return;
+  }
+  // World force back to the device frame; the final guard: finite and within the limit.
+  const Eigen::Vector3d fDev = VirtualCoupling::Clamp(
+      O_.deviceRotation.transpose() * pf.deviceForceN, Device_->Limits().maxForceN);
+  const DeviceStatus ws = Device_->Write(fDev);
+  const double ms = std::chrono::duration<double, std::milli>(clock::now() - t0).count();
+  const bool overrun = ms > Period_ * 1000.0;
+  Hist_.Add(ms, overrun);
+  uint8_t& slot = OverrunWindow_[size_t(Work_.frame % int64_t(OverrunWindow_.size()))];
+  OverrunsInWindow_ += int(overrun) - int(slot);
+  slot = overrun;
+
+  Work_.frame += 1;
+  Work_.timeS = double(Work_.frame) * Period_;
+  Work_.devicePositionMm = xd;
+  Work_.toolRotation = R;
+  Work_.proxyPositionMm = pf.proxyPositionMm;
+  Work_.deviceForceN = O_.deviceRotation * fDev;
+  Work_.thrustN = pf.thrustN;
+  Work_.torqueNmm = pf.torqueNmm;
+  Work_.feedMmPerRev = pf.feedMmPerRev;
+  Work_.removedVolumeMm3 += pf.removedVolumeMm3;
+  Work_.removedVoxels += pf.removedVoxels;
+  Work_.maxDeviceForceN = std::max(Work_.maxDeviceForceN, fDev.norm());
+  if (O_.record) {
+    FrameRecord r;
+    r.frame = Work_.frame - 1;
+    r.timeS = t;
+    r.devicePos = {xd(0), xd(1), xd(2)};
+    r.deviceQuat = {q.w(), q.x(), q.y(), q.z()};
+    r.proxyPos = {pf.proxyPositionMm(0), pf.proxyPositionMm(1), pf.proxyPositionMm(2)};
+    r.feedMmPerRev = pf.feedMmPerRev;
+    r.thrustN = pf.thrustN;
+    r.torqueNmm = pf.torqueNmm;
+    r.couplingForce = {pf.couplingForceN(0), pf.couplingForceN(1), pf.couplingForceN(2)};
+    const Eigen::Vector3d fw = O_.deviceRotation * fDev;
+    r.deviceForce = {fw(0), fw(1), fw(2)};
+    r.frameMs = ms;
+    r.removedVoxels = pf.removedVoxels;
+    r.removedVolumeMm3 = pf.removedVolumeMm3;
+    r.speedRpm = speed;
+    r.buttons = Pose_.buttons;
+    r.flags = Resumed_ ? FrameRecord::kResumed : 0u;
+    Ring_.Push(r);
+  }
+  Resumed_ = false;
+  if ((Work_.frame & 63) == 0)
+    Work_.timing = Hist_.Stats();
+  Publish();
+  if (ws != DeviceStatus::Ok)
+    Fault(ws == DeviceStatus::Error ? PauseReason::DeviceError : PauseReason::DeviceSilent);
+  else if (O_.overrunLimit >= 0 && OverrunsInWindow_ > O_.overrunLimit)
+    Fault(PauseReason::Overrun);
+}
+
+} // namespace bm

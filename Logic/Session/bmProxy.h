@@ -1,0 +1,127 @@
+// bmProxy.h - the simulated tool behind the virtual coupling: one haptic frame of the interaction
+// model (MODEL_NOTES sections 3 and 4).
+//
+// Methods (ContactMethod), each rendered through the coupling (Rendering::Coupled) or, to show
+// why the coupling is needed, directly (Rendering::Direct):
+//  - Cutting (ours, section 4). Spindle running: along the tool axis the proxy advances by the u
+//    at which the engine's thrust balances the axial coupling force (bmFeedBalance.h); the engine
+//    (bmEngine.h) cuts the swept voxels at that feed and reports thrust, torque and lateral force;
+//    across the axis the bone is a rigid contact (Kim et al.'s point shell against the tool's
+//    distance field, with a dead band of ~1 voxel for the wall the engine is still thinning),
+//    solved with the axis held. Before any cutting element touches bone, the proxy moves freely
+//    toward the device but stops at first contact (swept in steps of at most half a voxel).
+//    Spindle stopped: every surface is a rigid contact (same solve, all three axes).
+//    Direct: the penalty force k_dev * (deepest penetration) along the contact normal at the
+//    device pose, plus the engine's force at the device's own feed (a damper with a wall).
+//  - KimPark (section 3). Coupled: the proxy solves the linearised equilibrium F_c + F_vc +
+//    (dF_c/dx + dF_vc/dx) dx = 0 (3x3) each iteration, steps limited to half a voxel, and with the
+//    spindle running removes, Boolean, the voxels whose centre lies more than half a voxel inside
+//    it (their flood fill). Direct: F_c at the device pose (their Fig. 3 failure).
+//
+// The proxy never tunnels: every motion of the proxy toward bone is swept in sub-steps of at most
+// half a voxel (maxStepVoxels), stopping at first contact; the equilibrium solve also limits its
+// steps to that length. Orientation follows the device (3-DoF force output, like the Touch).
+//
+// Units: world mm, N, N mm, rpm, mm/rev, s.
+#pragma once
+
+#include <memory>
+
+#include <Eigen/Core>
+
+#include "bmBoneSurfaceShell.h"
+#include "bmFeedBalance.h"
+#include "bmKimParkContact.h"
+#include "bmMachiningSetup.h"
+#include "bmToolDistanceField.h"
+#include "bmVirtualCoupling.h"
+
+namespace bm {
+
+enum class ContactMethod { Cutting, KimPark };
+enum class Rendering { Coupled, Direct };
+const char* ToString(ContactMethod m);
+const char* ToString(Rendering r);
+/// "cutting"|"kim"; "coupled"|"direct". Throw std::invalid_argument otherwise.
+ContactMethod ContactMethodFromString(const std::string& s);
+Rendering RenderingFromString(const std::string& s);
+
+struct ProxyOptions {
+  ContactMethod method = ContactMethod::Cutting;
+  Rendering rendering = Rendering::Coupled;
+  CouplingOptions coupling;              ///< K, B (defaults: device nominal K, B = K T)
+  double contactStiffnessPerArea = 2000; ///< k_A of the rigid contact, N/mm^3
+  int sdfResolution = 256;        ///< tool distance field: cells along the tool's longest side
+  double maxStepVoxels = 0.5;     ///< longest proxy step toward bone, voxels
+  int maxIterations = 24;         ///< equilibrium iterations per frame
+  double deadBandVoxels = 1.0;    ///< Cutting: lateral contact dead band, voxels
+  double kimCutDepthVoxels = 0.5; ///< KimPark: removal depth inside the tool, voxels
+};
+
+/// One frame's result.
+struct ProxyFrame {
+  Eigen::Vector3d devicePositionMm =
+      Eigen::Vector3d::Zero(); ///< tool pose the device asks for, world mm
+  Eigen::Vector3d proxyPositionMm = Eigen::Vector3d::Zero(); ///< simulated tool, world mm
+  Eigen::Vector3d couplingForceN =
+      Eigen::Vector3d::Zero(); ///< on the proxy (direct: on the tool), N
+  Eigen::Vector3d deviceForceN =
+      Eigen::Vector3d::Zero(); ///< what the device is sent: finite, clamped, N
+  Eigen::Vector3d lateralForceN =
+      Eigen::Vector3d::Zero(); ///< cutting force across the axis, world N
+  double feedMmPerRev = 0;     ///< feed this frame, mm/rev (0 when not cutting)
+  double thrustN = 0;          ///< cutting thrust (KimPark: axial contact force), N
+  double torqueNmm = 0;        ///< resisting torque, N mm (KimPark: 0, the method has none)
+  int64_t removedVoxels = 0;   ///< voxels taken to void this frame
+  double removedVolumeMm3 = 0;
+  int contactPoints = 0; ///< bone points in contact
+  bool clamped = false;  ///< the device force was limited to the maximum
+};
+
+class Proxy {
+public:
+  /// setup: the scene's tool, model, bone and engine (must outlive the proxy); limits: the
+  /// device's; frameS: the haptic period, s. Builds the tool distance field and the bone surface
+  /// shell.
+  Proxy(MachiningSetup& setup, const DeviceLimits& limits, double frameS,
+        const ProxyOptions& o = {});
+  ~Proxy();
+  /// Advances one frame to the device's tool pose (world mm, tool -> world rotation) at spindle
+  /// speed speedRpm (0 = stopped). The first call places the proxy at the device.
+  ProxyFrame Step(const Eigen::Vector3d& deviceMm, const Eigen::Matrix3d& rotation,
+                  double speedRpm);
+  /// Places the proxy at the device again (no force) on the next Step.
+  void Reset() { Started_ = false; }
+  /// Keeps the proxy (and the cut) but forgets the device's last position, so that a device that
+  /// moved while the session was paused gives no velocity spike on the next Step.
+  void ForgetDeviceMotion() { ForgetMotion_ = true; }
+  const VirtualCoupling& Coupling() const { return Coupling_; }
+  const ProxyOptions& Options() const { return O_; }
+  const BoneSurfaceShell& SurfaceShell() const { return *Shell_; }
+  const Eigen::Vector3d& Position() const { return P_; }
+
+private:
+  Eigen::Vector3d Sweep(const Eigen::Vector3d& from, const Eigen::Vector3d& to,
+                        const Eigen::Matrix3d& R, double band) const;
+  Eigen::Vector3d Relax(Eigen::Vector3d p, const Eigen::Vector3d& xd, const Eigen::Vector3d& vd,
+                        const Eigen::Matrix3d& R, double band, const Eigen::Vector3d* lockAxis,
+                        const Eigen::Vector3d& extra, ContactResult& last) const;
+  void CuttingStep(const Eigen::Vector3d& xd, const Eigen::Vector3d& vd, const Eigen::Matrix3d& R,
+                   double n, ProxyFrame& f);
+  void SyncShell(const Eigen::Matrix3d& R, const Eigen::Vector3d& a, const Eigen::Vector3d& b);
+
+  MachiningSetup& Setup_;
+  ProxyOptions O_;
+  double T_;
+  VirtualCoupling Coupling_;
+  std::unique_ptr<ToolDistanceField> Sdf_;
+  std::unique_ptr<BoneSurfaceShell> Shell_;
+  std::unique_ptr<KimParkContact> Contact_;
+  FeedBalance Balance_;
+  bool Started_ = false, ForgetMotion_ = false;
+  Eigen::Vector3d P_ = Eigen::Vector3d::Zero(), Xd_ = Eigen::Vector3d::Zero();
+  double Fraction_ = 0;     // engaged fraction from the last engine frame
+  double SpindleAngle_ = 0; // rad
+};
+
+} // namespace bm

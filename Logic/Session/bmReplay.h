@@ -1,0 +1,36 @@
+// bmReplay.h - re-running a recorded session: the recorded device poses (and spindle speeds,
+// and resume marks) are fed frame by frame, off-thread and back to back, into a fresh proxy on a
+// fresh copy of the scene's bone, and the forces compared with the recorded ones. Everything the
+// frame computes is a deterministic function of those inputs (fixed-point engine sums, the
+// orientation rebuilt from the recorded quaternion), so a faithful replay matches to the last bit;
+// the tolerances only absorb nothing-but-rounding differences between builds.
+//
+// Units: N, N mm, mm.
+#pragma once
+
+#include <vector>
+
+#include "bmFrameRecord.h"
+#include "bmMachiningSetup.h"
+#include "bmSessionRecorder.h"
+
+namespace bm {
+
+struct ReplayResult {
+  int64_t frames = 0;
+  double maxCouplingForceDiffN = 0; ///< max |coupling force replayed - recorded|, N
+  double maxDeviceForceDiffN = 0;   ///< max |device force replayed - recorded|, N
+  double maxThrustDiffN = 0;
+  double maxTorqueDiffNmm = 0;
+  double maxProxyDiffMm = 0;
+  std::vector<FrameRecord> replayed; ///< the replayed records (frameMs = this run's compute time)
+};
+
+/// Replays `rec` on `setup` (built from the recording's scene, with an untouched bone).
+ReplayResult Replay(const Recording& rec, MachiningSetup& setup);
+
+/// Builds the scene of a recording (block scenes). Throws std::runtime_error when the metadata
+/// has no scene.
+Scene RecordedScene(const Recording& rec);
+
+} // namespace bm

@@ -1,0 +1,42 @@
+// bmSessionRecorder.h - a session's per-frame record to CSV and to HDF5 (one file per session),
+// and reading either back (for bmsim replay).
+//
+// CSV: a first line "# bmsession {json}" holding the metadata (scene, session options, device
+// limits), a header of FrameRecord::Columns(), then one row per frame at 17 significant digits
+// (doubles round-trip exactly). HDF5: dataset /frames (frames x columns, double) with attribute
+// "columns" (comma-separated names) and attribute "meta" on the root group (the JSON). Both are
+// written atomically (temporary file beside the target, then rename).
+//
+// HDF5 needs a build with libhdf5 (BM_WITH_HDF5 and the library found); without it the HDF5
+// functions throw std::runtime_error and HasHdf5() is false.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bmFrameRecord.h"
+#include "bmHapticSession.h"
+
+namespace bm {
+
+struct Recording {
+  nlohmann::json meta; ///< {"scene": ..., "session": ..., "device": ...}
+  std::vector<FrameRecord> frames;
+};
+
+/// Session options and device limits as JSON (for the metadata) and back.
+nlohmann::json SessionOptionsToJson(const SessionOptions& o, const DeviceLimits& limits);
+SessionOptions SessionOptionsFromJson(const nlohmann::json& j, DeviceLimits& limits);
+
+bool HasHdf5();
+/// Throws std::runtime_error naming the file on failure (nothing is left half written).
+void WriteRecordingCsv(const std::string& path, const Recording& r);
+void WriteRecordingHdf5(const std::string& path, const Recording& r);
+/// By extension: .h5/.hdf5 -> HDF5, otherwise CSV.
+void WriteRecording(const std::string& path, const Recording& r);
+/// Reads a file written by WriteRecording (by extension); throws std::runtime_error on bad input.
+Recording ReadRecording(const std::string& path);
+
+} // namespace bm

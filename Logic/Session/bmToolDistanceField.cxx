@@ -1,0 +1,101 @@
+#include "bmToolDistanceField.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace bm {
+
+ToolDistanceField::ToolDistanceField(const ToolModel& tool, int resolution, int marginCells)
+    : Tool_(&tool) {
+  if (resolution < 8)
+    throw std::invalid_argument("tool distance field: resolution must be >= 8");
+  if (marginCells < 1)
+    throw std::invalid_argument("tool distance field: margin must be >= 1 cell");
+  const double R = tool.OuterRadius();
+  const auto zr = tool.AxialRange();
+  H_ = std::max(2 * R, zr[1] - zr[0]) / resolution;
+  Far_ = marginCells * H_;
+  // Outline segments, leaving out those along the axis (inside the solid).
+  const auto prof = tool.Profile(H_ / 2);
+  for (size_t i = 0; i + 1 < prof.size(); ++i) {
+    const auto& a = prof[i];
+    const auto& b = prof[i + 1];
+    if (a.rho < 1e-12 && b.rho < 1e-12)
+      continue;
+    Segments_.push_back({a.rho, a.z, b.rho, b.z});
+  }
+  // 2D table over (rho, z) at half the 3D spacing.
+  const double h2 = H_ / 2;
+  const double rMax = R * std::sqrt(2.0) + 2 * Far_;
+  const int nr = int(std::ceil(rMax / h2)) + 2;
+  const double z0 = zr[0] - Far_ - H_;
+  const int nz = int(std::ceil((zr[1] - zr[0] + 2 * Far_ + 2 * H_) / h2)) + 2;
+  std::vector<double> t(size_t(nr) * nz);
+  for (int k = 0; k < nz; ++k)
+    for (int i = 0; i < nr; ++i)
+      t[size_t(k) * nr + i] = Exact(i * h2, z0 + k * h2);
+  auto table = [&](double rho, double z) {
+    const double u = rho / h2, w = (z - z0) / h2;
+    const int i = std::clamp(int(u), 0, nr - 2), k = std::clamp(int(w), 0, nz - 2);
+    const double a = u - i, c = w - k;
+    const double* r0 = &t[size_t(k) * nr + i];
+    const double* r1 = r0 + nr;
+    return (1 - c) * ((1 - a) * r0[0] + a * r0[1]) + c * ((1 - a) * r1[0] + a * r1[1]);
+  };
+  Lo_ = {-R - Far_, -R - Far_, zr[0] - Far_};
+  Hi_ = {R + Far_, R + Far_, zr[1] + Far_};
+  for (int a = 0; a < 3; ++a)
+    Dims_[a] = int(std::ceil((Hi_(a) - Lo_(a)) / H_)) + 1;
+  Hi_ = Lo_ + H_ * Eigen::Vector3d(Dims_[0] - 1, Dims_[1] - 1, Dims_[2] - 1);
+  D_.resize(size_t(Dims_[0]) * Dims_[1] * Dims_[2]);
+  for (int k = 0; k < Dims_[2]; ++k)
+    for (int j = 0; j < Dims_[1]; ++j)
+      for (int i = 0; i < Dims_[0]; ++i) {
+        const double x = Lo_(0) + i * H_, y = Lo_(1) + j * H_, z = Lo_(2) + k * H_;
+        D_[size_t(i) + size_t(Dims_[0]) * (size_t(j) + size_t(Dims_[1]) * k)] =
+            float(table(std::hypot(x, y), z));
+      }
+}
+
+double ToolDistanceField::Exact(double rho, double z) const {
+  double best = 1e300;
+  for (const auto& s : Segments_) {
+    const double dx = s[2] - s[0], dz = s[3] - s[1];
+    const double L2 = dx * dx + dz * dz;
+    double u = L2 > 0 ? ((rho - s[0]) * dx + (z - s[1]) * dz) / L2 : 0.0;
+    u = std::clamp(u, 0.0, 1.0);
+    const double ex = s[0] + u * dx - rho, ez = s[1] + u * dz - z;
+    best = std::min(best, ex * ex + ez * ez);
+  }
+  double zLo = 0, zHi = 0;
+  const bool inside = Tool_->ZRange(rho, zLo, zHi) && z >= zLo && z <= zHi;
+  const double d = std::sqrt(best);
+  return inside ? -d : d;
+}
+
+double ToolDistanceField::Sample(const Eigen::Vector3d& q, Eigen::Vector3d& grad) const {
+  const Eigen::Vector3d g = (q - Lo_) / H_;
+  if (!(g(0) >= 0 && g(1) >= 0 && g(2) >= 0 && g(0) < Dims_[0] - 1 && g(1) < Dims_[1] - 1 &&
+        g(2) < Dims_[2] - 1)) {
+    grad.setZero();
+    return Far_;
+  }
+  const int i = int(g(0)), j = int(g(1)), k = int(g(2));
+  const double a = g(0) - i, b = g(1) - j, c = g(2) - k;
+  const size_t sx = 1, sy = size_t(Dims_[0]), sz = size_t(Dims_[0]) * Dims_[1];
+  const float* p = &D_[size_t(i) + sy * j + sz * k];
+  const double v000 = p[0], v100 = p[sx], v010 = p[sy], v110 = p[sx + sy];
+  const double v001 = p[sz], v101 = p[sx + sz], v011 = p[sy + sz], v111 = p[sx + sy + sz];
+  const double v00 = v000 + a * (v100 - v000), v10 = v010 + a * (v110 - v010);
+  const double v01 = v001 + a * (v101 - v001), v11 = v011 + a * (v111 - v011);
+  const double v0 = v00 + b * (v10 - v00), v1 = v01 + b * (v11 - v01);
+  const double dx0 = (1 - b) * (v100 - v000) + b * (v110 - v010),
+               dx1 = (1 - b) * (v101 - v001) + b * (v111 - v011);
+  grad(0) = ((1 - c) * dx0 + c * dx1) / H_;
+  grad(1) = ((1 - c) * (v10 - v00) + c * (v11 - v01)) / H_;
+  grad(2) = (v1 - v0) / H_;
+  return v0 + c * (v1 - v0);
+}
+
+} // namespace bm

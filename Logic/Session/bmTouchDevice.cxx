@@ -1,0 +1,263 @@
+#include "bmTouchDevice.h"
+
+#include <dlfcn.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <stdexcept>
+#include <thread>
+
+namespace bm {
+
+const char* hd::ErrorName(HDerror code) {
+  switch (code) {
+  case kSuccess:
+    return "HD_SUCCESS";
+  case kInvalidEnum:
+    return "HD_INVALID_ENUM";
+  case kInvalidValue:
+    return "HD_INVALID_VALUE";
+  case kInvalidOperation:
+    return "HD_INVALID_OPERATION";
+  case kInvalidInputType:
+    return "HD_INVALID_INPUT_TYPE";
+  case kBadHandle:
+    return "HD_BAD_HANDLE";
+  case kWarmMotors:
+    return "HD_WARM_MOTORS";
+  case kExceededMaxForce:
+    return "HD_EXCEEDED_MAX_FORCE";
+  case kExceededMaxForceImpulse:
+    return "HD_EXCEEDED_MAX_FORCE_IMPULSE";
+  case kExceededMaxVelocity:
+    return "HD_EXCEEDED_MAX_VELOCITY";
+  case kForceError:
+    return "HD_FORCE_ERROR";
+  case kDeviceFault:
+    return "HD_DEVICE_FAULT";
+  case kDeviceAlreadyInitiated:
+    return "HD_DEVICE_ALREADY_INITIATED";
+  case kCommError:
+    return "HD_COMM_ERROR";
+  case kCommConfigError:
+    return "HD_COMM_CONFIG_ERROR";
+  case kTimerError:
+    return "HD_TIMER_ERROR";
+  case kIllegalBegin:
+    return "HD_ILLEGAL_BEGIN";
+  case kIllegalEnd:
+    return "HD_ILLEGAL_END";
+  case kFrameError:
+    return "HD_FRAME_ERROR";
+  case kInvalidPriority:
+    return "HD_INVALID_PRIORITY";
+  case kSchedulerFull:
+    return "HD_SCHEDULER_FULL";
+  case kInvalidLicense:
+    return "HD_INVALID_LICENSE";
+  default:
+    return "HD error";
+  }
+}
+
+struct TouchDevice::Api {
+  HHD (*initDevice)(HDstring);
+  void (*disableDevice)(HHD);
+  void (*makeCurrentDevice)(HHD);
+  void (*beginFrame)(HHD);
+  void (*endFrame)(HHD);
+  void (*enable)(HDenum);
+  void (*getDoublev)(HDenum, HDdouble*);
+  void (*getIntegerv)(HDenum, HDint*);
+  void (*setDoublev)(HDenum, const HDdouble*);
+  HDErrorInfo (*getError)();
+  HDSchedulerHandle (*scheduleAsynchronous)(HDSchedulerCallback, void*, HDushort);
+  void (*unschedule)(HDSchedulerHandle);
+  void (*startScheduler)();
+  void (*stopScheduler)();
+};
+
+namespace {
+template <class F> void Bind(void* lib, const char* name, F& fn, const std::string& path) {
+  void* sym = dlsym(lib, name);
+  if (!sym)
+    throw std::runtime_error("touch: '" + path + "' has no symbol " + name);
+  fn = reinterpret_cast<F>(sym);
+}
+} // namespace
+
+TouchDevice::TouchDevice(std::string libraryPath, double stallTimeoutS)
+    : Path_(std::move(libraryPath)), StallTimeoutS_(stallTimeoutS) {
+  if (Path_.empty()) {
+    const char* env = std::getenv("BM_LIBHD");
+    Path_ = env && *env ? env : "libHD.so";
+  }
+}
+
+TouchDevice::~TouchDevice() {
+  Stop();
+}
+
+void TouchDevice::Start() {
+  if (Running_)
+    return;
+  Lib_ = dlopen(Path_.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!Lib_)
+    throw std::runtime_error("touch: cannot load '" + Path_ + "': " + dlerror());
+  Api_ = new Api{};
+  try {
+    Bind(Lib_, "hdInitDevice", Api_->initDevice, Path_);
+    Bind(Lib_, "hdDisableDevice", Api_->disableDevice, Path_);
+    Bind(Lib_, "hdMakeCurrentDevice", Api_->makeCurrentDevice, Path_);
+    Bind(Lib_, "hdBeginFrame", Api_->beginFrame, Path_);
+    Bind(Lib_, "hdEndFrame", Api_->endFrame, Path_);
+    Bind(Lib_, "hdEnable", Api_->enable, Path_);
+    Bind(Lib_, "hdGetDoublev", Api_->getDoublev, Path_);
+    Bind(Lib_, "hdGetIntegerv", Api_->getIntegerv, Path_);
+    Bind(Lib_, "hdSetDoublev", Api_->setDoublev, Path_);
+    Bind(Lib_, "hdGetError", Api_->getError, Path_);
+    Bind(Lib_, "hdScheduleAsynchronous", Api_->scheduleAsynchronous, Path_);
+    Bind(Lib_, "hdUnschedule", Api_->unschedule, Path_);
+    Bind(Lib_, "hdStartScheduler", Api_->startScheduler, Path_);
+    Bind(Lib_, "hdStopScheduler", Api_->stopScheduler, Path_);
+    auto check = [&](const char* step) {
+      const HDErrorInfo e = Api_->getError();
+      if (e.errorCode != hd::kSuccess)
+        throw std::runtime_error(std::string("touch: ") + step +
+                                 " failed: " + hd::ErrorName(e.errorCode) + " (device code " +
+                                 std::to_string(e.internalErrorCode) + ")");
+    };
+    Handle_ = Api_->initDevice(nullptr); // HD_DEFAULT_DEVICE
+    check("hdInitDevice");
+    if (Handle_ == hd::kInvalidHandle)
+      throw std::runtime_error("touch: hdInitDevice returned no device");
+    Api_->makeCurrentDevice(Handle_);
+    Api_->enable(hd::kForceOutput);
+    check("hdEnable(HD_FORCE_OUTPUT)");
+    HDdouble v = 0;
+    Api_->getDoublev(hd::kNominalMaxForce, &v);
+    if (std::isfinite(v) && v > 0)
+      Limits_.maxForceN = v;
+    v = 0;
+    Api_->getDoublev(hd::kNominalMaxStiffness, &v);
+    if (std::isfinite(v) && v > 0)
+      Limits_.maxStiffnessNPerMm = v;
+    v = 0;
+    Api_->getDoublev(hd::kNominalMaxDamping, &v);
+    if (std::isfinite(v) && v > 0)
+      Limits_.maxDampingNsPerMm = v;
+    HDint rate = 0;
+    Api_->getIntegerv(hd::kUpdateRate, &rate);
+    if (rate > 0)
+      Limits_.rateHz = rate;
+    check("querying the nominal limits");
+    Callback_ = Api_->scheduleAsynchronous(&TouchDevice::Servo, this, hd::kMaxSchedulerPriority);
+    check("hdScheduleAsynchronous");
+    Scheduled_ = true;
+    Api_->startScheduler();
+    check("hdStartScheduler");
+    Running_ = true;
+    LastFresh_ = std::chrono::steady_clock::now();
+  } catch (...) {
+    Close();
+    throw;
+  }
+}
+
+HDCallbackCode TouchDevice::Servo(void* self) {
+  return static_cast<TouchDevice*>(self)->ServoTick();
+}
+
+HDCallbackCode TouchDevice::ServoTick() {
+  Api_->beginFrame(Handle_);
+  HDdouble pos[3] = {0, 0, 0}, m[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  HDint buttons = 0;
+  Api_->getDoublev(hd::kCurrentPosition, pos);
+  Api_->getDoublev(hd::kCurrentTransform, m);
+  Api_->getIntegerv(hd::kCurrentButtons, &buttons);
+  Eigen::Vector3d f = State_.GetForce();
+  const HDdouble force[3] = {f(0), f(1), f(2)};
+  Api_->setDoublev(hd::kCurrentForce, force);
+  Api_->endFrame(Handle_);
+  const HDErrorInfo e = Api_->getError();
+  if (e.errorCode != hd::kSuccess) {
+    InternalError_.store(e.internalErrorCode, std::memory_order_relaxed);
+    HDerror none = hd::kSuccess;
+    Error_.compare_exchange_strong(none, e.errorCode); // latch the first error
+  }
+  DevicePose p;
+  p.positionMm = {pos[0], pos[1], pos[2]};
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r)
+      p.rotation(r, c) = m[4 * c + r]; // column-major
+  p.buttons = uint32_t(buttons);
+  State_.PutPose(p);
+  Ticks_.fetch_add(1, std::memory_order_relaxed);
+  return hd::kCallbackContinue;
+}
+
+DeviceStatus TouchDevice::Read(DevicePose& pose) {
+  if (!Running_)
+    return DeviceStatus::NoResponse;
+  if (Error_.load(std::memory_order_relaxed) != hd::kSuccess)
+    return DeviceStatus::Error;
+  uint64_t sample = LastSample_;
+  State_.TryGetPose(Last_, sample);
+  const auto now = std::chrono::steady_clock::now();
+  if (sample != LastSample_) {
+    LastSample_ = sample;
+    LastFresh_ = now;
+  } else if (std::chrono::duration<double>(now - LastFresh_).count() > StallTimeoutS_) {
+    return DeviceStatus::NoResponse;
+  }
+  pose = Last_;
+  return DeviceStatus::Ok;
+}
+
+DeviceStatus TouchDevice::Write(const Eigen::Vector3d& forceN) {
+  if (!Running_)
+    return DeviceStatus::NoResponse;
+  State_.TryPutForce(forceN); // busy only while the servo copies it out: next frame's write lands
+  return Error_.load(std::memory_order_relaxed) != hd::kSuccess ? DeviceStatus::Error
+                                                                : DeviceStatus::Ok;
+}
+
+std::string TouchDevice::LastError() const {
+  const HDerror e = Error_.load(std::memory_order_relaxed);
+  if (e == hd::kSuccess)
+    return {};
+  return std::string(hd::ErrorName(e)) + " (device code " + std::to_string(InternalError_.load()) +
+         ")";
+}
+
+void TouchDevice::Stop() {
+  if (Running_) {
+    // Zero force, then let one servo tick send it (at most ~20 ms) before the scheduler stops.
+    State_.PutForce(Eigen::Vector3d::Zero());
+    const uint64_t t0 = Ticks_.load();
+    const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(20);
+    while (Ticks_.load() < t0 + 2 && std::chrono::steady_clock::now() < until)
+      std::this_thread::yield();
+  }
+  Close();
+}
+
+void TouchDevice::Close() {
+  if (Api_) {
+    if (Running_)
+      Api_->stopScheduler(); // joins the servo thread: no callback runs after this
+    if (Scheduled_)
+      Api_->unschedule(Callback_);
+    if (Handle_ != hd::kInvalidHandle)
+      Api_->disableDevice(Handle_);
+  }
+  Running_ = Scheduled_ = false;
+  Handle_ = hd::kInvalidHandle;
+  delete Api_;
+  Api_ = nullptr;
+  if (Lib_)
+    dlclose(Lib_);
+  Lib_ = nullptr;
+}
+
+} // namespace bm

@@ -1,0 +1,71 @@
+// bmTouchDevice.h - the 3D Systems Touch through OpenHaptics' HD API, loaded at run time.
+//
+// Start(): dlopen the library (default "libHD.so"; BM_LIBHD in the environment or the
+// constructor's path overrides), hdInitDevice(HD_DEFAULT_DEVICE), hdEnable(HD_FORCE_OUTPUT), query
+// the nominal limits (HD_NOMINAL_MAX_FORCE, HD_NOMINAL_MAX_STIFFNESS, HD_NOMINAL_MAX_DAMPING,
+// HD_UPDATE_RATE), schedule an asynchronous servo callback at the highest priority and start the
+// scheduler. The callback runs at the device's rate on OpenHaptics' servo thread: in one
+// hdBeginFrame/hdEndFrame it reads HD_CURRENT_POSITION, HD_CURRENT_TRANSFORM and
+// HD_CURRENT_BUTTONS, writes HD_CURRENT_FORCE (the last force the session sent, through a locked
+// DeviceStateBuffer), then checks hdGetError(). An error is latched and reported by the next Read()
+// (the session then ramps the force to zero and pauses); a servo loop that has not delivered a
+// new sample for `stallTimeoutS` reads as NoResponse. Stop(): zero force, stop the scheduler,
+// unschedule, disable the device, close the library.
+//
+// Units: mm, N, N/mm, N s/mm (OpenHaptics' own units), Hz.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <string>
+
+#include "bmDevice.h"
+#include "bmHDApi.h"
+
+namespace bm {
+
+class TouchDevice final : public Device {
+public:
+  /// libraryPath: "" = $BM_LIBHD or "libHD.so". stallTimeoutS: no new servo sample for this
+  /// long (s, default 0.05) reads as NoResponse.
+  explicit TouchDevice(std::string libraryPath = "", double stallTimeoutS = 0.05);
+  ~TouchDevice() override;
+  TouchDevice(const TouchDevice&) = delete;
+  TouchDevice& operator=(const TouchDevice&) = delete;
+
+  std::string Name() const override { return "touch"; }
+  /// Limits queried at Start() (before: the Touch's published ones).
+  DeviceLimits Limits() const override { return Limits_; }
+  /// Throws std::runtime_error naming the failing step (library, symbol, init, scheduler).
+  void Start() override;
+  void Stop() override;
+  DeviceStatus Read(DevicePose& pose) override;
+  DeviceStatus Write(const Eigen::Vector3d& forceN) override;
+  std::string LastError() const override;
+  /// Servo callbacks run so far.
+  uint64_t ServoTicks() const { return Ticks_.load(std::memory_order_relaxed); }
+
+private:
+  struct Api;
+  static HDCallbackCode Servo(void* self);
+  HDCallbackCode ServoTick();
+  void Close();
+
+  std::string Path_;
+  double StallTimeoutS_;
+  void* Lib_ = nullptr;
+  Api* Api_ = nullptr;
+  HHD Handle_ = hd::kInvalidHandle;
+  HDSchedulerHandle Callback_ = 0;
+  bool Scheduled_ = false, Running_ = false;
+  DeviceLimits Limits_;
+  DeviceStateBuffer State_;
+  DevicePose Last_;
+  uint64_t LastSample_ = 0;
+  std::chrono::steady_clock::time_point LastFresh_{};
+  std::atomic<HDerror> Error_{hd::kSuccess};
+  std::atomic<int> InternalError_{0};
+  std::atomic<uint64_t> Ticks_{0};
+};
+
+} // namespace bm
