@@ -11,6 +11,7 @@
 #include "bmsimArgs.h"
 #include "bmsimCommand.h"
 #include "bmsimProgressBar.h"
+#include "bmsimRunSession.h"
 
 namespace {
 
@@ -37,14 +38,16 @@ const char* kUsage = R"(usage: bmsim run SCENE [options]
   --backend cpu|opencl     compute backend (default cpu)
   --device D               with --backend opencl: OpenCL device index or name
   --lips averaged|instantaneous   lip model (default averaged)
+  --device scripted|touch  run through a haptic session (bmsimRunSession.h lists its options:
+                           --mode feed|force|trajectory, --force N, --duration S, --record FILE)
 )";
 
 int RunCommand(const bm::cli::Args& args) {
   using bm::cli::UsageError;
-  bm::cli::ParsedArgs p(args,
-                        {"out", "feed", "speed", "voxmap-resolution", "shell-resolution", "method", "threads",
-                         "backend", "device", "lips"},
-                        {"help"});
+  std::set<std::string> valued = {"out",     "feed",   "speed",  "voxmap-resolution", "shell-resolution",
+                                  "method",  "threads", "backend", "device",           "lips"};
+  valued.insert(bm::cli::kSessionRunOptions.begin(), bm::cli::kSessionRunOptions.end());
+  bm::cli::ParsedArgs p(args, valued, {"help"});
   if (p.Has("help")) {
     std::cout << kUsage;
     return 0;
@@ -72,6 +75,7 @@ int RunCommand(const bm::cli::Args& args) {
     throw UsageError(e.what());
   }
   const std::string out = p.Get("out", "out/" + scene.name);
+  if (bm::cli::WantsSession(p)) return bm::cli::RunSessionScene(scene, p, out);
   bm::MachiningSetup setup(scene, SceneBone(scene), p.Get("device", ""));
   bm::FeedTrial trial(setup);
   {
