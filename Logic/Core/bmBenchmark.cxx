@@ -42,8 +42,10 @@ Scene BenchScene(Method method, const std::string& backend, int shell, int voxma
 namespace {
 
 // Sets to void every voxel whose centre lies in the envelope the tool swept on its way down the
-// trial axis until its foremost cutting point is `depth` below the entry point.
-void PreCut(const Scene& s, Voxmap& bone, double depth) {
+// trial axis until its foremost cutting point is `depth` below the entry point, less a layer
+// `marginMm` thick above the tool's lower surface: the voxels the shell's elements sit in keep
+// their bone, as they would in steady drilling, where the lips cut the layer in front of them.
+void PreCut(const Scene& s, Voxmap& bone, double depth, double marginMm) {
   const auto tool = MakeTool(s.tool);
   const Eigen::Vector3d axis = s.trial.axis.normalized();
   const Eigen::Matrix3d rot =
@@ -61,7 +63,7 @@ void PreCut(const Scene& s, Voxmap& bone, double depth) {
         const double rho = std::hypot(p(0), p(1));
         if (rho > R) continue;
         double zLo = 0, zHi = 0;
-        if (tool->ZRange(rho, zLo, zHi) && p(2) >= zLo) fill[bone.Index(i, j, k)] = 0;
+        if (tool->ZRange(rho, zLo, zHi) && p(2) >= zLo + marginMm) fill[bone.Index(i, j, k)] = 0;
       }
   bone.RebuildOccupancy();
 }
@@ -81,7 +83,14 @@ BenchCell RunBenchCell(Method method, const std::string& backend, int shell, int
   // shell spacing, 10 mm / 128), so every timed frame is fully engaged.
   Voxmap block = MakeSceneBlock(scene);
   const double start = FullEngagementDepth(*MakeTool(scene.tool)) + 4 * block.Spacing() + 0.1;
-  PreCut(scene, block, start);
+  {
+    // An element lies within half a shell cell of the surface and its voxel centre within half
+    // a voxel diagonal of it: keep one shell spacing plus one voxel diagonal of bone.
+    const auto tool = MakeTool(scene.tool);
+    const auto zr = tool->AxialRange();
+    const double hs = std::max(2 * tool->OuterRadius(), zr[1] - zr[0]) / shell;
+    PreCut(scene, block, start, hs + std::sqrt(3.0) * block.Spacing());
+  }
   MachiningSetup setup(scene, std::move(block), o.device);
   c.setupS = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   c.engine = setup.GetEngine().Name();

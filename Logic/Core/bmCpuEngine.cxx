@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 
+#include "bmFrameGeometry.h"
 #include "bmMorton.h"
 
 namespace bm {
@@ -66,26 +67,10 @@ void CpuEngine::UpdateForceTable(double f, double n) {
 FrameResult CpuEngine::Step(const FrameInput& in) {
   for (auto& p : Partials_) p.Clear();
   const uint32_t frameNo = ++Frame_;
-  const bool cutting = in.speedRpm > 0 && in.feedMmPerRev > 0;
-  if (cutting) UpdateForceTable(in.feedMmPerRev, in.speedRpm);
-
-  // Tool grid (i,j,k) -> voxmap grid coordinates: g = A ijk + b.
-  Eigen::Matrix3d rot = in.rotation;
-  if (Shell_.Mode() == LipMode::Instantaneous) rot = rot * Eigen::AngleAxisd(in.spindleAngle, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  const double hs = Shell_.Spacing(), hv = Bone_.Spacing();
-  const Eigen::Vector3d so(Shell_.Origin()[0], Shell_.Origin()[1], Shell_.Origin()[2]);
-  const Eigen::Vector3d vo(Bone_.Origin()[0], Bone_.Origin()[1], Bone_.Origin()[2]);
-  const Eigen::Matrix3d A = rot * (hs / hv);
-  const Eigen::Vector3d b = (rot * so + in.position - vo) / hv;
-  // Removal: fill units per mm^3 of swept volume; the motion in the tool frame.
-  const Eigen::Vector3d d = rot.transpose() * in.motion;
-  const double unitsPerMm3 = Voxmap::kFull / Bone_.VoxelVolume();
-  const bool remove = in.removeMaterial && d.squaredNorm() > 0;
-  // An element cuts only the voxel it lies in, so it may take at most what that voxel's own
-  // cross-section sweeps this frame (binds only when the shell is coarser than the voxmap: then
-  // columns between elements stay, and the summary's removed volume falls short of the swept).
-  const double maxUnits = MaxRemovalUnits(d, hv, unitsPerMm3);
-  const auto dims = Bone_.Dims();
+  const FrameGeometry G(in, Shell_, Bone_);
+  if (G.cutting) UpdateForceTable(in.feedMmPerRev, in.speedRpm);
+  const bool cutting = G.cutting, remove = G.remove;
+  const Eigen::Vector3d& d = G.motionTool;
   const Voxmap::Fill* fill = Bone_.FillData();
   const float* material = Bone_.MaterialData();
   const auto& codes = Shell_.Codes();
@@ -95,9 +80,6 @@ FrameResult CpuEngine::Step(const FrameInput& in) {
   const auto& fbins = Shell_.ForceBins();
   const auto& blocks = Shell_.Blocks();
   const auto& radial = Shell_.RadialDirs();
-  const float Af[9] = {float(A(0, 0)), float(A(0, 1)), float(A(0, 2)), float(A(1, 0)), float(A(1, 1)),
-                       float(A(1, 2)), float(A(2, 0)), float(A(2, 1)), float(A(2, 2))};
-  const float bf[3] = {float(b(0)), float(b(1)), float(b(2))};
 
   auto blockVisible = [&](const ShellBlock& blk) {
     if (Culling_.motion && !blk.hasCutting) {
@@ -106,15 +88,8 @@ FrameResult CpuEngine::Step(const FrameInput& in) {
       if (up <= 0 || !remove) return false;
     }
     if (!Culling_.blocks) return true;
-    std::array<int, 3> lo{INT32_MAX, INT32_MAX, INT32_MAX}, hi{INT32_MIN, INT32_MIN, INT32_MIN};
-    for (int c = 0; c < 8; ++c) {
-      Eigen::Vector3d p((c & 1) ? blk.hi[0] : blk.lo[0], (c & 2) ? blk.hi[1] : blk.lo[1], (c & 4) ? blk.hi[2] : blk.lo[2]);
-      Eigen::Vector3d g = (rot * p + in.position - vo) / hv;
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = std::min(lo[a], int(std::floor(g(a) + 0.5)));
-        hi[a] = std::max(hi[a], int(std::floor(g(a) + 0.5)));
-      }
-    }
+    std::array<int, 3> lo, hi;
+    G.VoxelBox(blk.lo, blk.hi, lo, hi);
     return Bone_.AnyBoneIn(lo, hi);
   };
 
@@ -132,17 +107,8 @@ FrameResult CpuEngine::Step(const FrameInput& in) {
         const uint32_t end = std::min(blk.end, base + kBatch);
         int64_t* vox = VoxelScratch_[size_t(thread)].data();
         for (uint32_t e = base; e < end; ++e) {
-          const auto ijk = ElementCoords(codes[e]);
-          const float x = float(ijk[0]), y = float(ijk[1]), z = float(ijk[2]);
-          const float gx = Af[0] * x + Af[1] * y + Af[2] * z + bf[0];
-          const float gy = Af[3] * x + Af[4] * y + Af[5] * z + bf[1];
-          const float gz = Af[6] * x + Af[7] * y + Af[8] * z + bf[2];
-          const int vi = int(std::floor(gx + 0.5f)), vj = int(std::floor(gy + 0.5f)), vk = int(std::floor(gz + 0.5f));
-          int64_t idx = -1;
-          if (vi >= 0 && vj >= 0 && vk >= 0 && vi < dims[0] && vj < dims[1] && vk < dims[2]) {
-            idx = vi + int64_t(dims[0]) * (vj + int64_t(dims[1]) * vk);
-            __builtin_prefetch(fill + idx);
-          }
+          const int64_t idx = G.VoxelOf(ElementCoords(codes[e]));
+          if (idx >= 0) __builtin_prefetch(fill + idx);
           vox[e - base] = idx;
         }
         // Pass B: engagement, removal requests, elemental forces.
@@ -152,17 +118,12 @@ FrameResult CpuEngine::Step(const FrameInput& in) {
           if (!State_[e].Visit(frameNo, idx, idx >= 0 ? fill[idx] : 0)) continue;
           ++P.engaged;
           if (remove) {
-            const auto& n = an[e];
-            const double vol = n[0] * d(0) + n[1] * d(1) + n[2] * d(2);
-            if (vol > 0) {
-              const int32_t units = int32_t(std::min(vol * unitsPerMm3, maxUnits) + 0.5);
-              if (units > 0) {
-                // Consecutive elements often share a voxel: one request per run (same result,
-                // since the clamped decrement telescopes).
-                if (!P.removals.empty() && P.removals.back().first == idx) P.removals.back().second += units;
-                else P.removals.emplace_back(idx, units);
-                P.requested += units;
-              }
+            if (const int32_t units = G.RemovalUnits(an[e]); units > 0) {
+              // Consecutive elements often share a voxel: one request per run (same result,
+              // since the clamped decrement telescopes).
+              if (!P.removals.empty() && P.removals.back().first == idx) P.removals.back().second += units;
+              else P.removals.emplace_back(idx, units);
+              P.requested += units;
             }
           }
           const uint64_t code = codes[e];

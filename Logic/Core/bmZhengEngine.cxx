@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "bmCpuEngine.h"
+#include "bmFrameGeometry.h"
 #include "bmMorton.h"
 
 namespace bm {
@@ -23,44 +24,17 @@ FrameResult ZhengEngine::Step(const FrameInput& in) {
   std::fill(Engaged_.begin(), Engaged_.end(), 0);
   std::fill(EngagedCut_.begin(), EngagedCut_.end(), 0);
   std::fill(Visited_.begin(), Visited_.end(), 0);
-  const bool cutting = in.speedRpm > 0 && in.feedMmPerRev > 0;
-  const double hs = Shell_.Spacing(), hv = Bone_.Spacing();
-  Eigen::Matrix3d rot = in.rotation;
-  const Eigen::Vector3d so(Shell_.Origin()[0], Shell_.Origin()[1], Shell_.Origin()[2]);
-  const Eigen::Vector3d vo(Bone_.Origin()[0], Bone_.Origin()[1], Bone_.Origin()[2]);
-
-  // Global bounding-box pre-check.
-  {
-    const double R = Tool_.OuterRadius();
-    const auto zr = Tool_.AxialRange();
-    Box3 tb{{1e300, 1e300, 1e300}, {-1e300, -1e300, -1e300}};
-    for (int c = 0; c < 8; ++c) {
-      Eigen::Vector3d p((c & 1) ? R : -R, (c & 2) ? R : -R, (c & 4) ? zr[1] : zr[0]);
-      Eigen::Vector3d w = rot * p + in.position;
-      for (int a = 0; a < 3; ++a) {
-        tb.lo[a] = std::min(tb.lo[a], w(a));
-        tb.hi[a] = std::max(tb.hi[a], w(a));
-      }
-    }
-    if (!tb.Intersects(Bone_.Bounds())) return res;
-  }
-
-  const Eigen::Matrix3d A = rot * (hs / hv);
-  const Eigen::Vector3d b = (rot * so + in.position - vo) / hv;
-  const Eigen::Vector3d d = rot.transpose() * in.motion;
-  const double unitsPerMm3 = Voxmap::kFull / Bone_.VoxelVolume();
-  const bool remove = in.removeMaterial && d.squaredNorm() > 0;
-  const double maxUnits = MaxRemovalUnits(d, hv, unitsPerMm3);
-  const auto dims = Bone_.Dims();
+  const FrameGeometry G(in, Shell_, Bone_);
+  // Global bounding-box pre-check only (no block culling in the baseline).
+  if (!G.ToolMeetsBone(Tool_, Bone_)) return res;
+  const bool cutting = G.cutting, remove = G.remove;
   const float* material = Bone_.MaterialData();
   const auto& codes = Shell_.Codes();
   const auto& an = Shell_.AreaNormals();
   const auto& bins = Shell_.Bins();
   const auto& deltas = Shell_.Deltas();
   const auto& fbins = Shell_.ForceBins();
-  const float Af[9] = {float(A(0, 0)), float(A(0, 1)), float(A(0, 2)), float(A(1, 0)), float(A(1, 1)),
-                       float(A(1, 2)), float(A(2, 0)), float(A(2, 1)), float(A(2, 2))};
-  const float bf[3] = {float(b(0)), float(b(1)), float(b(2))};
+  const auto& radial = Shell_.RadialDirs();
   const int n = int(codes.size());
   const int chunk = 4096;
   const int nChunks = (n + chunk - 1) / chunk;
@@ -71,40 +45,28 @@ FrameResult ZhengEngine::Step(const FrameInput& in) {
     for (int e = task * chunk; e < end; ++e) {
       auto& out = Buffer_[size_t(e)];
       out = {0, 0, 0, 0};
-      const auto ijk = ElementCoords(codes[size_t(e)]);
-      const float x = float(ijk[0]), y = float(ijk[1]), z = float(ijk[2]);
-      const int vi = int(std::floor(Af[0] * x + Af[1] * y + Af[2] * z + bf[0] + 0.5f));
-      const int vj = int(std::floor(Af[3] * x + Af[4] * y + Af[5] * z + bf[1] + 0.5f));
-      const int vk = int(std::floor(Af[6] * x + Af[7] * y + Af[8] * z + bf[2] + 0.5f));
+      const int64_t vidx = G.VoxelOf(ElementCoords(codes[size_t(e)]));
       ++Visited_[size_t(thread)];
       ElementResidency& st = State_[size_t(e)];
-      if (vi < 0 || vj < 0 || vk < 0 || vi >= dims[0] || vj >= dims[1] || vk >= dims[2]) {
+      if (vidx < 0) {
         st.Visit(frameNo, -1, 0);
         continue;
       }
+      const auto v = G.Coords(vidx);
       int level = 0;
-      const int32_t leaf = Tree_.Find(vi, vj, vk, level);
-      const int64_t vidx = vi + int64_t(dims[0]) * (vj + int64_t(dims[1]) * vk);
+      const int32_t leaf = Tree_.Find(v[0], v[1], v[2], level);
       if (!st.Visit(frameNo, vidx, Tree_.Value(leaf))) continue;
       ++Engaged_[size_t(thread)];
-      if (remove) {
-        const auto& nrm = an[size_t(e)];
-        const double vol = nrm[0] * d(0) + nrm[1] * d(1) + nrm[2] * d(2);
-        if (vol > 0) {
-          const int32_t units = int32_t(std::min(vol * unitsPerMm3, maxUnits) + 0.5);
-          if (units > 0) Requests_[size_t(thread)].push_back({uint32_t(e), units, {vi, vj, vk}});
-        }
-      }
+      if (remove)
+        if (const int32_t units = G.RemovalUnits(an[size_t(e)]); units > 0)
+          Requests_[size_t(thread)].push_back({uint32_t(e), units, v});
       if (cutting && ElementIsCutting(codes[size_t(e)])) {
         ++EngagedCut_[size_t(thread)];
         const ForceBin& fb = fbins[bins[size_t(e)]];
-        const int64_t idx = vi + int64_t(dims[0]) * (vj + int64_t(dims[1]) * vk);
-        const double mat = material ? material[idx] : 1.0;
+        const double mat = material ? material[vidx] : 1.0;
         const ElementForce f = Model_.Evaluate(Tool_, fb.kind, fb.r, in.feedMmPerRev, in.speedRpm, mat);
         const double w = deltas[size_t(e)];
-        const double px = so(0) + hs * ijk[0], py = so(1) + hs * ijk[1];
-        const double rho = std::sqrt(px * px + py * py);
-        const double c = rho > 0 ? px / rho : 1.0, s = rho > 0 ? py / rho : 0.0;
+        const double c = radial[size_t(e)][0], s = radial[size_t(e)][1];
         out = {w * (f.fx * c - f.fy * s), w * (f.fx * s + f.fy * c), w * f.fz, -w * fb.r * f.fy};
       }
     }
@@ -151,6 +113,12 @@ FrameResult ZhengEngine::Step(const FrameInput& in) {
     res.engagedCutting += EngagedCut_[t];
     res.removedFill += removedFill[t];
     res.removedVoxels += removedVoxels[t];
+  }
+  if (Shell_.Mode() == LipMode::Instantaneous) { // lateral forces back from the spindle-turned frame
+    const double c = std::cos(in.spindleAngle), s = std::sin(in.spindleAngle);
+    const double fx = res.forceTool(0), fy = res.forceTool(1);
+    res.forceTool(0) = c * fx - s * fy;
+    res.forceTool(1) = s * fx + c * fy;
   }
   res.removedVolumeMm3 = double(res.removedFill) / Voxmap::kFull * Bone_.VoxelVolume();
   res.sweptVolumeMm3 = double(requested) / Voxmap::kFull * Bone_.VoxelVolume();

@@ -1,0 +1,62 @@
+#include "bmFrameGeometry.h"
+
+#include <algorithm>
+#include <climits>
+
+#include <Eigen/Geometry>
+
+#include "bmCpuEngine.h"
+
+namespace bm {
+
+FrameGeometry::FrameGeometry(const FrameInput& in, const PointShell& shell, const Voxmap& bone)
+    : rotation(in.rotation), position(in.position), dims(bone.Dims()) {
+  if (shell.Mode() == LipMode::Instantaneous)
+    rotation = rotation * Eigen::AngleAxisd(in.spindleAngle, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const double hs = shell.Spacing(), hv = bone.Spacing();
+  VoxelMm_ = hv;
+  const Eigen::Vector3d so(shell.Origin()[0], shell.Origin()[1], shell.Origin()[2]);
+  VoxmapOrigin_ = Eigen::Vector3d(bone.Origin()[0], bone.Origin()[1], bone.Origin()[2]);
+  const Eigen::Matrix3d Ad = rotation * (hs / hv);
+  const Eigen::Vector3d bd = (rotation * so + in.position - VoxmapOrigin_) / hv;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) A[size_t(3 * r + c)] = float(Ad(r, c));
+    b[size_t(r)] = float(bd(r));
+  }
+  motionTool = rotation.transpose() * in.motion;
+  unitsPerMm3 = Voxmap::kFull / bone.VoxelVolume();
+  remove = in.removeMaterial && motionTool.squaredNorm() > 0;
+  cutting = in.speedRpm > 0 && in.feedMmPerRev > 0;
+  maxUnits = MaxRemovalUnits(motionTool, hv, unitsPerMm3);
+}
+
+void FrameGeometry::VoxelBox(const std::array<float, 3>& lo, const std::array<float, 3>& hi, std::array<int, 3>& vlo,
+                             std::array<int, 3>& vhi) const {
+  vlo = {INT_MAX, INT_MAX, INT_MAX};
+  vhi = {INT_MIN, INT_MIN, INT_MIN};
+  for (int c = 0; c < 8; ++c) {
+    const Eigen::Vector3d p((c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1], (c & 4) ? hi[2] : lo[2]);
+    const Eigen::Vector3d g = (rotation * p + position - VoxmapOrigin_) / VoxelMm_;
+    for (int a = 0; a < 3; ++a) {
+      const int v = int(std::floor(g(a) + 0.5));
+      vlo[size_t(a)] = std::min(vlo[size_t(a)], v);
+      vhi[size_t(a)] = std::max(vhi[size_t(a)], v);
+    }
+  }
+}
+
+bool FrameGeometry::ToolMeetsBone(const ToolModel& tool, const Voxmap& bone) const {
+  const double R = tool.OuterRadius();
+  const auto zr = tool.AxialRange();
+  Box3 tb{{1e300, 1e300, 1e300}, {-1e300, -1e300, -1e300}};
+  for (int c = 0; c < 8; ++c) {
+    const Eigen::Vector3d w = rotation * Eigen::Vector3d((c & 1) ? R : -R, (c & 2) ? R : -R, (c & 4) ? zr[1] : zr[0]) + position;
+    for (int a = 0; a < 3; ++a) {
+      tb.lo[size_t(a)] = std::min(tb.lo[size_t(a)], w(a));
+      tb.hi[size_t(a)] = std::max(tb.hi[size_t(a)], w(a));
+    }
+  }
+  return tb.Intersects(bone.Bounds());
+}
+
+} // namespace bm
