@@ -61,9 +61,11 @@ void PreCut(const Scene& s, Voxmap& bone, double depth, double marginMm) {
         const auto w = bone.GridToWorld({double(i), double(j), double(k)});
         const Eigen::Vector3d p = rot.transpose() * (Eigen::Vector3d(w[0], w[1], w[2]) - origin);
         const double rho = std::hypot(p(0), p(1));
-        if (rho > R) continue;
+        if (rho > R)
+          continue;
         double zLo = 0, zHi = 0;
-        if (tool->ZRange(rho, zLo, zHi) && p(2) >= zLo + marginMm) fill[bone.Index(i, j, k)] = 0;
+        if (tool->ZRange(rho, zLo, zHi) && p(2) >= zLo + marginMm)
+          fill[bone.Index(i, j, k)] = 0;
       }
   bone.RebuildOccupancy();
 }
@@ -117,7 +119,8 @@ BenchCell RunBenchCell(Method method, const std::string& backend, int shell, int
     const auto a = std::chrono::steady_clock::now();
     const FrameResult r = engine.Step(in);
     const auto b = std::chrono::steady_clock::now();
-    if (k < o.warmup) continue;
+    if (k < o.warmup)
+      continue;
     ms.push_back(std::chrono::duration<double, std::milli>(b - a).count());
     thrust += r.thrustN;
     torque += r.torqueNmm;
@@ -132,7 +135,8 @@ BenchCell RunBenchCell(Method method, const std::string& backend, int shell, int
   c.maxMs = *std::max_element(ms.begin(), ms.end());
   c.meanMs = std::accumulate(ms.begin(), ms.end(), 0.0) / double(ms.size());
   double var = 0;
-  for (double v : ms) var += (v - c.meanMs) * (v - c.meanMs);
+  for (double v : ms)
+    var += (v - c.meanMs) * (v - c.meanMs);
   c.sdMs = std::sqrt(var / double(ms.size()));
   const EdgeIntegral ref = IntegrateEdges(setup.Tool(), setup.Model(), t.feedMmPerRev, t.speedRpm);
   c.refThrustN = ref.thrustN;
@@ -146,12 +150,24 @@ BenchCell RunBenchCell(Method method, const std::string& backend, int shell, int
 namespace {
 
 nlohmann::json ToJson(const BenchCell& c) {
-  return {{"status", c.status},         {"engine", c.engine},       {"elements", c.elements},
-          {"frames", c.frames},         {"median", c.medianMs},     {"p99", c.p99Ms},
-          {"mean", c.meanMs},           {"sd", c.sdMs},             {"max", c.maxMs},
-          {"thrust", c.thrustN},        {"torque", c.torqueNmm},    {"refThrust", c.refThrustN},
-          {"refTorque", c.refTorqueNmm}, {"thrustErr", c.thrustError}, {"torqueErr", c.torqueError},
-          {"forceErr", c.forceError},   {"engaged", c.engagedCutting}, {"setup", c.setupS}};
+  return {{"status", c.status},
+          {"engine", c.engine},
+          {"elements", c.elements},
+          {"frames", c.frames},
+          {"median", c.medianMs},
+          {"p99", c.p99Ms},
+          {"mean", c.meanMs},
+          {"sd", c.sdMs},
+          {"max", c.maxMs},
+          {"thrust", c.thrustN},
+          {"torque", c.torqueNmm},
+          {"refThrust", c.refThrustN},
+          {"refTorque", c.refTorqueNmm},
+          {"thrustErr", c.thrustError},
+          {"torqueErr", c.torqueError},
+          {"forceErr", c.forceError},
+          {"engaged", c.engagedCutting},
+          {"setup", c.setupS}};
 }
 
 void FromJson(const nlohmann::json& j, BenchCell& c) {
@@ -185,9 +201,11 @@ BenchCell RunBenchCellIsolated(Method method, const std::string& backend, int sh
   c.shell = shell;
   c.voxmap = voxmap;
   int fds[2];
-  if (pipe(fds) != 0) throw std::runtime_error("bench: pipe failed");
+  if (pipe(fds) != 0)
+    throw std::runtime_error("bench: pipe failed");
   const pid_t pid = fork();
-  if (pid < 0) throw std::runtime_error("bench: fork failed");
+  if (pid < 0)
+    throw std::runtime_error("bench: fork failed");
   if (pid == 0) {
     close(fds[0]);
     std::string out;
@@ -201,7 +219,8 @@ BenchCell RunBenchCellIsolated(Method method, const std::string& backend, int sh
     size_t done = 0;
     while (done < out.size()) {
       const ssize_t w = write(fds[1], out.data() + done, out.size() - done);
-      if (w <= 0) break;
+      if (w <= 0)
+        break;
       done += size_t(w);
     }
     close(fds[1]);
@@ -214,16 +233,19 @@ BenchCell RunBenchCellIsolated(Method method, const std::string& backend, int sh
   bool timedOut = false;
   for (;;) {
     pollfd p{fds[0], POLLIN, 0};
-    const double left = o.cellLimitS - std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double left =
+        o.cellLimitS - std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (left <= 0) {
       timedOut = true;
       kill(pid, SIGKILL);
       break;
     }
     const int ready = poll(&p, 1, int(std::min(left, 1.0) * 1000) + 1);
-    if (ready <= 0) continue;
+    if (ready <= 0)
+      continue;
     const ssize_t r = read(fds[0], buf, sizeof buf);
-    if (r <= 0) break;
+    if (r <= 0)
+      break;
     text.append(buf, size_t(r));
   }
   close(fds[0]);
@@ -257,9 +279,9 @@ std::string BenchCsv(const std::vector<BenchCell>& cells) {
     os << ToString(c.method) << ',' << c.backend << ',' << c.shell << ',' << c.voxmap << ','
        << status << ',' << c.engine << ',' << c.elements << ',' << c.frames << ',' << c.medianMs
        << ',' << c.p99Ms << ',' << c.meanMs << ',' << c.sdMs << ',' << c.maxMs << ',' << c.thrustN
-       << ',' << c.torqueNmm << ',' << c.refThrustN << ',' << c.refTorqueNmm << ','
-       << c.thrustError << ',' << c.torqueError << ',' << c.forceError << ','
-       << c.engagedCutting << ',' << c.peakMemoryMb << ',' << c.setupS << '\n';
+       << ',' << c.torqueNmm << ',' << c.refThrustN << ',' << c.refTorqueNmm << ',' << c.thrustError
+       << ',' << c.torqueError << ',' << c.forceError << ',' << c.engagedCutting << ','
+       << c.peakMemoryMb << ',' << c.setupS << '\n';
   }
   return os.str();
 }
@@ -271,11 +293,13 @@ std::string BenchTable(const std::vector<BenchCell>& cells, Method method, const
   os << "# " << title << "\n";
   std::vector<std::string> backends;
   for (const auto& c : cells)
-    if (c.method == method && std::find(backends.begin(), backends.end(), c.backend) == backends.end())
+    if (c.method == method &&
+        std::find(backends.begin(), backends.end(), c.backend) == backends.end())
       backends.push_back(c.backend);
   auto find = [&](const std::string& be, int s, int v) -> const BenchCell* {
     for (const auto& c : cells)
-      if (c.method == method && c.backend == be && c.shell == s && c.voxmap == v) return &c;
+      if (c.method == method && c.backend == be && c.shell == s && c.voxmap == v)
+        return &c;
     return nullptr;
   };
   for (const auto& be : backends) {
@@ -283,20 +307,26 @@ std::string BenchTable(const std::vector<BenchCell>& cells, Method method, const
       static const char* what[] = {"median (sd) of the frame time, ms", "p99 of the frame time, ms",
                                    "force error (max of thrust and torque relative error)"};
       os << "\n## " << be << " backend: " << what[table] << "\n\n| Point shell resolution |";
-      for (int v : voxmaps) os << ' ' << v << "^3 |";
+      for (int v : voxmaps)
+        os << ' ' << v << "^3 |";
       os << "\n|---|";
-      for (size_t i = 0; i < voxmaps.size(); ++i) os << "---|";
+      for (size_t i = 0; i < voxmaps.size(); ++i)
+        os << "---|";
       os << '\n';
       for (int s : shells) {
         os << "| " << s << "^3 |";
         for (int v : voxmaps) {
           const BenchCell* c = find(be, s, v);
-          if (!c) os << " |";
-          else if (c->status != "ok") os << " " << c->status << " |";
+          if (!c)
+            os << " |";
+          else if (c->status != "ok")
+            os << " " << c->status << " |";
           else if (table == 0)
             os << std::setprecision(3) << ' ' << c->medianMs << " (" << c->sdMs << ") |";
-          else if (table == 1) os << std::setprecision(3) << ' ' << c->p99Ms << " |";
-          else os << std::setprecision(2) << ' ' << 100 * c->forceError << " % |";
+          else if (table == 1)
+            os << std::setprecision(3) << ' ' << c->p99Ms << " |";
+          else
+            os << std::setprecision(2) << ' ' << 100 * c->forceError << " % |";
         }
         os << '\n';
       }

@@ -27,12 +27,12 @@ namespace bm {
 struct BenchOptions {
   std::vector<Method> methods{Method::Lazar, Method::Zheng};
   std::vector<std::string> backends{"cpu", "opencl"};
-  std::vector<int> shells{128, 256, 512, 1024, 2048};  ///< point-shell resolutions
-  std::vector<int> voxmaps{128, 256, 512, 1024};       ///< voxmap resolutions
-  int frames = 1000;      ///< timed frames per cell (>= 1)
-  int warmup = 100;       ///< untimed frames before them
-  int threads = 2;        ///< CPU backend threads
-  std::string device;     ///< OpenCL device choice ("" = default)
+  std::vector<int> shells{128, 256, 512, 1024, 2048}; ///< point-shell resolutions
+  std::vector<int> voxmaps{128, 256, 512, 1024};      ///< voxmap resolutions
+  int frames = 1000;                                  ///< timed frames per cell (>= 1)
+  int warmup = 100;                                   ///< untimed frames before them
+  int threads = 2;                                    ///< CPU backend threads
+  std::string device;                                 ///< OpenCL device choice ("" = default)
   double cellLimitS = 600; ///< a cell still running after this many seconds is stopped
 };
 
@@ -40,18 +40,18 @@ struct BenchCell {
   Method method = Method::Lazar;
   std::string backend;
   int shell = 0, voxmap = 0;
-  std::string status = "ok";  ///< "ok", or why the cell has no figures
-  std::string engine;         ///< Engine::Name()
-  int64_t elements = 0;       ///< point-shell elements
-  int frames = 0;             ///< timed frames
+  std::string status = "ok"; ///< "ok", or why the cell has no figures
+  std::string engine;        ///< Engine::Name()
+  int64_t elements = 0;      ///< point-shell elements
+  int frames = 0;            ///< timed frames
   double medianMs = 0, p99Ms = 0, meanMs = 0, sdMs = 0, maxMs = 0; ///< frame time, ms
-  double thrustN = 0, torqueNmm = 0;        ///< means over the timed frames
-  double refThrustN = 0, refTorqueNmm = 0;  ///< edge quadrature
-  double thrustError = 0, torqueError = 0;  ///< |mean - ref| / |ref|
-  double forceError = 0;                    ///< max(thrustError, torqueError)
-  double engagedCutting = 0;                ///< mean engaged cutting elements per frame
-  double peakMemoryMb = 0;                  ///< child's peak resident set, MiB
-  double setupS = 0;                        ///< building scene, shell, voxmap and engine, s
+  double thrustN = 0, torqueNmm = 0;                               ///< means over the timed frames
+  double refThrustN = 0, refTorqueNmm = 0;                         ///< edge quadrature
+  double thrustError = 0, torqueError = 0;                         ///< |mean - ref| / |ref|
+  double forceError = 0;     ///< max(thrustError, torqueError)
+  double engagedCutting = 0; ///< mean engaged cutting elements per frame
+  double peakMemoryMb = 0;   ///< child's peak resident set, MiB
+  double setupS = 0;         ///< building scene, shell, voxmap and engine, s
 };
 
 /// The drilling scene of a cell (bm::Scene defaults: 10 mm reference drill, 5 x 5 x 1.5 mm

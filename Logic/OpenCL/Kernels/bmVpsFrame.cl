@@ -1,0 +1,126 @@
+// bmVpsFrame.cl - the VPS frame of bmCpuEngine.cxx (Faieghi et al.) as OpenCL C 1.2 kernels.
+//
+// Every operation repeats the CPU engine's arithmetic in the same order and precision, so the
+// results are identical: the float transform of the element grid into the voxmap (no FMA
+// contraction), the residency rule of bmElementResidency.h, removal units and elemental forces in
+// double, fixed-point int64 sums (order-independent). The host culls blocks exactly as the CPU
+// engine does and passes the visible blocks.
+//
+// Work split (both kernels): work-group g takes visible blocks g, g + G, g + 2G, ...; inside a
+// block lane l takes elements begin + l, begin + l + L, ... (L = local size). On a CPU device
+// (PoCL) L = 1 and G is a few groups per core; on a GPU L = 128 and G is large.
+// Sums leave a group either as one partial per group (read back and summed on the host in int64)
+// or, with BM_INT64_ATOMICS, as one 64-bit atomic add per group and quantity.
+
+// Phase 1: collision, residency, removal requests (units per element, 0 for none) and forces,
+// all against the fills at the frame's start. A rows: A0, A1, A2 (xyz) with b in w.
+// flags: bit 0 remove, bit 1 cutting, bit 2 material present.
+__kernel void vps_collide(__global const uint* visible, const uint nVisible,
+                          __global const uint2* blockRange, __global const ulong* codes,
+                          __global const float* areaNormals, __global const ushort* bins,
+                          __global const float* deltas, __global const double* table,
+                          __global const double* binR, __global const double2* radial,
+                          __global const int* fill,
+                          __global const float* material, __global Residency* state,
+                          __global int* units, __global long* sums, __local long* scratch,
+                          const float4 A0, const float4 A1, const float4 A2, const int4 dims,
+                          const uint frameNo, const int flags, const double dx, const double dy,
+                          const double dz, const double unitsPerMm3, const double maxUnits,
+                          const double scale) {
+  const uint G = get_num_groups(0), L = get_local_size(0), l = get_local_id(0);
+  const bool remove = flags & 1, cutting = flags & 2, hasMaterial = flags & 4;
+  long P[BM_SUMS] = {0, 0, 0, 0, 0, 0, 0, 0};
+  for (uint v = get_group_id(0); v < nVisible; v += G) {
+    const uint2 range = blockRange[visible[v]];
+    for (uint e = range.x + l; e < range.y; e += L) {
+      const ulong code = codes[e];
+      const float x = (float)MortonCompact(code >> 1), y = (float)MortonCompact(code >> 2),
+                  z = (float)MortonCompact(code >> 3);
+      const float gx = A0.x * x + A0.y * y + A0.z * z + A0.w;
+      const float gy = A1.x * x + A1.y * y + A1.z * z + A1.w;
+      const float gz = A2.x * x + A2.y * y + A2.z * z + A2.w;
+      const int vi = (int)floor(gx + 0.5f), vj = (int)floor(gy + 0.5f), vk = (int)floor(gz + 0.5f);
+      ++P[4];
+      units[e] = 0;
+      __global Residency* st = state + e;
+      if (vi < 0 || vj < 0 || vk < 0 || vi >= dims.x || vj >= dims.y || vk >= dims.z) {
+        Visit(st, frameNo, -1, 0);
+        continue;
+      }
+      const long idx = vi + (long)dims.x * (vj + (long)dims.y * vk);
+      if (!Visit(st, frameNo, idx, fill[idx])) continue;
+      ++P[5];
+      if (remove) {
+        const double vol = areaNormals[3 * e] * dx + areaNormals[3 * e + 1] * dy +
+                           areaNormals[3 * e + 2] * dz;
+        if (vol > 0) {
+          const double want = vol * unitsPerMm3;
+          const int u = (int)((maxUnits < want ? maxUnits : want) + 0.5);
+          if (u > 0) {
+            units[e] = u;
+            P[7] += u;
+          }
+        }
+      }
+      if (cutting && (code & 1)) {
+        ++P[6];
+        const ushort bin = bins[e];
+        const double w = (double)(deltas[e] * (hasMaterial ? material[idx] : 1.0f));
+        const double t0 = table[3 * bin], t1 = table[3 * bin + 1], t2 = table[3 * bin + 2];
+        const double c = radial[e].x, s = radial[e].y; // PointShell::RadialDirs()
+        P[0] += (long)(w * t2 * scale);
+        P[1] += (long)(-w * binR[bin] * t1 * scale);
+        P[2] += (long)(w * (t0 * c - t1 * s) * scale);
+        P[3] += (long)(w * (t0 * s + t1 * c) * scale);
+      }
+    }
+  }
+  GroupSum(P, BM_SUMS, scratch, sums);
+}
+
+// Phase 2: removal, after every collision read of the frame. One work item walks whole blocks
+// in element order and merges the requests of one voxel into one atomic subtraction (exact: the
+// removed fill and the voided count of a voxel depend only on its total request). Voxels taken
+// to void are listed (one atomic counter increment each, a few per frame).
+inline void Flush(__global int* fill, long idx, int amount, long* R, __global uint* voidedCount,
+                  __global long* voided) {
+  const int old = atomic_sub(fill + idx, amount);
+  const int after = old - amount;
+  R[0] += max(old, 0) - max(after, 0);
+  if (old > 0 && after <= 0) {
+    ++R[1];
+    voided[atomic_inc(voidedCount)] = idx;
+  }
+}
+
+__kernel void vps_remove(__global const uint* visible, const uint nVisible,
+                         __global const uint2* blockRange, __global const Residency* state,
+                         __global const int* units, __global int* fill, __global long* sums,
+                         __global uint* voidedCount, __global long* voided) {
+  const uint T = get_global_size(0);
+  long R[BM_REMOVAL_SUMS] = {0, 0};
+  for (uint v = get_global_id(0); v < nVisible; v += T) {
+    const uint2 range = blockRange[visible[v]];
+    long cur = -1;
+    int amount = 0;
+    for (uint e = range.x; e < range.y; ++e) {
+      const int u = units[e];
+      if (u <= 0) continue;
+      const long idx = state[e].voxel;
+      if (idx != cur || amount > BM_MERGE_LIMIT - u) {
+        if (amount > 0) Flush(fill, cur, amount, R, voidedCount, voided);
+        cur = idx;
+        amount = 0;
+      }
+      amount += u;
+    }
+    if (amount > 0) Flush(fill, cur, amount, R, voidedCount, voided);
+  }
+#ifdef BM_INT64_ATOMICS
+  atom_add(sums, R[0]);
+  atom_add(sums + 1, R[1]);
+#else
+  sums[get_global_id(0) * BM_REMOVAL_SUMS] = R[0];
+  sums[get_global_id(0) * BM_REMOVAL_SUMS + 1] = R[1];
+#endif
+}

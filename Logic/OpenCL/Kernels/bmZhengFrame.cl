@@ -1,0 +1,155 @@
+// bmZhengFrame.cl - the baseline of bmZhengEngine.cxx (Zheng et al.) as OpenCL C 1.2 kernels.
+//
+// Same arithmetic, order and precision as the CPU baseline, so results are identical: every
+// element (no block culling) walks the octree from the root to its voxel's leaf, evaluates its
+// elemental force from the per-bin model terms (k = a + b / V, mu = 0 on the lips, as
+// ForceModel::Evaluate with the voxel's material) and writes it to a per-element buffer; a
+// separate reduction kernel sums the buffer in chunks of BM_ZHENG_CHUNK elements (the CPU
+// baseline's chunking; the host adds the chunk sums in order). Leaves that a removal request
+// falls in but that cover more than one voxel are listed for the host, which splits them (as
+// OctreeVoxmap::Refine) and uploads the new nodes before the removal kernel runs.
+//
+// Octree nodes: int2 (child index of the first of 8 children or -1 for a leaf, leaf fill).
+
+#define BM_ZHENG_SUMS 4 // visited, engaged, engagedCutting, requested
+#define BM_ZHENG_CHUNK 4096
+#define BM_ZHENG_TERMS 10 // per force bin: kc, kt, au, dirN xyz, dirT xyz, r
+
+inline int FindLeaf(__global const int2* nodes, int levels, int i, int j, int k, int* level) {
+  int node = 0;
+  int lv = levels;
+  while (nodes[node].x >= 0) {
+    --lv;
+    const int c = ((i >> lv) & 1) | (((j >> lv) & 1) << 1) | (((k >> lv) & 1) << 2);
+    node = nodes[node].x + c;
+  }
+  *level = lv;
+  return node;
+}
+
+// Work item t takes elements [t * per, (t + 1) * per). Refinement requests: (i, j, k) of voxels
+// whose leaf is coarser than a voxel (one atomic counter increment each; only where the cut
+// reaches new octree cells).
+__kernel void zheng_collide(const uint n, const uint per, __global const ulong* codes,
+                            __global const float* areaNormals, __global const ushort* bins,
+                            __global const float* deltas, __global const double* terms,
+                            __global const int2* nodes, const int levels,
+                            __global const float* material, __global Residency* state,
+                            __global int* units, __global double4* buffer, __global long* sums,
+                            __local long* scratch, __global uint* refineCount,
+                            __global int4* refine, const float4 A0, const float4 A1,
+                            const float4 A2, const int4 dims, const uint frameNo, const int flags,
+                            const double dx, const double dy, const double dz,
+                            const double unitsPerMm3, const double maxUnits, const double sox,
+                            const double soy, const double hs) {
+  const bool remove = flags & 1, cutting = flags & 2, hasMaterial = flags & 4;
+  long P[BM_ZHENG_SUMS] = {0, 0, 0, 0};
+  const uint begin = get_global_id(0) * per;
+  const uint end = min(n, begin + per);
+  for (uint e = begin; e < end; ++e) {
+    buffer[e] = (double4)(0.0, 0.0, 0.0, 0.0);
+    units[e] = 0;
+    const ulong code = codes[e];
+    const float x = (float)MortonCompact(code >> 1), y = (float)MortonCompact(code >> 2),
+                z = (float)MortonCompact(code >> 3);
+    const int vi = (int)floor(A0.x * x + A0.y * y + A0.z * z + A0.w + 0.5f);
+    const int vj = (int)floor(A1.x * x + A1.y * y + A1.z * z + A1.w + 0.5f);
+    const int vk = (int)floor(A2.x * x + A2.y * y + A2.z * z + A2.w + 0.5f);
+    ++P[0];
+    __global Residency* st = state + e;
+    if (vi < 0 || vj < 0 || vk < 0 || vi >= dims.x || vj >= dims.y || vk >= dims.z) {
+      Visit(st, frameNo, -1, 0);
+      continue;
+    }
+    int level = 0;
+    const int leaf = FindLeaf(nodes, levels, vi, vj, vk, &level);
+    const long idx = vi + (long)dims.x * (vj + (long)dims.y * vk);
+    if (!Visit(st, frameNo, idx, nodes[leaf].y)) continue;
+    ++P[1];
+    if (remove) {
+      const double vol =
+          areaNormals[3 * e] * dx + areaNormals[3 * e + 1] * dy + areaNormals[3 * e + 2] * dz;
+      if (vol > 0) {
+        const double want = vol * unitsPerMm3;
+        const int u = (int)((maxUnits < want ? maxUnits : want) + 0.5);
+        if (u > 0) {
+          units[e] = u;
+          P[3] += u;
+          if (level > 0) refine[atomic_inc(refineCount)] = (int4)(vi, vj, vk, 0);
+        }
+      }
+    }
+    if (cutting && (code & 1)) {
+      ++P[2];
+      __global const double* t = terms + BM_ZHENG_TERMS * bins[e];
+      const double mat = hasMaterial ? (double)material[idx] : 1.0;
+      const double s = mat * t[2];
+      const double fx = s * (t[0] * t[3] + t[1] * t[6]);
+      const double fy = s * (t[0] * t[4] + t[1] * t[7]);
+      const double fz = s * (t[0] * t[5] + t[1] * t[8]);
+      const double w = (double)deltas[e];
+      const double px = sox + hs * (double)MortonCompact(code >> 1);
+      const double py = soy + hs * (double)MortonCompact(code >> 2);
+      const double rho = sqrt(px * px + py * py);
+      const double c = rho > 0 ? px / rho : 1.0, sn = rho > 0 ? py / rho : 0.0;
+      buffer[e] = (double4)(w * (fx * c - fy * sn), w * (fx * sn + fy * c), w * fz,
+                            -w * t[9] * fy);
+    }
+  }
+  GroupSum(P, BM_ZHENG_SUMS, scratch, sums);
+}
+
+// The reduction pass: work item c sums chunk c of the buffer in element order.
+__kernel void zheng_reduce(const uint n, __global const double4* buffer,
+                           __global double4* chunkSums) {
+  const uint c = get_global_id(0);
+  const uint begin = c * BM_ZHENG_CHUNK;
+  const uint end = min(n, begin + BM_ZHENG_CHUNK);
+  double4 s = (double4)(0.0, 0.0, 0.0, 0.0);
+  for (uint e = begin; e < end; ++e) s += buffer[e];
+  chunkSums[c] = s;
+}
+
+// Removal after the host refined the leaves: work item t walks its element range in order and
+// merges the requests of one voxel into one atomic subtraction on the voxel's leaf.
+inline void ZhengFlush(__global int2* nodes, int levels, int4 dims, long idx, int amount,
+                       long* R) {
+  const int i = (int)(idx % dims.x);
+  const long rest = idx / dims.x;
+  const int j = (int)(rest % dims.y), k = (int)(rest / dims.y);
+  int level = 0;
+  const int leaf = FindLeaf(nodes, levels, i, j, k, &level);
+  const int old = atomic_sub((__global int*)nodes + 2 * leaf + 1, amount);
+  const int after = old - amount;
+  R[0] += max(old, 0) - max(after, 0);
+  if (old > 0 && after <= 0) ++R[1];
+}
+
+__kernel void zheng_remove(const uint n, const uint per, __global const Residency* state,
+                           __global const int* units, __global int2* nodes, const int levels,
+                           const int4 dims, __global long* sums) {
+  long R[BM_REMOVAL_SUMS] = {0, 0};
+  const uint begin = get_global_id(0) * per;
+  const uint end = min(n, begin + per);
+  long cur = -1;
+  int amount = 0;
+  for (uint e = begin; e < end; ++e) {
+    const int u = units[e];
+    if (u <= 0) continue;
+    const long idx = state[e].voxel;
+    if (idx != cur || amount > BM_MERGE_LIMIT - u) {
+      if (amount > 0) ZhengFlush(nodes, levels, dims, cur, amount, R);
+      cur = idx;
+      amount = 0;
+    }
+    amount += u;
+  }
+  if (amount > 0) ZhengFlush(nodes, levels, dims, cur, amount, R);
+#ifdef BM_INT64_ATOMICS
+  atom_add(sums, R[0]);
+  atom_add(sums + 1, R[1]);
+#else
+  sums[get_global_id(0) * BM_REMOVAL_SUMS] = R[0];
+  sums[get_global_id(0) * BM_REMOVAL_SUMS + 1] = R[1];
+#endif
+}

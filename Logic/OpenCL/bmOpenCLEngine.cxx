@@ -1,0 +1,300 @@
+#include "bmOpenCLEngine.h"
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Geometry>
+
+#include "bmCpuEngine.h"
+#include "bmElementResidency.h"
+#include "bmKernelSources.h"
+
+namespace bm {
+
+static_assert(sizeof(ElementResidency) == 16, "device residency layout: long, uint, uint");
+
+namespace {
+constexpr int kSums = 8, kRemovalSums = 2;
+} // namespace
+
+cl::Buffer OpenCLEngine::Upload(const void* data, size_t bytes, cl_mem_flags flags) {
+  bytes = std::max<size_t>(bytes, 8);
+  cl::Buffer b(Rt_.context, flags, bytes);
+  if (data)
+    Rt_.queue.enqueueWriteBuffer(b, CL_TRUE, 0, bytes, data);
+  DeviceBytes_ += bytes;
+  return b;
+}
+
+OpenCLEngine::OpenCLEngine(Voxmap& bone, const ToolModel& tool, const PointShell& shell,
+                           const ForceModel& model, const OpenCLOptions& options)
+    : Bone_(bone), Tool_(tool), Shell_(shell), Model_(model), Rt_(options) {
+  try {
+    Program_ = BuildOpenCLProgram(Rt_.context, Rt_.device, kernels::bmVpsFrame, Rt_.BuildOptions());
+    Collide_ = cl::Kernel(Program_, "vps_collide");
+    Remove_ = cl::Kernel(Program_, "vps_remove");
+    const size_t n = shell.Size();
+    const auto& blocks = shell.Blocks();
+    std::vector<cl_uint2> ranges(blocks.size());
+    for (size_t b = 0; b < blocks.size(); ++b)
+      ranges[b] = {{blocks[b].begin, blocks[b].end}};
+    std::vector<double> binR;
+    for (const auto& fb : shell.ForceBins())
+      binR.push_back(fb.r);
+    Codes_ = Upload(shell.Codes().data(), n * 8);
+    Normals_ = Upload(shell.AreaNormals().data(), n * 12);
+    Bins_ = Upload(shell.Bins().data(), n * 2);
+    Deltas_ = Upload(shell.Deltas().data(), n * 4);
+    Ranges_ = Upload(ranges.data(), ranges.size() * sizeof(cl_uint2));
+    BinR_ = Upload(binR.data(), binR.size() * 8);
+    static_assert(sizeof(shell.RadialDirs()[0]) == 16, "double2 per element");
+    Radial_ = Upload(shell.RadialDirs().data(), n * 16);
+    Table_ = Upload(nullptr, binR.size() * 3 * 8);
+    Fill_ = Upload(bone.FillData(), size_t(bone.NumVoxels()) * 4, CL_MEM_READ_WRITE);
+    Material_ = Upload(bone.MaterialData(), bone.HasMaterial() ? size_t(bone.NumVoxels()) * 4 : 0);
+    const std::vector<ElementResidency> state(n);
+    State_ = Upload(state.data(), n * sizeof(ElementResidency), CL_MEM_READ_WRITE);
+    Units_ = Upload(nullptr, n * 4, CL_MEM_READ_WRITE);
+    Visible_ = Upload(nullptr, blocks.size() * 4);
+    SumsHost_.assign(size_t(Rt_.groups) * kSums, 0);
+    RemovalSumsHost_.assign(size_t(Rt_.groups * Rt_.lanes) * kRemovalSums, 0);
+    Sums_ = Upload(nullptr, SumsHost_.size() * 8, CL_MEM_READ_WRITE);
+    RemovalSums_ = Upload(nullptr, RemovalSumsHost_.size() * 8, CL_MEM_READ_WRITE);
+    VoidedCount_ = Upload(nullptr, 4, CL_MEM_READ_WRITE);
+    Voided_ = Upload(nullptr, std::min<size_t>(n, size_t(bone.NumVoxels())) * 8, CL_MEM_READ_WRITE);
+    Bricks_.resize(size_t(bone.BrickDims()[0]) * bone.BrickDims()[1] * bone.BrickDims()[2]);
+    for (size_t b = 0; b < Bricks_.size(); ++b)
+      Bricks_[b] = bone.BrickCount(int64_t(b));
+    Visible_Host_.reserve(blocks.size());
+    // Warm-up: the first launch of each kernel compiles lazily on some platforms (PoCL:
+    // 40-170 ms); run both on an empty block list now.
+    // The idle frame is far from the bone (no block visible) but launches both kernels.
+    FrameInput idle;
+    idle.position = Eigen::Vector3d(1e9, 1e9, 1e9);
+    idle.motion = Eigen::Vector3d(0, 0, -1e-6);
+    Warming_ = true;
+    Step(idle);
+    Warming_ = false;
+    Frame_ = 0;
+    TableFeed_ = TableSpeed_ = -1;
+  } catch (const cl::Error& e) {
+    throw std::runtime_error("OpenCL backend on '" + Rt_.info.name +
+                             "': " + DescribeOpenCLError(e));
+  }
+}
+
+void OpenCLEngine::UpdateForceTable(double f, double n) {
+  if (f == TableFeed_ && n == TableSpeed_)
+    return;
+  const auto& bins = Shell_.ForceBins();
+  TableHost_.resize(bins.size() * 3);
+  for (size_t b = 0; b < bins.size(); ++b) {
+    const ElementForce e = Model_.Evaluate(Tool_, bins[b].kind, bins[b].r, f, n);
+    TableHost_[3 * b] = e.fx;
+    TableHost_[3 * b + 1] = e.fy;
+    TableHost_[3 * b + 2] = e.fz;
+  }
+  if (!TableHost_.empty())
+    Rt_.queue.enqueueWriteBuffer(Table_, CL_TRUE, 0, TableHost_.size() * 8, TableHost_.data());
+  TableFeed_ = f;
+  TableSpeed_ = n;
+}
+
+bool OpenCLEngine::AnyBoneIn(std::array<int, 3> lo, std::array<int, 3> hi) const {
+  // As Voxmap::AnyBoneIn, on the engine's copy of the brick occupancy.
+  const auto& dims = Bone_.Dims();
+  const auto& bd = Bone_.BrickDims();
+  std::array<int, 3> blo, bhi;
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = std::max(lo[a], 0);
+    hi[a] = std::min(hi[a], dims[a] - 1);
+    if (lo[a] > hi[a])
+      return false;
+    blo[a] = lo[a] / Voxmap::kBrick;
+    bhi[a] = hi[a] / Voxmap::kBrick;
+  }
+  for (int bk = blo[2]; bk <= bhi[2]; ++bk)
+    for (int bj = blo[1]; bj <= bhi[1]; ++bj)
+      for (int bi = blo[0]; bi <= bhi[0]; ++bi)
+        if (Bricks_[size_t(bi + int64_t(bd[0]) * (bj + int64_t(bd[1]) * bk))] > 0)
+          return true;
+  return false;
+}
+
+FrameResult OpenCLEngine::Step(const FrameInput& in) {
+  const uint32_t frameNo = ++Frame_;
+  const bool cutting = in.speedRpm > 0 && in.feedMmPerRev > 0;
+  try {
+    if (cutting)
+      UpdateForceTable(in.feedMmPerRev, in.speedRpm);
+  } catch (const cl::Error& e) {
+    throw std::runtime_error("OpenCL frame: " + DescribeOpenCLError(e));
+  }
+
+  // Transform and culling exactly as CpuEngine::Step (bmCpuEngine.cxx).
+  Eigen::Matrix3d rot = in.rotation;
+  if (Shell_.Mode() == LipMode::Instantaneous)
+    rot = rot * Eigen::AngleAxisd(in.spindleAngle, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const double hs = Shell_.Spacing(), hv = Bone_.Spacing();
+  const Eigen::Vector3d so(Shell_.Origin()[0], Shell_.Origin()[1], Shell_.Origin()[2]);
+  const Eigen::Vector3d vo(Bone_.Origin()[0], Bone_.Origin()[1], Bone_.Origin()[2]);
+  const Eigen::Matrix3d A = rot * (hs / hv);
+  const Eigen::Vector3d b = (rot * so + in.position - vo) / hv;
+  const Eigen::Vector3d d = rot.transpose() * in.motion;
+  const double unitsPerMm3 = Voxmap::kFull / Bone_.VoxelVolume();
+  const bool remove = in.removeMaterial && d.squaredNorm() > 0;
+  const double maxUnits = MaxRemovalUnits(d, hv, unitsPerMm3);
+  const auto dims = Bone_.Dims();
+  const auto& blocks = Shell_.Blocks();
+  Visible_Host_.clear();
+  for (uint32_t bi = 0; bi < blocks.size(); ++bi) {
+    const ShellBlock& blk = blocks[bi];
+    if (!blk.hasCutting) {
+      double up = 0;
+      for (int a = 0; a < 3; ++a)
+        up += std::max(blk.nLo[a] * d(a), blk.nHi[a] * d(a));
+      if (up <= 0 || !remove)
+        continue;
+    }
+    std::array<int, 3> lo{INT32_MAX, INT32_MAX, INT32_MAX}, hi{INT32_MIN, INT32_MIN, INT32_MIN};
+    for (int c = 0; c < 8; ++c) {
+      Eigen::Vector3d p((c & 1) ? blk.hi[0] : blk.lo[0], (c & 2) ? blk.hi[1] : blk.lo[1],
+                        (c & 4) ? blk.hi[2] : blk.lo[2]);
+      Eigen::Vector3d g = (rot * p + in.position - vo) / hv;
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = std::min(lo[a], int(std::floor(g(a) + 0.5)));
+        hi[a] = std::max(hi[a], int(std::floor(g(a) + 0.5)));
+      }
+    }
+    if (AnyBoneIn(lo, hi))
+      Visible_Host_.push_back(bi);
+  }
+
+  FrameResult r;
+  const cl_uint nVisible = cl_uint(Visible_Host_.size());
+  if (nVisible > 0 || Warming_) {
+    try {
+      auto& q = Rt_.queue;
+      const cl_uint G = std::max<cl_uint>(1, std::min<cl_uint>(cl_uint(Rt_.groups), nVisible));
+      const cl_uint L = cl_uint(Rt_.lanes);
+      const cl_uint T =
+          std::max<cl_uint>(1, std::min<cl_uint>(cl_uint(Rt_.groups * Rt_.lanes), nVisible));
+      q.enqueueWriteBuffer(Visible_, CL_FALSE, 0, nVisible * 4, Visible_Host_.data());
+      if (Rt_.int64Atomics) {
+        q.enqueueFillBuffer(Sums_, cl_long(0), 0, kSums * 8);
+        q.enqueueFillBuffer(RemovalSums_, cl_long(0), 0, kRemovalSums * 8);
+      }
+      q.enqueueFillBuffer(VoidedCount_, cl_uint(0), 0, 4);
+      const cl_int flags = (remove ? 1 : 0) | (cutting ? 2 : 0) | (Bone_.HasMaterial() ? 4 : 0);
+      auto f4 = [&](int row) {
+        return cl_float4{{float(A(row, 0)), float(A(row, 1)), float(A(row, 2)), float(b(row))}};
+      };
+      int a = 0;
+      cl::Kernel& k = Collide_;
+      k.setArg(a++, Visible_);
+      k.setArg(a++, nVisible);
+      k.setArg(a++, Ranges_);
+      k.setArg(a++, Codes_);
+      k.setArg(a++, Normals_);
+      k.setArg(a++, Bins_);
+      k.setArg(a++, Deltas_);
+      k.setArg(a++, Table_);
+      k.setArg(a++, BinR_);
+      k.setArg(a++, Radial_);
+      k.setArg(a++, Fill_);
+      k.setArg(a++, Material_);
+      k.setArg(a++, State_);
+      k.setArg(a++, Units_);
+      k.setArg(a++, Sums_);
+      k.setArg(a++, cl::Local(size_t(L) * kSums * 8));
+      k.setArg(a++, f4(0));
+      k.setArg(a++, f4(1));
+      k.setArg(a++, f4(2));
+      k.setArg(a++, cl_int4{{dims[0], dims[1], dims[2], 0}});
+      k.setArg(a++, cl_uint(frameNo));
+      k.setArg(a++, flags);
+      for (int c = 0; c < 3; ++c)
+        k.setArg(a++, d(c));
+      k.setArg(a++, unitsPerMm3);
+      k.setArg(a++, maxUnits);
+      k.setArg(a++, kForceFixedScale);
+      q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(size_t(G) * L), cl::NDRange(L));
+      if (remove) {
+        a = 0;
+        cl::Kernel& m = Remove_;
+        m.setArg(a++, Visible_);
+        m.setArg(a++, nVisible);
+        m.setArg(a++, Ranges_);
+        m.setArg(a++, State_);
+        m.setArg(a++, Units_);
+        m.setArg(a++, Fill_);
+        m.setArg(a++, RemovalSums_);
+        m.setArg(a++, VoidedCount_);
+        m.setArg(a++, Voided_);
+        q.enqueueNDRangeKernel(m, cl::NullRange, cl::NDRange(T), cl::NullRange);
+      }
+      const size_t nSums = Rt_.int64Atomics ? kSums : size_t(G) * kSums;
+      const size_t nRemoval = Rt_.int64Atomics ? kRemovalSums : size_t(T) * kRemovalSums;
+      cl_uint voided = 0;
+      q.enqueueReadBuffer(Sums_, CL_FALSE, 0, nSums * 8, SumsHost_.data());
+      if (remove) {
+        q.enqueueReadBuffer(RemovalSums_, CL_FALSE, 0, nRemoval * 8, RemovalSumsHost_.data());
+        q.enqueueReadBuffer(VoidedCount_, CL_FALSE, 0, 4, &voided);
+      }
+      q.finish();
+      int64_t s[kSums] = {0, 0, 0, 0, 0, 0, 0, 0};
+      for (size_t i = 0; i < nSums; ++i)
+        s[i % kSums] += SumsHost_[i];
+      int64_t fx = s[2], fy = s[3], requested = s[7];
+      r.thrustFixed = s[0];
+      r.torqueFixed = s[1];
+      r.visitedElements = s[4];
+      r.engagedElements = s[5];
+      r.engagedCutting = s[6];
+      if (remove) {
+        for (size_t i = 0; i < nRemoval; ++i)
+          (i % 2 ? r.removedVoxels : r.removedFill) += RemovalSumsHost_[i];
+        if (voided > 0) {
+          VoidedHost_.resize(voided);
+          q.enqueueReadBuffer(Voided_, CL_TRUE, 0, size_t(voided) * 8, VoidedHost_.data());
+          const auto& bd = Bone_.BrickDims();
+          for (int64_t idx : VoidedHost_) {
+            const int64_t i = idx % dims[0], rest = idx / dims[0];
+            const int64_t j = rest % dims[1], kk = rest / dims[1];
+            --Bricks_[size_t(i / Voxmap::kBrick +
+                             bd[0] *
+                                 (j / Voxmap::kBrick + int64_t(bd[1]) * (kk / Voxmap::kBrick)))];
+          }
+        }
+      }
+      r.thrustN = double(r.thrustFixed) / kForceFixedScale;
+      r.torqueNmm = double(r.torqueFixed) / kForceFixedScale;
+      r.forceTool = {double(fx) / kForceFixedScale, double(fy) / kForceFixedScale, r.thrustN};
+      r.removedVolumeMm3 = double(r.removedFill) / Voxmap::kFull * Bone_.VoxelVolume();
+      r.sweptVolumeMm3 = double(requested) / Voxmap::kFull * Bone_.VoxelVolume();
+    } catch (const cl::Error& e) {
+      throw std::runtime_error("OpenCL frame: " + DescribeOpenCLError(e));
+    }
+  }
+  if (Shell_.Mode() == LipMode::Instantaneous) {
+    const double c = std::cos(in.spindleAngle), s = std::sin(in.spindleAngle);
+    const double fx = r.forceTool(0), fy = r.forceTool(1);
+    r.forceTool(0) = c * fx - s * fy;
+    r.forceTool(1) = s * fx + c * fy;
+  }
+  return r;
+}
+
+void OpenCLEngine::SyncBone() {
+  try {
+    Rt_.queue.enqueueReadBuffer(Fill_, CL_TRUE, 0, size_t(Bone_.NumVoxels()) * 4,
+                                Bone_.MutableFill());
+  } catch (const cl::Error& e) {
+    throw std::runtime_error("OpenCL read-back: " + DescribeOpenCLError(e));
+  }
+  Bone_.RebuildOccupancy();
+}
+
+} // namespace bm

@@ -1,0 +1,145 @@
+// The OpenCL backend gives exactly the CPU backend's results (issue 3): same fixed-point totals,
+// same removal, same cut voxmap, frame by frame, for both methods, on whatever OpenCL device the
+// machine has (PoCL in CI). The CPU engines are the kernels' plain C++ twins.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+
+#include "bmBoneBlock.h"
+#include "bmCpuEngine.h"
+#include "bmOpenCLDevice.h"
+#include "bmOpenCLEngine.h"
+#include "bmOpenCLZhengEngine.h"
+#include "bmToolModel.h"
+#include "bmZhengEngine.h"
+
+namespace {
+
+struct Case {
+  int voxmap = 64;
+  int shell = 256;
+  float material = 1.0f;
+  bm::LipMode lips = bm::LipMode::TimeAveraged;
+  Eigen::Vector3d axis{0, 0, 1};  // tool axis (world), out of the bone
+  Eigen::Vector3d drift{0, 0, 0}; // lateral motion per frame, mm
+  bm::OpenCLOptions options;
+};
+
+bool HaveDevice() {
+  return !bm::ListOpenCLDevices().empty();
+}
+
+// Feeds the drill along -axis in 0.01 mm steps from above the block to 0.8 mm deep (partial then
+// full engagement of the lips), then retracts it a little (elements entering cut voxels), with
+// both engines on copies of one block; compares every frame and the voxmaps at the end.
+template <class CpuT, class OclT> void ExpectIdentical(const Case& c, bm::Method method) {
+  const auto tool = bm::MakeTool(nlohmann::json{{"type", "drill"}});
+  const bm::PointShell shell = bm::PointShell::Build(*tool, c.shell, c.lips);
+  const bm::ForceModel model = bm::ForceModel::Default(method, *tool);
+  bm::Voxmap boneCpu = bm::MakeBoneBlock({5, 5, 1.5}, c.voxmap, c.material);
+  bm::Voxmap boneOcl = boneCpu;
+  CpuT cpu(boneCpu, *tool, shell, model, 2);
+  OclT ocl(boneOcl, *tool, shell, model, c.options);
+  const Eigen::Matrix3d rot =
+      Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), c.axis.normalized())
+          .toRotationMatrix();
+  const Eigen::Vector3d axis = c.axis.normalized();
+  Eigen::Vector3d pos = 0.05 * axis;
+  int engagedFrames = 0;
+  for (int frame = 0; frame < 100; ++frame) {
+    bm::FrameInput in;
+    in.rotation = rot;
+    in.motion = (frame < 85 ? -0.01 : 0.004) * axis + c.drift;
+    pos += in.motion;
+    in.position = pos;
+    in.spindleAngle = 0.3 * frame;
+    const bm::FrameResult a = cpu.Step(in);
+    const bm::FrameResult b = ocl.Step(in);
+    SCOPED_TRACE("frame " + std::to_string(frame));
+    EXPECT_EQ(a.thrustFixed, b.thrustFixed);
+    EXPECT_EQ(a.torqueFixed, b.torqueFixed);
+    EXPECT_EQ(a.thrustN, b.thrustN);
+    EXPECT_EQ(a.torqueNmm, b.torqueNmm);
+    EXPECT_EQ(a.forceTool, b.forceTool);
+    EXPECT_EQ(a.visitedElements, b.visitedElements);
+    EXPECT_EQ(a.engagedElements, b.engagedElements);
+    EXPECT_EQ(a.engagedCutting, b.engagedCutting);
+    EXPECT_EQ(a.removedFill, b.removedFill);
+    EXPECT_EQ(a.removedVoxels, b.removedVoxels);
+    EXPECT_EQ(a.sweptVolumeMm3, b.sweptVolumeMm3);
+    if (a.engagedCutting > 0)
+      ++engagedFrames;
+    if (::testing::Test::HasFailure())
+      return;
+  }
+  EXPECT_GT(engagedFrames, 40); // the comparison covered real cutting
+  cpu.SyncBone();
+  ocl.SyncBone();
+  EXPECT_LT(boneOcl.CountBone(), bm::MakeBoneBlock({5, 5, 1.5}, c.voxmap, c.material).CountBone());
+  EXPECT_TRUE(boneCpu == boneOcl);
+}
+
+TEST(OpenCLIdentity, LazarMatchesCpuEngine) {
+  if (!HaveDevice())
+    GTEST_SKIP() << "no OpenCL device";
+  ExpectIdentical<bm::CpuEngine, bm::OpenCLEngine>(Case{}, bm::Method::Lazar);
+}
+
+TEST(OpenCLIdentity, LazarInclinedWithMaterialAndInstantaneousLips) {
+  if (!HaveDevice())
+    GTEST_SKIP() << "no OpenCL device";
+  Case c;
+  c.material = 0.6f;
+  c.lips = bm::LipMode::Instantaneous;
+  c.axis = {0.2, -0.1, 1};
+  c.drift = {0.002, 0.001, 0};
+  ExpectIdentical<bm::CpuEngine, bm::OpenCLEngine>(c, bm::Method::Lazar);
+}
+
+// The GPU way of splitting work (work-groups of several lanes with local sums, 64-bit atomics),
+// exercised on whatever device runs the test.
+TEST(OpenCLIdentity, LazarGroupSumsAndInt64Atomics) {
+  const auto devices = bm::ListOpenCLDevices();
+  if (devices.empty())
+    GTEST_SKIP() << "no OpenCL device";
+  Case c;
+  c.voxmap = 96;
+  c.options.lanes = 8;
+  c.options.groups = 64;
+  ExpectIdentical<bm::CpuEngine, bm::OpenCLEngine>(c, bm::Method::Lazar);
+  bm::OpenCLDeviceInfo info;
+  bm::ChooseOpenCLDevice("", &info);
+  if (!info.int64Atomics)
+    GTEST_SKIP() << "device lacks cl_khr_int64_base_atomics";
+  c.options.int64Atomics = 1;
+  ExpectIdentical<bm::CpuEngine, bm::OpenCLEngine>(c, bm::Method::Lazar);
+}
+
+TEST(OpenCLIdentity, ZhengMatchesCpuBaseline) {
+  if (!HaveDevice())
+    GTEST_SKIP() << "no OpenCL device";
+  ExpectIdentical<bm::ZhengEngine, bm::OpenCLZhengEngine>(Case{}, bm::Method::Zheng);
+  Case c;
+  c.material = 0.8f;
+  c.axis = {-0.1, 0.15, 1};
+  c.options.lanes = 4;
+  c.options.groups = 16;
+  ExpectIdentical<bm::ZhengEngine, bm::OpenCLZhengEngine>(c, bm::Method::Zheng);
+}
+
+TEST(OpenCLDevices, ChoosingADevice) {
+  const auto devices = bm::ListOpenCLDevices();
+  if (devices.empty()) {
+    EXPECT_THROW(bm::ChooseOpenCLDevice(""), std::runtime_error);
+    return;
+  }
+  bm::OpenCLDeviceInfo info;
+  bm::ChooseOpenCLDevice("0", &info);
+  EXPECT_EQ(info.index, 0);
+  EXPECT_EQ(info.name, devices[0].name);
+  EXPECT_THROW(bm::ChooseOpenCLDevice(std::to_string(devices.size())), std::runtime_error);
+  EXPECT_THROW(bm::ChooseOpenCLDevice("no such device name"), std::runtime_error);
+}
+
+} // namespace
