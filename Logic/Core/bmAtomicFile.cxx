@@ -47,4 +47,29 @@ void WriteFileAtomic(const std::string& path, const std::string& content) {
   WriteFileAtomic(path, [&](std::ostream& out) { out.write(content.data(), std::streamsize(content.size())); });
 }
 
+void WriteFilesAtomic(const std::vector<std::pair<std::string, std::string>>& files) {
+  std::vector<std::string> temps;
+  try {
+    for (const auto& [path, content] : files) {
+      temps.push_back(TemporarySibling(path));
+      std::ofstream out(temps.back(), std::ios::binary | std::ios::trunc);
+      if (!out) throw std::runtime_error("cannot write '" + path + "' (cannot create a file in its directory)");
+      out.write(content.data(), std::streamsize(content.size()));
+      out.flush();
+      if (!out) throw std::runtime_error("writing '" + path + "' failed");
+    }
+    for (size_t i = 0; i < files.size(); ++i) {
+      std::error_code ec;
+      std::filesystem::rename(temps[i], files[i].first, ec);
+      if (ec) throw std::runtime_error("cannot save '" + files[i].first + "': " + ec.message());
+    }
+  } catch (...) {
+    for (const auto& t : temps) {
+      std::error_code ec;
+      std::filesystem::remove(t, ec);
+    }
+    throw;
+  }
+}
+
 } // namespace bm

@@ -5,6 +5,8 @@
 #include <functional>
 #include <ostream>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace bm {
 
@@ -15,6 +17,11 @@ void WriteFileAtomic(const std::string& path, const std::string& content);
 /// Streams into a temporary file through `write`, then renames it to `path`. If `write` throws,
 /// the temporary file is removed and the exception propagates.
 void WriteFileAtomic(const std::string& path, const std::function<void(std::ostream&)>& write);
+
+/// Writes several files so that either all of them appear or none: every file is written to a
+/// temporary sibling first, then all are renamed. Throws std::runtime_error naming the path on
+/// failure, removing the temporaries.
+void WriteFilesAtomic(const std::vector<std::pair<std::string, std::string>>& files);
 
 /// A unique hidden temporary path beside `path` (same directory, so rename is atomic), with the
 /// same extension: "dir/.name.tmp-PID-N.ext".

@@ -142,15 +142,16 @@ nlohmann::json FeedTrial::Summary() const {
 }
 
 void FeedTrial::WriteOutputs(const std::string& dir) const {
+  std::ostringstream csv;
+  csv << "time_s,depth_mm,feed_mm_per_rev,thrust_N,torque_Nmm,frame_ms,removed_voxels\n";
+  csv << std::setprecision(9);
+  for (const auto& f : Frames_)
+    csv << f.timeS << ',' << f.depthMm << ',' << f.feedMmPerRev << ',' << f.thrustN << ',' << f.torqueNmm << ','
+        << f.frameMs << ',' << f.removedVoxels << '\n';
+  const std::string summary = Summary().dump(2) + "\n";
   std::filesystem::create_directories(dir);
-  WriteFileAtomic((std::filesystem::path(dir) / "forces.csv").string(), [&](std::ostream& out) {
-    out << "time_s,depth_mm,feed_mm_per_rev,thrust_N,torque_Nmm,frame_ms,removed_voxels\n";
-    out << std::setprecision(9);
-    for (const auto& f : Frames_)
-      out << f.timeS << ',' << f.depthMm << ',' << f.feedMmPerRev << ',' << f.thrustN << ',' << f.torqueNmm << ','
-          << f.frameMs << ',' << f.removedVoxels << '\n';
-  });
-  WriteFileAtomic((std::filesystem::path(dir) / "summary.json").string(), Summary().dump(2) + "\n");
+  const std::filesystem::path d(dir);
+  WriteFilesAtomic({{(d / "forces.csv").string(), csv.str()}, {(d / "summary.json").string(), summary}});
 }
 
 } // namespace bm

@@ -43,7 +43,8 @@ public:
   /// Summary as documented in README (thrust_N, torque_Nmm, thrust_ripple, reference_*,
   /// frame_ms_p50/p99, removed_volume_mm3, resolutions, method, threads, ...).
   nlohmann::json Summary() const;
-  /// Writes DIR/forces.csv and DIR/summary.json, each atomically; creates DIR if missing.
+  /// Writes DIR/forces.csv and DIR/summary.json together (both or neither appear); creates DIR if
+  /// missing.
   void WriteOutputs(const std::string& dir) const;
 
 private:
