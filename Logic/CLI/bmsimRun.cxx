@@ -7,6 +7,9 @@
 #include "bmCTVoxmap.h"
 #endif
 #include "bmMachiningSetup.h"
+#ifdef BM_WITH_REPORT
+#include "bmTrialReport.h"
+#endif
 #include "bmScene.h"
 #include "bmsimArgs.h"
 #include "bmsimCommand.h"
@@ -38,6 +41,8 @@ const char* kUsage = R"(usage: bmsim run SCENE [options]
   --backend cpu|opencl     compute backend (default cpu)
   --device D               with --backend opencl: OpenCL device index or name
   --lips averaged|instantaneous   lip model (default averaged)
+  --no-report              skip the report (report.md/.html, cut surface .vtp/.stl, PNG charts
+                           and picture; rendering starts a private Xvfb when DISPLAY is unset)
   --device scripted|touch  run through a haptic session (bmsimRunSession.h lists its options:
                            --mode feed|force|trajectory, --force N, --duration S, --record FILE)
 )";
@@ -47,7 +52,7 @@ int RunCommand(const bm::cli::Args& args) {
   std::set<std::string> valued = {"out",     "feed",   "speed",  "voxmap-resolution", "shell-resolution",
                                   "method",  "threads", "backend", "device",           "lips"};
   valued.insert(bm::cli::kSessionRunOptions.begin(), bm::cli::kSessionRunOptions.end());
-  bm::cli::ParsedArgs p(args, valued, {"help"});
+  bm::cli::ParsedArgs p(args, valued, {"help", "no-report"});
   if (p.Has("help")) {
     std::cout << kUsage;
     return 0;
@@ -95,6 +100,12 @@ int RunCommand(const bm::cli::Args& args) {
             << " ms\n"
             << "  removed " << s["removed_volume_mm3"].get<double>() << " mm^3\n"
             << "wrote " << out << "/forces.csv and " << out << "/summary.json\n";
+#ifdef BM_WITH_REPORT
+  if (!p.Has("no-report")) {
+    const bm::TrialReportFiles report = bm::WriteTrialReport(out, setup, trial);
+    std::cout << "report " << report.html << " (and " << report.markdown << ")\n";
+  }
+#endif
   return 0;
 }
 
