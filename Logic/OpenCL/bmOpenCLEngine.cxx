@@ -9,6 +9,7 @@
 
 #include "bmCpuEngine.h"
 #include "bmElementResidency.h"
+#include "bmFrameGeometry.h"
 #include "bmKernelSources.h"
 
 namespace bm {
@@ -133,20 +134,12 @@ FrameResult OpenCLEngine::Step(const FrameInput& in) {
     throw std::runtime_error("OpenCL frame: " + DescribeOpenCLError(e));
   }
 
-  // Transform and culling exactly as CpuEngine::Step (bmCpuEngine.cxx).
-  Eigen::Matrix3d rot = in.rotation;
-  if (Shell_.Mode() == LipMode::Instantaneous)
-    rot = rot * Eigen::AngleAxisd(in.spindleAngle, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  const double hs = Shell_.Spacing(), hv = Bone_.Spacing();
-  const Eigen::Vector3d so(Shell_.Origin()[0], Shell_.Origin()[1], Shell_.Origin()[2]);
-  const Eigen::Vector3d vo(Bone_.Origin()[0], Bone_.Origin()[1], Bone_.Origin()[2]);
-  const Eigen::Matrix3d A = rot * (hs / hv);
-  const Eigen::Vector3d b = (rot * so + in.position - vo) / hv;
-  const Eigen::Vector3d d = rot.transpose() * in.motion;
-  const double unitsPerMm3 = Voxmap::kFull / Bone_.VoxelVolume();
-  const bool remove = in.removeMaterial && d.squaredNorm() > 0;
-  const double maxUnits = MaxRemovalUnits(d, hv, unitsPerMm3);
-  const auto dims = Bone_.Dims();
+  // Transform and culling exactly as CpuEngine::Step (bmCpuEngine.cxx), from the same
+  // FrameGeometry.
+  const FrameGeometry geo(in, Shell_, Bone_);
+  const bool remove = geo.remove;
+  const Eigen::Vector3d& d = geo.motionTool;
+  const auto& dims = geo.dims;
   const auto& blocks = Shell_.Blocks();
   Visible_Host_.clear();
   for (uint32_t bi = 0; bi < blocks.size(); ++bi) {
@@ -158,16 +151,8 @@ FrameResult OpenCLEngine::Step(const FrameInput& in) {
       if (up <= 0 || !remove)
         continue;
     }
-    std::array<int, 3> lo{INT32_MAX, INT32_MAX, INT32_MAX}, hi{INT32_MIN, INT32_MIN, INT32_MIN};
-    for (int c = 0; c < 8; ++c) {
-      Eigen::Vector3d p((c & 1) ? blk.hi[0] : blk.lo[0], (c & 2) ? blk.hi[1] : blk.lo[1],
-                        (c & 4) ? blk.hi[2] : blk.lo[2]);
-      Eigen::Vector3d g = (rot * p + in.position - vo) / hv;
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = std::min(lo[a], int(std::floor(g(a) + 0.5)));
-        hi[a] = std::max(hi[a], int(std::floor(g(a) + 0.5)));
-      }
-    }
+    std::array<int, 3> lo, hi;
+    geo.VoxelBox(blk.lo, blk.hi, lo, hi);
     if (AnyBoneIn(lo, hi))
       Visible_Host_.push_back(bi);
   }
@@ -189,7 +174,8 @@ FrameResult OpenCLEngine::Step(const FrameInput& in) {
       q.enqueueFillBuffer(VoidedCount_, cl_uint(0), 0, 4);
       const cl_int flags = (remove ? 1 : 0) | (cutting ? 2 : 0) | (Bone_.HasMaterial() ? 4 : 0);
       auto f4 = [&](int row) {
-        return cl_float4{{float(A(row, 0)), float(A(row, 1)), float(A(row, 2)), float(b(row))}};
+        const size_t w = size_t(row);
+        return cl_float4{{geo.A[3 * w], geo.A[3 * w + 1], geo.A[3 * w + 2], geo.b[w]}};
       };
       int a = 0;
       cl::Kernel& k = Collide_;
@@ -217,8 +203,8 @@ FrameResult OpenCLEngine::Step(const FrameInput& in) {
       k.setArg(a++, flags);
       for (int c = 0; c < 3; ++c)
         k.setArg(a++, d(c));
-      k.setArg(a++, unitsPerMm3);
-      k.setArg(a++, maxUnits);
+      k.setArg(a++, geo.unitsPerMm3);
+      k.setArg(a++, geo.maxUnits);
       k.setArg(a++, kForceFixedScale);
       q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(size_t(G) * L), cl::NDRange(L));
       if (remove) {

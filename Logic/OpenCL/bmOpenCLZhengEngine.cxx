@@ -1,12 +1,14 @@
 #include "bmOpenCLZhengEngine.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include <Eigen/Geometry>
 
 #include "bmCpuEngine.h"
 #include "bmElementResidency.h"
+#include "bmFrameGeometry.h"
 #include "bmKernelSources.h"
 
 namespace bm {
@@ -132,6 +134,7 @@ OpenCLZhengEngine::OpenCLZhengEngine(Voxmap& bone, const ToolModel& tool, const 
     Normals_ = Upload(shell.AreaNormals().data(), n * 12);
     Bins_ = Upload(shell.Bins().data(), n * 2);
     Deltas_ = Upload(shell.Deltas().data(), n * 4);
+    Radial_ = Upload(shell.RadialDirs().data(), n * 16);
     Terms_ = Upload(nullptr, shell.ForceBins().size() * kTerms * 8);
     Material_ = Upload(bone.MaterialData(), bone.HasMaterial() ? size_t(bone.NumVoxels()) * 4 : 0);
     const std::vector<ElementResidency> state(n);
@@ -195,21 +198,8 @@ void OpenCLZhengEngine::UpdateTerms(double f, double n) {
 FrameResult OpenCLZhengEngine::Step(const FrameInput& in) {
   const uint32_t frameNo = ++Frame_;
   // Global bounding-box pre-check, as ZhengEngine::Step.
-  {
-    const double R = Tool_.OuterRadius();
-    const auto zr = Tool_.AxialRange();
-    Box3 tb{{1e300, 1e300, 1e300}, {-1e300, -1e300, -1e300}};
-    for (int c = 0; c < 8; ++c) {
-      Eigen::Vector3d p((c & 1) ? R : -R, (c & 2) ? R : -R, (c & 4) ? zr[1] : zr[0]);
-      Eigen::Vector3d w = in.rotation * p + in.position;
-      for (int a = 0; a < 3; ++a) {
-        tb.lo[a] = std::min(tb.lo[a], w(a));
-        tb.hi[a] = std::max(tb.hi[a], w(a));
-      }
-    }
-    if (!tb.Intersects(Bone_.Bounds()))
-      return FrameResult{};
-  }
+  if (!FrameGeometry(in, Shell_, Bone_).ToolMeetsBone(Tool_, Bone_))
+    return FrameResult{};
   try {
     return Launch(in, frameNo);
   } catch (const cl::Error& e) {
@@ -221,17 +211,10 @@ FrameResult OpenCLZhengEngine::Launch(const FrameInput& in, uint32_t frameNo) {
   const bool cutting = in.speedRpm > 0 && in.feedMmPerRev > 0;
   if (cutting)
     UpdateTerms(in.feedMmPerRev, in.speedRpm);
-  const double hs = Shell_.Spacing(), hv = Bone_.Spacing();
-  const Eigen::Matrix3d& rot = in.rotation;
-  const Eigen::Vector3d so(Shell_.Origin()[0], Shell_.Origin()[1], Shell_.Origin()[2]);
-  const Eigen::Vector3d vo(Bone_.Origin()[0], Bone_.Origin()[1], Bone_.Origin()[2]);
-  const Eigen::Matrix3d A = rot * (hs / hv);
-  const Eigen::Vector3d b = (rot * so + in.position - vo) / hv;
-  const Eigen::Vector3d d = rot.transpose() * in.motion;
-  const double unitsPerMm3 = Voxmap::kFull / Bone_.VoxelVolume();
-  const bool remove = in.removeMaterial && d.squaredNorm() > 0;
-  const double maxUnits = MaxRemovalUnits(d, hv, unitsPerMm3);
-  const auto dims = Bone_.Dims();
+  const FrameGeometry geo(in, Shell_, Bone_);
+  const bool remove = geo.remove;
+  const Eigen::Vector3d& d = geo.motionTool;
+  const auto& dims = geo.dims;
   const cl_uint n = cl_uint(Shell_.Size());
   const cl_uint L = cl_uint(Rt_.lanes);
   const size_t most = size_t(Rt_.groups) * L;
@@ -242,7 +225,8 @@ FrameResult OpenCLZhengEngine::Launch(const FrameInput& in, uint32_t frameNo) {
   const cl_uint nChunks = cl_uint(ChunkHost_.size());
   const cl_int flags = (remove ? 1 : 0) | (cutting ? 2 : 0) | (Bone_.HasMaterial() ? 4 : 0);
   auto f4 = [&](int row) {
-    return cl_float4{{float(A(row, 0)), float(A(row, 1)), float(A(row, 2)), float(b(row))}};
+    const size_t w = size_t(row);
+    return cl_float4{{geo.A[3 * w], geo.A[3 * w + 1], geo.A[3 * w + 2], geo.b[w]}};
   };
   const cl_int4 dims4{{dims[0], dims[1], dims[2], 0}};
   auto& q = Rt_.queue;
@@ -259,6 +243,7 @@ FrameResult OpenCLZhengEngine::Launch(const FrameInput& in, uint32_t frameNo) {
   k.setArg(a++, Normals_);
   k.setArg(a++, Bins_);
   k.setArg(a++, Deltas_);
+  k.setArg(a++, Radial_);
   k.setArg(a++, Terms_);
   k.setArg(a++, NodesDev_);
   k.setArg(a++, cl_int(Levels_));
@@ -278,11 +263,8 @@ FrameResult OpenCLZhengEngine::Launch(const FrameInput& in, uint32_t frameNo) {
   k.setArg(a++, flags);
   for (int c = 0; c < 3; ++c)
     k.setArg(a++, d(c));
-  k.setArg(a++, unitsPerMm3);
-  k.setArg(a++, maxUnits);
-  k.setArg(a++, so(0));
-  k.setArg(a++, so(1));
-  k.setArg(a++, hs);
+  k.setArg(a++, geo.unitsPerMm3);
+  k.setArg(a++, geo.maxUnits);
   q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NDRange(L));
   Reduce_.setArg(0, n);
   Reduce_.setArg(1, Buffer_);
@@ -335,6 +317,12 @@ FrameResult OpenCLZhengEngine::Launch(const FrameInput& in, uint32_t frameNo) {
   res.visitedElements = s[0];
   res.engagedElements = s[1];
   res.engagedCutting = s[2];
+  if (Shell_.Mode() == LipMode::Instantaneous) { // lateral forces back from the turned frame
+    const double c = std::cos(in.spindleAngle), sn = std::sin(in.spindleAngle);
+    const double fx = res.forceTool(0), fy = res.forceTool(1);
+    res.forceTool(0) = c * fx - sn * fy;
+    res.forceTool(1) = sn * fx + c * fy;
+  }
   res.removedVolumeMm3 = double(res.removedFill) / Voxmap::kFull * Bone_.VoxelVolume();
   res.sweptVolumeMm3 = double(s[3]) / Voxmap::kFull * Bone_.VoxelVolume();
   return res;

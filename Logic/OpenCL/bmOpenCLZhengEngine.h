@@ -52,8 +52,8 @@ private:
   OpenCLRuntime Rt_;
   cl::Program Program_;
   cl::Kernel Collide_, Reduce_, Remove_;
-  cl::Buffer Codes_, Normals_, Bins_, Deltas_, Terms_, Material_, State_, Units_, Buffer_, Sums_,
-      RemovalSums_, ChunkSums_, RefineCount_, Refine_, NodesDev_;
+  cl::Buffer Codes_, Normals_, Bins_, Deltas_, Radial_, Terms_, Material_, State_, Units_, Buffer_,
+      Sums_, RemovalSums_, ChunkSums_, RefineCount_, Refine_, NodesDev_;
   std::vector<cl_int2> Nodes_; // host copy of the tree (values of voxel leaves go stale)
   std::vector<int32_t> Dirty_; // split nodes not yet uploaded
   size_t Uploaded_ = 0;        // nodes [0, Uploaded_) are on the device

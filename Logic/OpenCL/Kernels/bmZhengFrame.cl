@@ -32,7 +32,8 @@ inline int FindLeaf(__global const int2* nodes, int levels, int i, int j, int k,
 // reaches new octree cells).
 __kernel void zheng_collide(const uint n, const uint per, __global const ulong* codes,
                             __global const float* areaNormals, __global const ushort* bins,
-                            __global const float* deltas, __global const double* terms,
+                            __global const float* deltas, __global const double2* radial,
+                            __global const double* terms,
                             __global const int2* nodes, const int levels,
                             __global const float* material, __global Residency* state,
                             __global int* units, __global double4* buffer, __global long* sums,
@@ -40,8 +41,7 @@ __kernel void zheng_collide(const uint n, const uint per, __global const ulong* 
                             __global int4* refine, const float4 A0, const float4 A1,
                             const float4 A2, const int4 dims, const uint frameNo, const int flags,
                             const double dx, const double dy, const double dz,
-                            const double unitsPerMm3, const double maxUnits, const double sox,
-                            const double soy, const double hs) {
+                            const double unitsPerMm3, const double maxUnits) {
   const bool remove = flags & 1, cutting = flags & 2, hasMaterial = flags & 4;
   long P[BM_ZHENG_SUMS] = {0, 0, 0, 0};
   const uint begin = get_global_id(0) * per;
@@ -88,10 +88,7 @@ __kernel void zheng_collide(const uint n, const uint per, __global const ulong* 
       const double fy = s * (t[0] * t[4] + t[1] * t[7]);
       const double fz = s * (t[0] * t[5] + t[1] * t[8]);
       const double w = (double)deltas[e];
-      const double px = sox + hs * (double)MortonCompact(code >> 1);
-      const double py = soy + hs * (double)MortonCompact(code >> 2);
-      const double rho = sqrt(px * px + py * py);
-      const double c = rho > 0 ? px / rho : 1.0, sn = rho > 0 ? py / rho : 0.0;
+      const double c = radial[e].x, sn = radial[e].y; // PointShell::RadialDirs()
       buffer[e] = (double4)(w * (fx * c - fy * sn), w * (fx * sn + fy * c), w * fz,
                             -w * t[9] * fy);
     }

@@ -126,6 +126,9 @@ TEST(OpenCLIdentity, ZhengMatchesCpuBaseline) {
   c.options.lanes = 4;
   c.options.groups = 16;
   ExpectIdentical<bm::ZhengEngine, bm::OpenCLZhengEngine>(c, bm::Method::Zheng);
+  c.lips = bm::LipMode::Instantaneous;
+  c.drift = {-0.001, 0.002, 0};
+  ExpectIdentical<bm::ZhengEngine, bm::OpenCLZhengEngine>(c, bm::Method::Zheng);
 }
 
 TEST(OpenCLDevices, ChoosingADevice) {
