@@ -1,4 +1,5 @@
 // bmsim bench - frame time against force error over the paper's resolution grid (issue 3).
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -31,6 +32,8 @@ const char* kUsage = R"(usage: bmsim bench [options]
   --threads N            CPU backend threads (default 2)
   --device D             OpenCL device (bmsim devices)
   --cell-limit S         stop a cell after S seconds (default 600)
+  --replot CSV,...       run nothing: merge saved bench.csv files (a later file's cell replaces
+                         an earlier one's) and write the tables and the chart from them
 )";
 
 std::vector<std::string> Split(const std::string& s) {
@@ -81,7 +84,7 @@ int BenchCommand(const bm::cli::Args& args) {
   using bm::cli::UsageError;
   bm::cli::ParsedArgs p(args,
                         {"out", "methods", "backends", "shells", "voxmaps", "frames", "warmup",
-                         "threads", "device", "cell-limit"},
+                         "threads", "device", "cell-limit", "replot"},
                         {"quick", "help"});
   if (p.Has("help")) {
     std::cout << kUsage;
@@ -129,11 +132,51 @@ int BenchCommand(const bm::cli::Args& args) {
   const std::string out = p.Get("out", "out/bench");
 
   std::vector<bm::BenchCell> cells;
+  std::string framesNote;
+  if (auto files = p.Get("replot")) {
+    for (const auto& f : Split(*files)) {
+      std::ifstream in(f);
+      if (!in)
+        throw UsageError("--replot: cannot read " + f);
+      std::stringstream text;
+      text << in.rdbuf();
+      for (const auto& c : bm::ParseBenchCsv(text.str())) {
+        auto same = [&](const bm::BenchCell& o) {
+          return o.method == c.method && o.backend == c.backend && o.shell == c.shell &&
+                 o.voxmap == c.voxmap;
+        };
+        cells.erase(std::remove_if(cells.begin(), cells.end(), same), cells.end());
+        cells.push_back(c);
+      }
+    }
+    o.methods.clear();
+    o.backends.clear();
+    o.shells.clear();
+    o.voxmaps.clear();
+    for (const auto& c : cells) {
+      if (std::find(o.methods.begin(), o.methods.end(), c.method) == o.methods.end())
+        o.methods.push_back(c.method);
+      if (std::find(o.backends.begin(), o.backends.end(), c.backend) == o.backends.end())
+        o.backends.push_back(c.backend);
+      if (std::find(o.shells.begin(), o.shells.end(), c.shell) == o.shells.end())
+        o.shells.push_back(c.shell);
+      if (std::find(o.voxmaps.begin(), o.voxmaps.end(), c.voxmap) == o.voxmaps.end())
+        o.voxmaps.push_back(c.voxmap);
+    }
+    std::sort(o.shells.begin(), o.shells.end());
+    std::sort(o.voxmaps.begin(), o.voxmaps.end());
+    framesNote = "timed frames per cell: the frames column of bench.csv";
+  } else {
+    framesNote = std::to_string(o.frames) + " timed frames per cell after " +
+                 std::to_string(o.warmup) + " warm-up frames";
+  }
   const size_t total = o.methods.size() * o.backends.size() * o.shells.size() * o.voxmaps.size();
   for (auto m : o.methods)
     for (const auto& be : o.backends)
       for (int s : o.shells)
         for (int v : o.voxmaps) {
+          if (p.Has("replot"))
+            continue;
           std::cout << "[" << cells.size() + 1 << "/" << total << "] " << bm::ToString(m) << " "
                     << be << " shell " << s << " voxmap " << v << ": " << std::flush;
           bm::BenchCell c = bm::RunBenchCellIsolated(m, be, s, v, o);
@@ -150,8 +193,8 @@ int BenchCommand(const bm::cli::Args& args) {
   std::filesystem::create_directories(out);
   const std::string machine = MachineName();
   std::ostringstream note;
-  note << "\nMachine: " << machine << "; " << o.frames << " timed frames per cell after "
-       << o.warmup << " warm-up frames; CPU backend " << o.threads << " threads.\n";
+  note << "\nMachine: " << machine << "; " << framesNote << "; CPU backend " << o.threads
+       << " threads.\n";
   bm::WriteFileAtomic(out + "/bench.csv", bm::BenchCsv(cells));
   bm::WriteFileAtomic(out + "/table1.md",
                       bm::BenchTable(cells, bm::Method::Lazar,

@@ -286,6 +286,46 @@ std::string BenchCsv(const std::vector<BenchCell>& cells) {
   return os.str();
 }
 
+std::vector<BenchCell> ParseBenchCsv(const std::string& text) {
+  std::vector<BenchCell> cells;
+  std::istringstream in(text);
+  std::string line;
+  int lineNo = 0;
+  while (std::getline(in, line)) {
+    ++lineNo;
+    if (lineNo == 1 || line.empty())
+      continue; // header
+    std::vector<std::string> f;
+    std::stringstream ls(line);
+    std::string item;
+    while (std::getline(ls, item, ','))
+      f.push_back(item);
+    if (f.size() != 23)
+      throw std::runtime_error("bench.csv line " + std::to_string(lineNo) + ": expected 23 fields");
+    try {
+      BenchCell c;
+      c.method = MethodFromString(f[0]);
+      c.backend = f[1];
+      c.shell = std::stoi(f[2]);
+      c.voxmap = std::stoi(f[3]);
+      c.status = f[4];
+      c.engine = f[5];
+      c.elements = std::stoll(f[6]);
+      c.frames = std::stoi(f[7]);
+      double* d[] = {&c.medianMs,       &c.p99Ms,        &c.meanMs,      &c.sdMs,
+                     &c.maxMs,          &c.thrustN,      &c.torqueNmm,   &c.refThrustN,
+                     &c.refTorqueNmm,   &c.thrustError,  &c.torqueError, &c.forceError,
+                     &c.engagedCutting, &c.peakMemoryMb, &c.setupS};
+      for (size_t i = 0; i < 15; ++i)
+        *d[i] = std::stod(f[8 + i]);
+      cells.push_back(c);
+    } catch (const std::exception& e) {
+      throw std::runtime_error("bench.csv line " + std::to_string(lineNo) + ": " + e.what());
+    }
+  }
+  return cells;
+}
+
 std::string BenchTable(const std::vector<BenchCell>& cells, Method method, const std::string& title,
                        const std::vector<int>& shells, const std::vector<int>& voxmaps) {
   std::ostringstream os;
@@ -296,6 +336,7 @@ std::string BenchTable(const std::vector<BenchCell>& cells, Method method, const
     if (c.method == method &&
         std::find(backends.begin(), backends.end(), c.backend) == backends.end())
       backends.push_back(c.backend);
+  std::sort(backends.begin(), backends.end()); // cpu, then opencl
   auto find = [&](const std::string& be, int s, int v) -> const BenchCell* {
     for (const auto& c : cells)
       if (c.method == method && c.backend == be && c.shell == s && c.voxmap == v)

@@ -69,6 +69,9 @@ BenchCell RunBenchCellIsolated(Method method, const std::string& backend, int sh
 
 /// The CSV of the cells (header + one line per cell).
 std::string BenchCsv(const std::vector<BenchCell>& cells);
+/// Cells back from BenchCsv() text (a saved bench.csv). Throws std::runtime_error naming the
+/// line that does not parse.
+std::vector<BenchCell> ParseBenchCsv(const std::string& text);
 /// A markdown table per backend laid out like the paper's Tables I/II: rows point-shell
 /// resolution, columns voxmap resolution, "median (sd)" frame time in ms; then the p99 table.
 std::string BenchTable(const std::vector<BenchCell>& cells, Method method, const std::string& title,
