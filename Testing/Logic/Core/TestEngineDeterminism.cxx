@@ -21,6 +21,7 @@ constexpr int kVoxmapRes = 64;
 struct Case {
   const char* name;
   bm::test::Feed feed;
+  double blockDepthMm = 1.5;
 };
 
 std::vector<Case> Cases() {
@@ -34,7 +35,13 @@ std::vector<Case> Cases() {
   bm::test::Feed oblique = axial;
   oblique.direction = Eigen::Vector3d(0.6, 0.2, -1.0).normalized();
   oblique.entry = Eigen::Vector3d(-0.6, -0.2, 0.0);
-  return {{"axial", axial}, {"tilted", tilted}, {"oblique", oblique}};
+  // Through a 0.5 mm plate and out of its far side: elements stay engaged in voxels they emptied
+  // (bmElementResidency.h) while whole bricks around them go void, which the block rule must not
+  // cut short.
+  bm::test::Feed through = axial;
+  through.frames = 260;
+  return {
+      {"axial", axial}, {"tilted", tilted}, {"oblique", oblique}, {"breakthrough", through, 0.5}};
 }
 
 class EngineDeterminism : public ::testing::Test {
@@ -50,7 +57,9 @@ protected:
     delete Shell;
     delete InstShell;
   }
-  static bm::Voxmap Block() { return bm::MakeBoneBlock({5.0, 5.0, 1.5}, kVoxmapRes); }
+  static bm::Voxmap Block(double depthMm = 1.5) {
+    return bm::MakeBoneBlock({5.0, 5.0, depthMm}, kVoxmapRes);
+  }
 
   static inline bm::TwistDrill* Drill = nullptr;
   static inline bm::PointShell* Shell = nullptr;
@@ -96,7 +105,7 @@ TEST_F(EngineDeterminism, CpuEngineSameResultsOnOneAndTwoThreads) {
     for (const bm::PointShell* shell : {Shell, InstShell}) {
       Outcome runs[2];
       for (int t = 0; t < 2; ++t) {
-        runs[t].bone = Block();
+        runs[t].bone = Block(c.blockDepthMm);
         bm::CpuEngine engine(runs[t].bone, *Drill, *shell, model, t + 1);
         ASSERT_EQ(engine.Threads(), t + 1);
         runs[t].frames = bm::test::RunFeed(engine, *Drill, c.feed);
@@ -108,10 +117,13 @@ TEST_F(EngineDeterminism, CpuEngineSameResultsOnOneAndTwoThreads) {
 
 TEST_F(EngineDeterminism, ZhengEngineSameResultsOnOneAndTwoThreads) {
   const bm::ForceModel model = bm::ForceModel::Default(bm::Method::Zheng, *Drill);
+  // Zheng's pass visits every element each frame (no culling): two cases keep it short.
   for (const auto& c : Cases()) {
+    if (std::string(c.name) != "axial" && std::string(c.name) != "tilted")
+      continue;
     Outcome runs[2];
     for (int t = 0; t < 2; ++t) {
-      runs[t].bone = Block();
+      runs[t].bone = Block(c.blockDepthMm);
       bm::ZhengEngine engine(runs[t].bone, *Drill, *Shell, model, t + 1);
       runs[t].frames = bm::test::RunFeed(engine, *Drill, c.feed);
     }
@@ -124,8 +136,8 @@ TEST_F(EngineDeterminism, CullingRulesAreExact) {
   for (const auto& c : Cases()) {
     Outcome on, off;
     int64_t visitedOn = 0, visitedOff = 0;
-    on.bone = Block();
-    off.bone = Block();
+    on.bone = Block(c.blockDepthMm);
+    off.bone = Block(c.blockDepthMm);
     {
       bm::CpuEngine engine(on.bone, *Drill, *Shell, model, 2, bm::CullingOptions{true, true});
       on.frames = bm::test::RunFeed(engine, *Drill, c.feed);
@@ -146,7 +158,7 @@ TEST_F(EngineDeterminism, CullingRulesAreExact) {
     for (bm::CullingOptions opt :
          {bm::CullingOptions{true, false}, bm::CullingOptions{false, true}}) {
       Outcome one;
-      one.bone = Block();
+      one.bone = Block(c.blockDepthMm);
       bm::CpuEngine engine(one.bone, *Drill, *Shell, model, 1, opt);
       one.frames = bm::test::RunFeed(engine, *Drill, c.feed);
       ExpectSame(on, one,

@@ -53,6 +53,12 @@ double Get(const TrialResult& r, const char* key) {
   return r.summary.at(key).get<double>();
 }
 
+// Measured (Release): thrust error +0.47 % / +0.55 % / +0.37 %, torque +0.02 % / +0.01 % / +0.00 %
+// at 256/64, 512/128, 1024/256. Torque converges steadily; thrust does not fall monotonically:
+// its error is the point shell's midpoint rule over the force bins in the chisel's first bin,
+// where the feed angle turns within a few um of the axis (TestPointShell shows the same +0.55 %
+// at shell 512 without any voxmap). Asserted: within 1 % at the finest level and no worse there
+// than at the coarsest (0.2 % slack).
 TEST(FeedTrial, SteadyForcesConvergeToTheQuadratureReference) {
   const std::vector<Level> levels{{256, 64}, {512, 128}, {1024, 256}};
   std::vector<double> thrustErr, torqueErr;
@@ -84,7 +90,8 @@ TEST(FeedTrial, SteadyForcesConvergeToTheQuadratureReference) {
 // engaged elements ask for (an element may only empty its own voxel; requests past empty clip),
 // and less than the analytic volume below the final depth: where the two grids alias, voxels at
 // the hole's wall hold more or less element area than their cross-section, so some of the wall
-// is left standing (the lead measured ~5 % short at the default 2:1 grids). Asserted: within 8 %.
+// is left standing (the lead measured ~5 % short at the default 2:1 grids; here, at 512/128,
+// -0.5 % vs swept and -3.1 % vs analytic). Asserted: within 8 % of both.
 TEST(FeedTrial, RemovedVolumeEqualsSweptVolume) {
   const TrialResult r = RunTrial(DrillingScene({512, 128}));
   const double removed = Get(r, "removed_volume_mm3"), swept = Get(r, "swept_volume_mm3"),
