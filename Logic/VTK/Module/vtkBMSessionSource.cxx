@@ -1,0 +1,330 @@
+// vtkBMSessionSource.cxx - see vtkBMSessionSource.h.
+#include "vtkBMSessionSource.h"
+
+#include "bmBoneSurface.h"
+#ifdef BM_WITH_IO
+#include "bmCTVoxmap.h"
+#include "bmVoxmapFile.h"
+#endif
+#include "bmEdgeQuadrature.h"
+#include "bmHapticSession.h"
+#include "bmMachiningSetup.h"
+#include "bmProgrammableDevice.h"
+#include "bmScene.h"
+#include "bmScriptedDevice.h"
+#include "vtkBMToolSource.h"
+
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPolyData.h"
+#include "vtkTransform.h"
+#include "vtkTransformPolyDataFilter.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <filesystem>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+namespace {
+/// Limits of the scripted robot and the mouse proxy: both are position sources with no hand on
+/// them, held by a stiff arm (2000 N/mm, up to 5 kN), so the proxy lags the commanded pose by
+/// thrust / K (0.25 mm at 500 N of reaming thrust). A Touch (3.3 N) could not push a 36.5 mm
+/// reamer through cortical bone at a useful feed.
+bm::DeviceLimits PositionSourceLimits() {
+  bm::DeviceLimits l;
+  l.maxForceN = 5000;
+  l.maxStiffnessNPerMm = 2000;
+  l.maxDampingNsPerMm = 2.0;
+  l.workspaceRadiusMm = 1000;
+  return l;
+}
+} // namespace
+
+class vtkBMSessionSource::vtkInternals {
+public:
+  std::unique_ptr<bm::MachiningSetup> Setup;
+  std::shared_ptr<bm::ProgrammableDevice> Mouse;
+  std::unique_ptr<bm::HapticSession> Session;
+  bm::BoneSurface Surface{32, 0.5};
+  vtkNew<vtkBMToolSource> Tool;
+  int64_t LastFrame = -1;
+  bool HavePreviousBox = false;
+  bm::Box3 PreviousBox;
+  std::string Error;
+
+  /// World box (mm) around the tool's cutting part at a pose, one voxel wider.
+  bm::Box3 CuttingBox(const Eigen::Vector3d& pos, const Eigen::Matrix3d& rot) const {
+    const bm::ToolModel& tool = this->Setup->Tool();
+    double zHi = bm::ForemostCuttingZ(tool);
+    for (bm::EdgeKind kind : {bm::EdgeKind::Lip, bm::EdgeKind::Chisel}) {
+      const auto r = tool.EdgeRange(kind);
+      if (r[1] > r[0])
+        for (int i = 0; i <= 16; ++i)
+          zHi = std::max(zHi, tool.EdgeZ(kind, r[0] + (r[1] - r[0]) * i / 16.0));
+    }
+    const double R = tool.OuterRadius(), zLo = tool.AxialRange()[0];
+    const double pad = this->Setup->Bone().Spacing();
+    bm::Box3 box;
+    box.lo = {1e300, 1e300, 1e300};
+    box.hi = {-1e300, -1e300, -1e300};
+    for (int c = 0; c < 8; ++c) {
+      const Eigen::Vector3d local((c & 1) ? R : -R, (c & 2) ? R : -R, (c & 4) ? zHi : zLo);
+      const Eigen::Vector3d w = pos + rot * local;
+      for (int a = 0; a < 3; ++a) {
+        box.lo[a] = std::min(box.lo[a], w[a] - pad);
+        box.hi[a] = std::max(box.hi[a], w[a] + pad);
+      }
+    }
+    return box;
+  }
+
+  /// The mouse device's pose for a depth (mm) of the foremost cutting point below the entry.
+  bm::DevicePose MousePose(double depthMm) const {
+    const bm::TrialSpec& t = this->Setup->GetScene().trial;
+    const Eigen::Matrix3d rot = this->Setup->ToolRotation();
+    bm::DevicePose pose;
+    pose.positionMm = t.entry - t.axis.normalized() * depthMm -
+                      rot * Eigen::Vector3d(0, 0, bm::ForemostCuttingZ(this->Setup->Tool()));
+    pose.rotation = rot;
+    return pose;
+  }
+};
+
+vtkStandardNewMacro(vtkBMSessionSource);
+
+vtkBMSessionSource::vtkBMSessionSource() : Internals(new vtkInternals) {
+  this->SetNumberOfInputPorts(0);
+  this->SetNumberOfOutputPorts(2);
+  this->SetScene("glenoid");
+}
+
+vtkBMSessionSource::~vtkBMSessionSource() {
+  this->Stop();
+  this->SetScene(nullptr);
+  delete this->Internals;
+}
+
+const char* vtkBMSessionSource::GetLastError() {
+  return this->Internals->Error.c_str();
+}
+
+bool vtkBMSessionSource::Start() {
+  vtkInternals& in = *this->Internals;
+  this->Stop();
+  in.Session.reset();
+  in.Error.clear();
+  try {
+    const std::string name = this->Scene ? this->Scene : "glenoid";
+    bm::Scene scene =
+        (std::filesystem::path(name).extension() == ".json" || std::filesystem::exists(name))
+            ? bm::Scene::Load(name)
+            : bm::Scene::Builtin(name);
+    nlohmann::json j = scene.ToJson();
+    if (this->VoxmapResolution > 0)
+      j["voxmap_resolution"] = this->VoxmapResolution;
+    if (this->ShellResolution > 0)
+      j["shell_resolution"] = this->ShellResolution;
+    const std::string baseDir = scene.baseDir;
+    scene = bm::Scene::FromJson(j);
+    scene.baseDir = baseDir;
+#ifdef BM_WITH_IO
+    bm::Voxmap bone = scene.bone.type == "block"
+                          ? bm::MakeSceneBlock(scene)
+                          : bm::MakeCTVoxmap(scene.bone.ct, scene.baseDir, scene.voxmapResolution);
+#else
+    if (scene.bone.type != "block")
+      throw std::runtime_error("scene '" + scene.name +
+                               "' needs CT import, which this build leaves out");
+    bm::Voxmap bone = bm::MakeSceneBlock(scene);
+#endif
+    in.Setup = std::make_unique<bm::MachiningSetup>(scene, std::move(bone));
+
+    const bm::TrialSpec& t = scene.trial;
+    const Eigen::Vector3d axis = t.axis.normalized();
+    bm::SessionOptions options;
+    options.realTime = this->RealTime;
+    if (!this->RealTime)
+      options.overrunLimit = -1; // frames back to back have no period to overrun
+    std::shared_ptr<bm::Device> device;
+    if (this->DeviceType == MOUSE) {
+      in.Mouse = std::make_shared<bm::ProgrammableDevice>(PositionSourceLimits());
+      in.Mouse->SetPose(in.MousePose(this->ToolDepth));
+      device = in.Mouse;
+      options.maxFrames = this->MaxFrames;
+    } else {
+      in.Mouse.reset();
+      bm::ScriptedDeviceOptions o;
+      o.mode = bm::ScriptMode::Feed;
+      o.startMm = t.entry + axis * t.clearanceMm;
+      o.axis = axis;
+      o.rotation = in.Setup->ToolRotation();
+      o.feedMmPerRev = t.feedMmPerRev;
+      o.speedRpm = t.speedRpm;
+      o.limits = PositionSourceLimits();
+      device = std::make_shared<bm::ScriptedDevice>(o);
+      const double depth =
+          t.depthMm >= 0 ? t.depthMm : bm::FullEngagementDepth(in.Setup->Tool()) + t.extraDepthMm;
+      const double duration = (depth + t.clearanceMm) / (t.feedMmPerRev * t.speedRpm / 60.0);
+      options.maxFrames =
+          this->MaxFrames >= 0 ? this->MaxFrames : int64_t(std::ceil(duration * options.rateHz));
+    }
+    in.Session = std::make_unique<bm::HapticSession>(*in.Setup, device, options);
+
+    const nlohmann::json& tool = scene.tool;
+    const std::string kind = tool.value("type", "drill");
+    in.Tool->SetToolType(kind == "reamer" ? vtkBMToolSource::REAMER
+                         : kind == "burr" ? vtkBMToolSource::BURR
+                                          : vtkBMToolSource::DRILL);
+    nlohmann::json params = tool;
+    params.erase("type");
+    in.Tool->SetParameters(params.dump().c_str());
+    in.Surface.MarkAllDirty();
+    in.HavePreviousBox = false;
+    in.LastFrame = -1;
+    in.Session->Start();
+  } catch (const std::exception& e) {
+    in.Error = e.what();
+    in.Session.reset();
+    vtkErrorMacro(<< "cannot start the session: " << in.Error);
+    return false;
+  }
+  this->Modified();
+  return true;
+}
+
+void vtkBMSessionSource::Pause() {
+  if (this->Internals->Session)
+    this->Internals->Session->Pause();
+}
+
+void vtkBMSessionSource::Resume() {
+  if (this->Internals->Session)
+    this->Internals->Session->Resume();
+}
+
+void vtkBMSessionSource::Stop() {
+  if (this->Internals->Session) {
+    this->Internals->Session->Stop();
+    this->Modified();
+  }
+}
+
+void vtkBMSessionSource::SetToolDepth(double depthMm) {
+  if (this->ToolDepth == depthMm)
+    return;
+  this->ToolDepth = depthMm;
+  if (this->Internals->Mouse && this->Internals->Setup)
+    this->Internals->Mouse->SetPose(this->Internals->MousePose(depthMm));
+  this->Modified();
+}
+
+bool vtkBMSessionSource::SaveBone(const char* path) {
+  vtkInternals& in = *this->Internals;
+  if (!in.Setup || !path) {
+    in.Error = "no session bone to save";
+    return false;
+  }
+  try {
+    if (in.Session) {
+      in.Session->Pause();
+      in.Session->WaitUntilPaused(1.0);
+    }
+    in.Setup->GetEngine().SyncBone();
+#ifdef BM_WITH_IO
+    bm::SaveVoxmap(in.Setup->Bone(), path);
+#else
+    throw std::runtime_error("saving voxmaps needs the IO library, which this build leaves out");
+#endif
+  } catch (const std::exception& e) {
+    in.Error = e.what();
+    vtkErrorMacro(<< "cannot save the bone: " << in.Error);
+    return false;
+  }
+  return true;
+}
+
+bool vtkBMSessionSource::GetNeedsUpdate() {
+  vtkInternals& in = *this->Internals;
+  const bool needs = in.Session && in.Session->Snapshot().frame != in.LastFrame;
+  if (needs)
+    this->Modified(); // so that the pipeline update that follows the poll re-executes
+  return needs;
+}
+
+int vtkBMSessionSource::RequestData(vtkInformation*, vtkInformationVector**,
+                                    vtkInformationVector* outputVector) {
+  vtkInternals& in = *this->Internals;
+  vtkPolyData* bone = vtkPolyData::GetData(outputVector, 0);
+  vtkPolyData* tool = vtkPolyData::GetData(outputVector, 1);
+  if (!in.Setup || !in.Session)
+    return 1; // nothing started yet: empty outputs
+  const auto t0 = std::chrono::steady_clock::now();
+  const bm::SessionSnapshot s = in.Session->Snapshot();
+  in.LastFrame = s.frame;
+
+  // Re-extract where the tool's cutting part was since the last update.
+  const bm::Box3 box = in.CuttingBox(s.proxyPositionMm, s.toolRotation);
+  bm::Box3 dirty = box;
+  if (in.HavePreviousBox)
+    for (int a = 0; a < 3; ++a) {
+      dirty.lo[a] = std::min(dirty.lo[a], in.PreviousBox.lo[a]);
+      dirty.hi[a] = std::max(dirty.hi[a], in.PreviousBox.hi[a]);
+    }
+  in.PreviousBox = box;
+  in.HavePreviousBox = true;
+  in.Surface.MarkDirty(dirty);
+  this->BricksUpdated = in.Surface.Update(in.Setup->Bone());
+  bone->ShallowCopy(in.Surface.GetOutput());
+
+  vtkNew<vtkTransform> pose;
+  double m[16] = {0};
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c)
+      m[4 * r + c] = s.toolRotation(r, c);
+    m[4 * r + 3] = s.proxyPositionMm[r];
+  }
+  m[15] = 1;
+  pose->SetMatrix(m);
+  vtkNew<vtkTransformPolyDataFilter> place;
+  place->SetInputConnection(in.Tool->GetOutputPort());
+  place->SetTransform(pose);
+  place->Update();
+  tool->ShallowCopy(place->GetOutput());
+
+  const bm::TrialSpec& t = in.Setup->GetScene().trial;
+  const Eigen::Vector3d tip =
+      s.proxyPositionMm +
+      s.toolRotation * Eigen::Vector3d(0, 0, bm::ForemostCuttingZ(in.Setup->Tool()));
+  this->State = int(s.state);
+  this->Frame = s.frame;
+  this->TimeS = s.timeS;
+  this->ThrustN = s.thrustN;
+  this->TorqueNmm = s.torqueNmm;
+  this->RemovedVolumeMm3 = s.removedVolumeMm3;
+  this->DepthMm = (t.entry - tip).dot(t.axis.normalized());
+  this->FrameMsP50 = s.timing.p50Ms;
+  this->FrameMsP99 = s.timing.p99Ms;
+  this->ExtractMs =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return 1;
+}
+
+void vtkBMSessionSource::PrintSelf(ostream& os, vtkIndent indent) {
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Scene: " << (this->Scene ? this->Scene : "(none)") << "\n";
+  os << indent << "VoxmapResolution: " << this->VoxmapResolution << "\n";
+  os << indent << "ShellResolution: " << this->ShellResolution << "\n";
+  os << indent << "DeviceType: " << this->DeviceType << "\n";
+  os << indent << "RealTime: " << this->RealTime << "\n";
+  os << indent << "MaxFrames: " << this->MaxFrames << "\n";
+  os << indent << "ToolDepth: " << this->ToolDepth << " mm\n";
+  os << indent << "Frame: " << this->Frame << ", removed " << this->RemovedVolumeMm3 << " mm^3\n";
+}
