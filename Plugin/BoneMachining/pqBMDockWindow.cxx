@@ -17,9 +17,12 @@
 #include "vtkSMViewProxy.h"
 
 #include <QScrollArea>
+#include <QTimer>
+
+#include <string>
 
 pqBMDockWindow::pqBMDockWindow(QWidget* parent)
-    : Superclass(tr("Bone Machining"), parent), Panel(new qBMPanel) {
+    : Superclass(tr("Bone Machining"), parent), Panel(new qBMPanel), Poll(new QTimer(this)) {
   // Object names make the widgets addressable by ParaView's XML GUI tests (Testing/GUI).
   auto* scroll = new QScrollArea(this);
   scroll->setObjectName("ScrollArea");
@@ -28,6 +31,15 @@ pqBMDockWindow::pqBMDockWindow(QWidget* parent)
   scroll->setWidget(this->Panel);
   this->setWidget(scroll);
   QObject::connect(this->Panel, &qBMPanel::addToolRequested, this, &pqBMDockWindow::addTool);
+  QObject::connect(this->Panel, &qBMPanel::startSessionRequested, this,
+                   &pqBMDockWindow::startSession);
+  QObject::connect(this->Panel, &qBMPanel::pauseSessionRequested, this,
+                   &pqBMDockWindow::pauseSession);
+  QObject::connect(this->Panel, &qBMPanel::stopSessionRequested, this,
+                   &pqBMDockWindow::stopSession);
+  QObject::connect(this->Panel, &qBMPanel::toolDepthChanged, this, &pqBMDockWindow::setToolDepth);
+  this->Poll->setInterval(33);
+  QObject::connect(this->Poll, &QTimer::timeout, this, &pqBMDockWindow::pollSession);
 }
 
 pqBMDockWindow::~pqBMDockWindow() = default;
@@ -59,4 +71,83 @@ void pqBMDockWindow::addTool(int toolType, int resolution) {
                                      "on the server?"));
   }
   END_UNDO_SET();
+}
+
+void pqBMDockWindow::startSession(const QString& scene, int voxmapResolution, int shellResolution,
+                                  int deviceType) {
+  pqServer* server = pqActiveObjects::instance().activeServer();
+  if (!server)
+    return;
+  pqPipelineSource* source = pqApplicationCore::instance()->getObjectBuilder()->createSource(
+      "sources", "BMSessionSource", server);
+  if (!source) {
+    this->Panel->setSessionStatus(tr("Could not create a BM Session source."), false);
+    return;
+  }
+  vtkSMSourceProxy* proxy = vtkSMSourceProxy::SafeDownCast(source->getProxy());
+  vtkSMPropertyHelper(proxy, "Scene").Set(scene.toUtf8().constData());
+  vtkSMPropertyHelper(proxy, "VoxmapResolution").Set(voxmapResolution);
+  vtkSMPropertyHelper(proxy, "ShellResolution").Set(shellResolution);
+  vtkSMPropertyHelper(proxy, "DeviceType").Set(deviceType);
+  vtkSMPropertyHelper(proxy, "ToolDepth").Set(this->Panel->toolDepth());
+  proxy->UpdateVTKObjects();
+  proxy->InvokeCommand("Start");
+  proxy->UpdatePropertyInformation();
+  const std::string error = vtkSMPropertyHelper(proxy, "LastErrorInfo").GetAsString();
+  if (!error.empty()) { // Start() failed (bad scene, import error)
+    this->Panel->setSessionStatus(
+        tr("Could not start %1: %2").arg(source->getSMName(), QString::fromStdString(error)),
+        false);
+    return;
+  }
+  source->updatePipeline();
+  source->setModifiedState(pqProxy::UNMODIFIED);
+  if (pqView* view = pqActiveObjects::instance().activeView()) {
+    vtkNew<vtkSMParaViewPipelineControllerWithRendering> controller;
+    controller->Show(proxy, 0, view->getViewProxy());
+    controller->Show(proxy, 1, view->getViewProxy());
+    view->resetDisplay();
+    view->render();
+  }
+  this->Session = source;
+  this->Poll->start();
+  this->Panel->setSessionStatus(tr("Started %1.").arg(source->getSMName()), true);
+}
+
+void pqBMDockWindow::pauseSession(bool paused) {
+  if (!this->Session)
+    return;
+  this->Session->getProxy()->InvokeCommand(paused ? "Pause" : "Resume");
+  this->Panel->setSessionStatus(
+      (paused ? tr("Paused %1.") : tr("Resumed %1.")).arg(this->Session->getSMName()), true);
+}
+
+void pqBMDockWindow::stopSession() {
+  this->Poll->stop();
+  if (!this->Session)
+    return;
+  this->Session->getProxy()->InvokeCommand("Stop");
+  this->pollSession();
+  this->Panel->setSessionStatus(tr("Stopped %1.").arg(this->Session->getSMName()), false);
+}
+
+void pqBMDockWindow::setToolDepth(double depthMm) {
+  if (!this->Session)
+    return;
+  vtkSMProxy* proxy = this->Session->getProxy();
+  vtkSMPropertyHelper(proxy, "ToolDepth").Set(depthMm);
+  proxy->UpdateVTKObjects();
+}
+
+void pqBMDockWindow::pollSession() {
+  if (!this->Session)
+    return;
+  vtkSMProxy* proxy = this->Session->getProxy();
+  proxy->UpdatePropertyInformation();
+  this->Panel->setSessionNumbers(vtkSMPropertyHelper(proxy, "TimeInfo").GetAsDouble(),
+                                 vtkSMPropertyHelper(proxy, "DepthInfo").GetAsDouble(),
+                                 vtkSMPropertyHelper(proxy, "RemovedVolumeInfo").GetAsDouble(),
+                                 vtkSMPropertyHelper(proxy, "ThrustInfo").GetAsDouble(),
+                                 vtkSMPropertyHelper(proxy, "TorqueInfo").GetAsDouble(),
+                                 vtkSMPropertyHelper(proxy, "FrameMsP99Info").GetAsDouble());
 }

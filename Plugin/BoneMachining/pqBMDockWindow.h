@@ -3,8 +3,11 @@
 #pragma once
 
 #include <QDockWidget>
+#include <QPointer>
 
+class pqPipelineSource;
 class qBMPanel;
+class QTimer;
 
 class pqBMDockWindow : public QDockWidget {
   Q_OBJECT
@@ -22,8 +25,19 @@ private Q_SLOTS:
   /// Creates a "BM Tool" source (vtkBMToolSource) with the given ToolType and Resolution on the
   /// active server, applies it and shows it in the active view, if there is one.
   void addTool(int toolType, int resolution);
+  /// Creates a "BM Session" source (vtkBMSessionSource) with the panel's choices, starts it and
+  /// shows the cut bone and the tool in the active view. ParaView's live-source behaviour
+  /// re-executes it as it cuts; pollSession() reads its numbers into the panel (~30 Hz).
+  void startSession(const QString& scene, int voxmapResolution, int shellResolution,
+                    int deviceType);
+  void pauseSession(bool paused);
+  void stopSession();
+  void setToolDepth(double depthMm);
+  void pollSession();
 
 private:
   Q_DISABLE_COPY(pqBMDockWindow);
   qBMPanel* Panel;
+  QPointer<pqPipelineSource> Session;
+  QTimer* Poll;
 };
