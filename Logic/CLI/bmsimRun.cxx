@@ -35,7 +35,7 @@ const char* kUsage = R"(usage: bmsim run SCENE [options]
   --feed F                 feed per revolution, mm/rev (drilling default 0.02)
   --speed N                spindle speed, rpm (default 1000)
   --voxmap-resolution N    cells along the bone's longest side (default 256)
-  --shell-resolution N     cells along the tool's longest side (default 512)
+  --shell-resolution N     cells along the tool's longest side (default 1024)
   --method lazar|zheng     force model and pipeline (default lazar)
   --threads N              CPU threads (default 2)
   --backend cpu|opencl     compute backend (default cpu)

@@ -76,11 +76,11 @@ public:
   /// model is the same in both methods (Faieghi et al. compare the lips only).
   ForceModel(Method m, Coefficients lips, Coefficients chisel);
 
-  /// Default coefficients for cortical bone (an assumption, see the .cxx): the Lazar model is
-  /// calibrated to the middle of Lee et al.'s published ranges for the reference drill at
-  /// f = 0.02 mm/rev, n = 1000 rpm; the Zheng model is fitted to the Lazar model's entry-phase
-  /// curves over the four conditions f in {0.01, 0.02} x n in {500, 3000} through the same
-  /// calibration code, so the two methods are compared on equal footing.
+  /// Default coefficients for cortical bone (an assumption, see the .cxx): the Lazar model with
+  /// k_f = 0.5 gives the reference drill at f = 0.02 mm/rev, n = 1000 rpm a thrust of 10 N (the
+  /// middle of Lee et al.'s range) and 11.35 N mm; the Zheng model is fitted to the Lazar
+  /// model's entry-phase curves over the four conditions f in {0.01, 0.02} x n in {500, 3000}
+  /// through the same calibration code, so the two methods are compared on equal footing.
   static ForceModel Default(Method m, const ToolModel& tool);
 
   Method GetMethod() const { return Method_; }

@@ -241,16 +241,39 @@ PointShell PointShell::Build(const ToolModel& tool, int resolution, LipMode mode
   auto binSlot = [&](size_t e) { return size_t(raw[e].bin) + (mode == LipMode::Instantaneous ? nB * lipOf[e] : 0); };
   for (size_t e = 0; e < raw.size(); ++e)
     if (raw[e].bin != kNoBin) binCount[binSlot(e)]++;
+  // Radial extent each slot stands for. A bin that no element of a lip landed in (a single lip
+  // of the instantaneous shell is one spacing wide, so some bins stay empty) hands its extent to
+  // the nearest filled bin of the same lip and kind, so no part of an edge is lost.
+  std::vector<double> slotDr(binCount.size(), 0.0);
+  for (size_t slot = 0; slot < binCount.size(); ++slot) {
+    const size_t bin = slot % nB, lipBase = slot - bin;
+    const KindBins* k = nullptr;
+    for (const auto& b : kb)
+      if (int(bin) >= b.first && int(bin) < b.first + b.count) k = &b;
+    if (binCount[slot] > 0) {
+      slotDr[slot] += k->dr;
+      continue;
+    }
+    // Nearest filled bin of the same kind and lip (ties go inward).
+    for (int dist = 1; dist < k->count; ++dist) {
+      const int lo = int(bin) - dist, hi = int(bin) + dist;
+      if (lo >= k->first && binCount[lipBase + size_t(lo)] > 0) {
+        slotDr[lipBase + size_t(lo)] += k->dr;
+        break;
+      }
+      if (hi < k->first + k->count && binCount[lipBase + size_t(hi)] > 0) {
+        slotDr[lipBase + size_t(hi)] += k->dr;
+        break;
+      }
+    }
+  }
   for (size_t e = 0; e < raw.size(); ++e) {
     const int sb = std::clamp(int(sOf[e] / ds), 0, nS - 1);
     const double area = sArea[sb] / sCount[sb];
     for (int a = 0; a < 3; ++a) raw[e].areaNormal[a] = float(area * raw[e].unitNormal[a]);
     if (raw[e].bin != kNoBin) {
-      double dr = 0;
-      for (const auto& b : kb)
-        if (raw[e].bin >= b.first && raw[e].bin < b.first + b.count) dr = b.dr;
       const double lips = mode == LipMode::Instantaneous ? 1.0 : double(nLips);
-      raw[e].delta = float(lips * dr / binCount[binSlot(e)]);
+      raw[e].delta = float(lips * slotDr[binSlot(e)] / binCount[binSlot(e)]);
       ps.NumCutting_++;
     }
   }
