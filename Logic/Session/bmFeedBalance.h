@@ -29,7 +29,8 @@ public:
   /// Feeds tabulated from fMin to fMax (mm/rev, defaults 1e-5 and 1.0).
   FeedBalance(const ToolModel& tool, const ForceModel& model, double fMinMmPerRev = 1e-5,
               double fMaxMmPerRev = 1.0);
-  /// Fully engaged thrust at feed f (mm/rev) and speed n (rpm), N.
+  /// Fully engaged thrust at feed f (mm/rev) and speed n (rpm), N. A new speed rebuilds the table
+  /// (a few ms): call it once for the session's speed before the haptic loop starts.
   double FullThrust(double f, double n);
   /// The advance u in [0, uMax] (mm) described above; 0 when F0 <= 0 or s <= 0.
   double SolveAdvance(double s, double f0N, double cNPerMm, double speedRpm, double frameS,

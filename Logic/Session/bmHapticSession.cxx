@@ -53,7 +53,7 @@ HapticSession::HapticSession(MachiningSetup& setup, std::shared_ptr<Device> devi
   SpeedRpm_.store(O_.speedRpm >= 0 ? O_.speedRpm : setup.GetScene().trial.speedRpm);
   Proxy_ = std::make_unique<Proxy>(Setup_, Device_->Limits(), Period_, O_.proxy);
   OverrunWindow_.assign(size_t(std::max(1, O_.overrunWindow)), 0);
-  Publish();
+  Publish(true);
 }
 
 HapticSession::~HapticSession() {
@@ -74,9 +74,17 @@ void HapticSession::Start() {
   if (Started_.exchange(true))
     throw std::logic_error("session: already started");
   Device_->Start();
-  // Limits are known now (the Touch reads them from the driver): rebuild the proxy's coupling.
-  Proxy_ = std::make_unique<Proxy>(Setup_, Device_->Limits(), Period_, O_.proxy);
+  // Limits are known now (the Touch reads them from the driver): rebuild the proxy if they differ.
+  const DeviceLimits l = Device_->Limits();
+  const VirtualCoupling expect(O_.proxy.coupling, l, Period_);
+  if (expect.Stiffness() != Proxy_->Coupling().Stiffness() ||
+      expect.Damping() != Proxy_->Coupling().Damping() ||
+      expect.MaxForce() != Proxy_->Coupling().MaxForce())
+    Proxy_ = std::make_unique<Proxy>(Setup_, l, Period_, O_.proxy);
+  Proxy_->Prepare(SpeedRpm_.load());
   State_.store(int(SessionState::Running));
+  Work_.state = SessionState::Running;
+  Publish(true);
   Thread_ = std::thread([this] { Loop(); });
 }
 
@@ -100,7 +108,7 @@ void HapticSession::Stop() {
     State_.store(int(SessionState::Stopped));
     Work_.state = SessionState::Stopped;
     Work_.timing = Hist_.Stats();
-    Publish();
+    Publish(true);
   }
 }
 
@@ -127,17 +135,20 @@ TimingStats HapticSession::Timing() const {
   return Snapshot().timing;
 }
 
-void HapticSession::Publish() {
+bool HapticSession::Publish(bool wait) {
   const int w = 1 - Latest_.load(std::memory_order_relaxed);
-  std::unique_lock<std::mutex> lock(SlotMutex_[w], std::try_to_lock);
-  if (!lock.owns_lock()) {
+  std::unique_lock<std::mutex> lock(SlotMutex_[w], std::defer_lock);
+  if (wait) {
+    lock.lock();
+  } else if (!lock.try_lock()) {
     SkippedSnapshots_.fetch_add(1, std::memory_order_relaxed);
-    return;
+    return false;
   }
   Work_.droppedRecords = Ring_.Dropped();
   Slot_[w] = Work_;
   lock.unlock();
   Latest_.store(w, std::memory_order_release);
+  return true;
 }
 
 void HapticSession::Fault(PauseReason why) {
@@ -162,8 +173,13 @@ void HapticSession::Loop() {
         Work_.pauseReason = PauseReason(Reason_.load());
         Work_.deviceForceN.setZero();
         Work_.timing = Hist_.Stats();
+        Unpublished_ = true;
+      }
+      if (Unpublished_ && Publish()) {
+        // The state flag follows the published snapshot (a reader may have held the slot), so
+        // whoever sees Paused also reads the paused snapshot.
+        Unpublished_ = false;
         State_.store(int(SessionState::Paused));
-        Publish();
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
       next = clock::now();
@@ -262,7 +278,7 @@ void HapticSession::RunFrame() {
   Resumed_ = false;
   if ((Work_.frame & 63) == 0)
     Work_.timing = Hist_.Stats();
-  Publish();
+  Unpublished_ = !Publish();
   if (ws != DeviceStatus::Ok)
     Fault(ws == DeviceStatus::Error ? PauseReason::DeviceError : PauseReason::DeviceSilent);
   else if (O_.overrunLimit >= 0 && OverrunsInWindow_ > O_.overrunLimit)

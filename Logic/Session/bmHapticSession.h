@@ -115,7 +115,9 @@ private:
   void Loop();
   void RunFrame();
   void Fault(PauseReason why);
-  void Publish();
+  /// Haptic thread: try-lock (never waits), returns false when the slot was busy. wait = true
+  /// (other threads, outside the loop): blocks for the slot.
+  bool Publish(bool wait = false);
 
   MachiningSetup& Setup_;
   std::shared_ptr<Device> Device_;
@@ -133,7 +135,7 @@ private:
   TimingHistogram Hist_;
   std::vector<uint8_t> OverrunWindow_;
   int OverrunsInWindow_ = 0;
-  bool WasPaused_ = false, Resumed_ = false;
+  bool WasPaused_ = false, Resumed_ = false, Unpublished_ = false;
   DevicePose Pose_;
   // Double-buffered snapshot.
   mutable std::mutex SlotMutex_[2];

@@ -44,6 +44,17 @@ Proxy::Proxy(MachiningSetup& setup, const DeviceLimits& limits, double frameS,
 
 Proxy::~Proxy() = default;
 
+void Proxy::Prepare(double speedRpm) {
+  if (speedRpm > 0)
+    Balance_.FullThrust(0.02, speedRpm);
+  // One engine frame far from the bone: no element is engaged and nothing is removed.
+  FrameInput in;
+  in.position = Eigen::Vector3d(1e6, 1e6, 1e6);
+  in.removeMaterial = false;
+  in.speedRpm = speedRpm > 0 ? speedRpm : 1000;
+  Setup_.GetEngine().Step(in);
+}
+
 Eigen::Vector3d Proxy::Sweep(const Eigen::Vector3d& from, const Eigen::Vector3d& to,
                              const Eigen::Matrix3d& R, double band) const {
   const Eigen::Vector3d d = to - from;

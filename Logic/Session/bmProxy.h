@@ -90,6 +90,10 @@ public:
   /// speed speedRpm (0 = stopped). The first call places the proxy at the device.
   ProxyFrame Step(const Eigen::Vector3d& deviceMm, const Eigen::Matrix3d& rotation,
                   double speedRpm);
+  /// Warm-up before the haptic loop: the feed-balance table for speedRpm (rpm) and one engine
+  /// frame that touches nothing (the backend's first-frame costs). Default: not needed for
+  /// correctness, only for the first frames' timing.
+  void Prepare(double speedRpm);
   /// Places the proxy at the device again (no force) on the next Step.
   void Reset() { Started_ = false; }
   /// Keeps the proxy (and the cut) but forgets the device's last position, so that a device that

@@ -19,6 +19,8 @@ ReplayResult Replay(const Recording& rec, MachiningSetup& setup) {
   const SessionOptions o =
       SessionOptionsFromJson(rec.meta.value("session", nlohmann::json::object()), limits);
   Proxy proxy(setup, limits, 1.0 / o.rateHz, o.proxy);
+  // The session warmed its proxy up the same way before its first frame.
+  proxy.Prepare(rec.frames.empty() ? 0.0 : rec.frames.front().speedRpm);
   ReplayResult out;
   auto diff3 = [](const std::array<double, 3>& a, const Eigen::Vector3d& b) {
     return (Eigen::Vector3d(a[0], a[1], a[2]) - b).norm();

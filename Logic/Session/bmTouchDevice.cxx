@@ -217,7 +217,12 @@ DeviceStatus TouchDevice::Read(DevicePose& pose) {
 DeviceStatus TouchDevice::Write(const Eigen::Vector3d& forceN) {
   if (!Running_)
     return DeviceStatus::NoResponse;
-  State_.TryPutForce(forceN); // busy only while the servo copies it out: next frame's write lands
+  // Busy only while the servo copies the force out: a lost write lands next frame. Zero force
+  // (a pause or a fault) must get through now, so it waits for those few instructions.
+  if (forceN.isZero(0.0))
+    State_.PutForce(forceN);
+  else
+    State_.TryPutForce(forceN);
   return Error_.load(std::memory_order_relaxed) != hd::kSuccess ? DeviceStatus::Error
                                                                 : DeviceStatus::Ok;
 }

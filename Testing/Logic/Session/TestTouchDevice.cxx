@@ -1,0 +1,167 @@
+// The Touch device through the fake libHD.so (Testing/Logic/Session/FakeHD): the dlopen path,
+// init, force output, servo callback, limits query, error codes, a stalled servo loop, and a
+// session that pauses with zero force when the device reports an error.
+#include <gtest/gtest.h>
+
+#include <dlfcn.h>
+
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+#include "bmHapticSession.h"
+#include "bmSessionTestUtil.h"
+#include "bmTouchDevice.h"
+
+namespace {
+
+struct FakeHD {
+  void* lib = nullptr;
+  void (*reset)() = nullptr;
+  void (*setPosition)(double, double, double) = nullptr;
+  void (*injectError)(unsigned, int) = nullptr;
+  void (*failInit)(unsigned) = nullptr;
+  void (*setStalled)(int) = nullptr;
+  long (*forceCount)() = nullptr;
+  int (*getForce)(long, double*) = nullptr;
+  int (*forceOutput)() = nullptr;
+  int (*schedulerRunning)() = nullptr;
+  FakeHD() {
+    lib = dlopen(BM_FAKE_HD_PATH, RTLD_NOW | RTLD_LOCAL);
+    if (!lib)
+      return;
+    reset = reinterpret_cast<void (*)()>(dlsym(lib, "fakeHD_Reset"));
+    setPosition =
+        reinterpret_cast<void (*)(double, double, double)>(dlsym(lib, "fakeHD_SetPosition"));
+    injectError = reinterpret_cast<void (*)(unsigned, int)>(dlsym(lib, "fakeHD_InjectError"));
+    failInit = reinterpret_cast<void (*)(unsigned)>(dlsym(lib, "fakeHD_FailInit"));
+    setStalled = reinterpret_cast<void (*)(int)>(dlsym(lib, "fakeHD_SetStalled"));
+    forceCount = reinterpret_cast<long (*)()>(dlsym(lib, "fakeHD_ForceCount"));
+    getForce = reinterpret_cast<int (*)(long, double*)>(dlsym(lib, "fakeHD_GetForce"));
+    forceOutput = reinterpret_cast<int (*)()>(dlsym(lib, "fakeHD_ForceOutputEnabled"));
+    schedulerRunning = reinterpret_cast<int (*)()>(dlsym(lib, "fakeHD_SchedulerRunning"));
+    reset();
+  }
+  ~FakeHD() {
+    if (lib)
+      dlclose(lib);
+  }
+  Eigen::Vector3d Force(long i) const {
+    double f[3] = {0, 0, 0};
+    getForce(i, f);
+    return {f[0], f[1], f[2]};
+  }
+};
+
+void WaitMs(int ms) {
+  std::this_thread::sleep_for(std::chrono::milliseconds(ms));
+}
+
+TEST(TouchDevice, LoadsTheLibraryInitialisesAndRunsTheServoLoop) {
+  FakeHD fake;
+  ASSERT_NE(fake.lib, nullptr) << dlerror();
+  fake.setPosition(1.5, -2.0, 30.0);
+  bm::TouchDevice touch(BM_FAKE_HD_PATH);
+  touch.Start();
+  EXPECT_EQ(fake.forceOutput(), 1);
+  EXPECT_EQ(fake.schedulerRunning(), 1);
+  // Limits come from the driver (the fake reports 0.35 N/mm, unlike the published 0.4).
+  EXPECT_DOUBLE_EQ(touch.Limits().maxStiffnessNPerMm, 0.35);
+  EXPECT_DOUBLE_EQ(touch.Limits().maxForceN, 3.3);
+  EXPECT_DOUBLE_EQ(touch.Limits().maxDampingNsPerMm, 0.003);
+  WaitMs(20);
+  bm::DevicePose p;
+  ASSERT_EQ(touch.Read(p), bm::DeviceStatus::Ok);
+  EXPECT_DOUBLE_EQ(p.positionMm(0), 1.5);
+  EXPECT_DOUBLE_EQ(p.positionMm(2), 30.0);
+  ASSERT_EQ(touch.Write({0.1, 0.2, 0.3}), bm::DeviceStatus::Ok);
+  WaitMs(20);
+  const long n = fake.forceCount();
+  ASSERT_GT(n, 0);
+  EXPECT_TRUE(fake.Force(n - 1).isApprox(Eigen::Vector3d(0.1, 0.2, 0.3)));
+  EXPECT_GT(touch.ServoTicks(), 5u);
+  touch.Stop();
+  EXPECT_EQ(fake.schedulerRunning(), 0);
+  // The last force the device got is zero.
+  EXPECT_EQ(fake.Force(fake.forceCount() - 1), Eigen::Vector3d::Zero());
+}
+
+TEST(TouchDevice, ReportsErrorCodesAndAStalledServoLoop) {
+  FakeHD fake;
+  ASSERT_NE(fake.lib, nullptr);
+  {
+    bm::TouchDevice touch(BM_FAKE_HD_PATH);
+    touch.Start();
+    WaitMs(10);
+    fake.injectError(bm::hd::kCommError, 17);
+    WaitMs(20);
+    bm::DevicePose p;
+    EXPECT_EQ(touch.Read(p), bm::DeviceStatus::Error);
+    EXPECT_NE(touch.LastError().find("HD_COMM_ERROR"), std::string::npos) << touch.LastError();
+    touch.Stop();
+  }
+  fake.reset();
+  {
+    bm::TouchDevice touch(BM_FAKE_HD_PATH, 0.02);
+    touch.Start();
+    WaitMs(10);
+    bm::DevicePose p;
+    EXPECT_EQ(touch.Read(p), bm::DeviceStatus::Ok);
+    fake.setStalled(1);
+    WaitMs(60);
+    EXPECT_EQ(touch.Read(p), bm::DeviceStatus::NoResponse);
+    fake.setStalled(0);
+    touch.Stop();
+  }
+  fake.reset();
+  fake.failInit(bm::hd::kDeviceFault);
+  bm::TouchDevice broken(BM_FAKE_HD_PATH);
+  try {
+    broken.Start();
+    FAIL() << "init failure not reported";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("HD_DEVICE_FAULT"), std::string::npos) << e.what();
+  }
+  fake.reset();
+  bm::TouchDevice missing("/nonexistent/libHD.so");
+  EXPECT_THROW(missing.Start(), std::runtime_error);
+}
+
+TEST(TouchDevice, SessionSendsOnlyLimitedForcesAndPausesWithZeroForceOnADeviceError) {
+  FakeHD fake;
+  ASSERT_NE(fake.lib, nullptr);
+  // Burr resting 0.3 mm inside a block (spindle stopped): the coupling pulls the stylus out.
+  bm::MachiningSetup setup(bm::test::BurrScene(0.5, {3, 3, 1.5}, 48, 64),
+                           bm::MakeSceneBlock(bm::test::BurrScene(0.5, {3, 3, 1.5}, 48, 64)));
+  fake.setPosition(0, 0, 0.1);
+  auto touch = std::make_shared<bm::TouchDevice>(BM_FAKE_HD_PATH);
+  bm::SessionOptions o;
+  o.speedRpm = 0;
+  o.overrunLimit = -1; // sanitizer builds run slowly: only the device fault is under test here
+  bm::HapticSession session(setup, touch, o);
+  session.Start();
+  WaitMs(30);
+  fake.setPosition(0, 0, -20.0); // plunge 20 mm: the coupling wants 8 N, the device may take 3.3 N
+  WaitMs(60);
+  bm::SessionSnapshot s = session.Snapshot();
+  EXPECT_EQ(s.state, bm::SessionState::Running);
+  EXPECT_GT(s.deviceForceN(2), 3.0);
+  const long before = fake.forceCount();
+  ASSERT_GT(before, 0);
+  double maxF = 0;
+  for (long i = 0; i < before; ++i)
+    maxF = std::max(maxF, fake.Force(i).norm());
+  EXPECT_LE(maxF, touch->Limits().maxForceN);
+  fake.injectError(bm::hd::kExceededMaxVelocity, 3);
+  ASSERT_TRUE(session.WaitUntilPaused(2.0));
+  WaitMs(20);
+  s = session.Snapshot();
+  EXPECT_EQ(s.state, bm::SessionState::Paused);
+  EXPECT_EQ(s.pauseReason, bm::PauseReason::DeviceError);
+  EXPECT_EQ(fake.Force(fake.forceCount() - 1), Eigen::Vector3d::Zero());
+  session.Stop();
+  std::cout << "[touch] " << before << " servo forces before the fault, max |F| " << maxF
+            << " N (limit " << touch->Limits().maxForceN << " N)\n";
+}
+
+} // namespace
