@@ -16,7 +16,8 @@
 namespace bm::cli {
 
 const std::set<std::string> kSessionRunOptions = {
-    "device", "mode", "force", "trajectory", "duration", "record", "contact", "rendering", "rate"};
+    "device", "mode",    "force",     "trajectory", "duration",
+    "record", "contact", "rendering", "rate",       "overrun-limit"};
 
 bool WantsSession(const ParsedArgs& args) {
   if (args.Has("mode"))
@@ -67,6 +68,11 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
+  // The overrun pause protects a hand on a real device; a scripted robot run reports overruns
+  // instead of stopping at them (unless --overrun-limit says otherwise).
+  so.overrunLimit = deviceName == "touch" ? 5 : -1;
+  if (auto v = args.GetInt("overrun-limit", -1, 1000000))
+    so.overrunLimit = int(*v);
   if (auto r = args.GetDouble("rate", 10, 10000))
     so.rateHz = *r;
   so.realTime = true;

@@ -28,6 +28,8 @@ namespace bm::cli {
 ///  --contact cutting|kim     contact model (default cutting, ours)
 ///  --rendering coupled|direct  (default coupled)
 ///  --rate HZ                 haptic rate (default 1000)
+///  --overrun-limit N         pause after more than N overruns in 100 frames (default: touch 5,
+///                            scripted never: a robot run reports its overruns instead)
 extern const std::set<std::string> kSessionRunOptions;
 
 /// Whether `bmsim run` should hand these arguments to RunSessionScene.
