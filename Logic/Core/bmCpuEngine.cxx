@@ -54,14 +54,15 @@ CpuEngine::CpuEngine(Voxmap& bone, const ToolModel& tool, const PointShell& shel
 
 void CpuEngine::UpdateForceTable(double f, double n) {
   if (f == TableFeed_ && n == TableSpeed_) return;
-  const auto& bins = Shell_.ForceBins();
-  Table_.resize(bins.size());
-  for (size_t b = 0; b < bins.size(); ++b) {
-    ElementForce e = Model_.Evaluate(Tool_, bins[b].kind, bins[b].r, f, n);
-    Table_[b] = {e.fx, e.fy, e.fz};
-  }
+  Table_ = ForceTable(Tool_, Model_, ShellBinSpans(Shell_), f, n);
   TableFeed_ = f;
   TableSpeed_ = n;
+}
+
+std::vector<std::pair<EdgeKind, std::array<double, 2>>> ShellBinSpans(const PointShell& shell) {
+  std::vector<std::pair<EdgeKind, std::array<double, 2>>> spans;
+  for (const auto& fb : shell.ForceBins()) spans.push_back({fb.kind, {fb.r, fb.dr}});
+  return spans;
 }
 
 FrameResult CpuEngine::Step(const FrameInput& in) {
@@ -77,7 +78,6 @@ FrameResult CpuEngine::Step(const FrameInput& in) {
   const auto& an = Shell_.AreaNormals();
   const auto& bins = Shell_.Bins();
   const auto& deltas = Shell_.Deltas();
-  const auto& fbins = Shell_.ForceBins();
   const auto& blocks = Shell_.Blocks();
   const auto& radial = Shell_.RadialDirs();
 
@@ -131,12 +131,12 @@ FrameResult CpuEngine::Step(const FrameInput& in) {
             ++P.engagedCutting;
             const uint16_t bin = bins[e];
             const double w = deltas[e] * (material ? material[idx] : 1.0f);
-            const auto& t = Table_[bin];
+            const BinForce& t = Table_[bin];
             const double c = radial[e][0], s = radial[e][1];
-            P.thrust += int64_t(w * t[2] * kForceFixedScale);
-            P.torque += int64_t(-w * fbins[bin].r * t[1] * kForceFixedScale);
-            P.fx += int64_t(w * (t[0] * c - t[1] * s) * kForceFixedScale);
-            P.fy += int64_t(w * (t[0] * s + t[1] * c) * kForceFixedScale);
+            P.thrust += int64_t(w * t.fz * kForceFixedScale);
+            P.torque += int64_t(w * t.torque * kForceFixedScale);
+            P.fx += int64_t(w * (t.fx * c - t.fy * s) * kForceFixedScale);
+            P.fy += int64_t(w * (t.fx * s + t.fy * c) * kForceFixedScale);
           }
         }
       }

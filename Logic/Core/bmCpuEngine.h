@@ -7,8 +7,9 @@
 //  2. a block without cutting elements whose normals cannot face the frame's motion
 //     (max over the block's normal bounds of n . d <= 0) is skipped: its elements sweep no
 //     material and produce no cutting force (margins sliding along a wall the envelope already cut).
-// Elemental forces depend on the element's radius only: a table per force bin is evaluated once
-// per (feed, speed) and each engaged element adds delta x material x table[bin].
+// Elemental forces depend on the element's radius only: a table per force bin (averaged over the
+// bin's width, bmForceModel.h ForceTable) is evaluated once per (feed, speed) and each engaged
+// element adds delta x material x table[bin].
 #pragma once
 
 #include <memory>
@@ -61,13 +62,16 @@ private:
   uint32_t Frame_ = 0;
   static constexpr uint32_t kBatch = 64;            // elements whose voxels are fetched ahead
   std::vector<std::vector<int64_t>> VoxelScratch_;  // per thread: the batch's voxel indices
-  std::vector<std::array<double, 3>> Table_; // per force bin: (fx, fy, fz) per mm of delta
+  std::vector<BinForce> Table_; // per force bin, per mm of delta
   double TableFeed_ = -1, TableSpeed_ = -1;
 };
 
 /// Most fill units one element may remove from its voxel for motion d (tool frame, mm): the
 /// voxel's own swept cross-section, capped at a whole voxel (shared by the CPU engines).
 double MaxRemovalUnits(const Eigen::Vector3d& d, double voxelMm, double unitsPerMm3);
+
+/// The shell's force bins as (kind, {centre, width}) for ForceTable().
+std::vector<std::pair<EdgeKind, std::array<double, 2>>> ShellBinSpans(const PointShell& shell);
 
 /// Sums per-thread partials into a frame result (shared by the CPU engines).
 FrameResult SumPartials(const std::vector<FramePartial>& parts, double voxelVolumeMm3);

@@ -147,6 +147,27 @@ ElementForce ForceModel::Evaluate(const ToolModel& tool, EdgeKind kind, double r
           s * (kc * t.dirN[2] + kt * t.dirT[2])};
 }
 
+std::vector<BinForce> ForceTable(const ToolModel& tool, const ForceModel& model,
+                                 const std::vector<std::pair<EdgeKind, std::array<double, 2>>>& bins,
+                                 double f, double n) {
+  static constexpr double x[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526};
+  static constexpr double w[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538};
+  std::vector<BinForce> table(bins.size());
+  for (size_t b = 0; b < bins.size(); ++b) {
+    const auto [kind, rdr] = bins[b];
+    BinForce& t = table[b];
+    for (int q = 0; q < 4; ++q) {
+      const double r = rdr[0] + 0.5 * rdr[1] * x[q];
+      const ElementForce e = model.Evaluate(tool, kind, r, f, n);
+      t.fx += 0.5 * w[q] * e.fx;
+      t.fy += 0.5 * w[q] * e.fy;
+      t.fz += 0.5 * w[q] * e.fz;
+      t.torque += -0.5 * w[q] * r * e.fy;
+    }
+  }
+  return table;
+}
+
 double EdgeHeight(const ToolModel& tool, double r) {
   const EdgeKind kind = r < tool.EdgeRange(EdgeKind::Lip)[0] ? EdgeKind::Chisel : EdgeKind::Lip;
   return tool.EdgeZ(kind, r) - ForemostCuttingZ(tool);

@@ -105,6 +105,18 @@ private:
   Coefficients Chisel_;
 };
 
+/// Force of one radial bin of an edge per mm of delta, averaged over the bin's width (4-point
+/// Gauss-Legendre): taking the bin centre overstates the chisel's thrust near the axis, where the
+/// feed angle changes within microns (+0.5 % at shell 512). torque = average of -r dF_y.
+struct BinForce {
+  double fx = 0, fy = 0, fz = 0; ///< N/mm
+  double torque = 0;             ///< N mm/mm
+};
+/// The table of every bin for feed f (mm/rev) and speed n (rpm), as the VPS engines use it.
+std::vector<BinForce> ForceTable(const ToolModel& tool, const ForceModel& model,
+                                 const std::vector<std::pair<EdgeKind, std::array<double, 2>>>& bins,
+                                 double f, double n);
+
 /// Thrust (N) and resisting torque (N mm) of the fully engaged tool, integrated along every
 /// cutting edge by composite Gauss-Legendre quadrature: the number a VPS result converges to.
 struct EdgeIntegral {

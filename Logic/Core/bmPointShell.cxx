@@ -166,7 +166,7 @@ PointShell PointShell::Build(const ToolModel& tool, int resolution, LipMode mode
     KindBins b{k, range[0], 0, int(ps.ForceBins_.size()), 0};
     b.count = std::max(1, int(std::ceil((range[1] - range[0]) / h)));
     b.dr = (range[1] - range[0]) / b.count;
-    for (int i = 0; i < b.count; ++i) ps.ForceBins_.push_back({range[0] + (i + 0.5) * b.dr, k});
+    for (int i = 0; i < b.count; ++i) ps.ForceBins_.push_back({range[0] + (i + 0.5) * b.dr, b.dr, k});
     kb.push_back(b);
   }
   if (ps.ForceBins_.size() >= kNoBin) throw std::invalid_argument("point shell resolution too fine for 16-bit force bins");

@@ -29,9 +29,10 @@ namespace bm {
 
 enum class LipMode { TimeAveraged, Instantaneous };
 
-/// Radius (mm) and edge kind of one force bin.
+/// Radius (mm), radial width (mm) and edge kind of one force bin.
 struct ForceBin {
-  double r = 0;
+  double r = 0;  ///< bin centre
+  double dr = 0; ///< bin width
   EdgeKind kind = EdgeKind::Lip;
 };
 

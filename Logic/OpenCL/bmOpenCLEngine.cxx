@@ -41,18 +41,14 @@ OpenCLEngine::OpenCLEngine(Voxmap& bone, const ToolModel& tool, const PointShell
     std::vector<cl_uint2> ranges(blocks.size());
     for (size_t b = 0; b < blocks.size(); ++b)
       ranges[b] = {{blocks[b].begin, blocks[b].end}};
-    std::vector<double> binR;
-    for (const auto& fb : shell.ForceBins())
-      binR.push_back(fb.r);
     Codes_ = Upload(shell.Codes().data(), n * 8);
     Normals_ = Upload(shell.AreaNormals().data(), n * 12);
     Bins_ = Upload(shell.Bins().data(), n * 2);
     Deltas_ = Upload(shell.Deltas().data(), n * 4);
     Ranges_ = Upload(ranges.data(), ranges.size() * sizeof(cl_uint2));
-    BinR_ = Upload(binR.data(), binR.size() * 8);
     static_assert(sizeof(shell.RadialDirs()[0]) == 16, "double2 per element");
     Radial_ = Upload(shell.RadialDirs().data(), n * 16);
-    Table_ = Upload(nullptr, binR.size() * 3 * 8);
+    Table_ = Upload(nullptr, shell.ForceBins().size() * sizeof(BinForce));
     Fill_ = Upload(bone.FillData(), size_t(bone.NumVoxels()) * 4, CL_MEM_READ_WRITE);
     Material_ = Upload(bone.MaterialData(), bone.HasMaterial() ? size_t(bone.NumVoxels()) * 4 : 0);
     const std::vector<ElementResidency> state(n);
@@ -89,16 +85,10 @@ OpenCLEngine::OpenCLEngine(Voxmap& bone, const ToolModel& tool, const PointShell
 void OpenCLEngine::UpdateForceTable(double f, double n) {
   if (f == TableFeed_ && n == TableSpeed_)
     return;
-  const auto& bins = Shell_.ForceBins();
-  TableHost_.resize(bins.size() * 3);
-  for (size_t b = 0; b < bins.size(); ++b) {
-    const ElementForce e = Model_.Evaluate(Tool_, bins[b].kind, bins[b].r, f, n);
-    TableHost_[3 * b] = e.fx;
-    TableHost_[3 * b + 1] = e.fy;
-    TableHost_[3 * b + 2] = e.fz;
-  }
+  TableHost_ = ForceTable(Tool_, Model_, ShellBinSpans(Shell_), f, n);
+  static_assert(sizeof(BinForce) == 4 * sizeof(double), "double4 per bin");
   if (!TableHost_.empty())
-    Rt_.queue.enqueueWriteBuffer(Table_, CL_TRUE, 0, TableHost_.size() * 8, TableHost_.data());
+    Rt_.queue.enqueueWriteBuffer(Table_, CL_TRUE, 0, TableHost_.size() * sizeof(BinForce), TableHost_.data());
   TableFeed_ = f;
   TableSpeed_ = n;
 }
@@ -187,7 +177,6 @@ FrameResult OpenCLEngine::Step(const FrameInput& in) {
       k.setArg(a++, Bins_);
       k.setArg(a++, Deltas_);
       k.setArg(a++, Table_);
-      k.setArg(a++, BinR_);
       k.setArg(a++, Radial_);
       k.setArg(a++, Fill_);
       k.setArg(a++, Material_);

@@ -57,13 +57,13 @@ private:
   OpenCLRuntime Rt_;
   cl::Program Program_;
   cl::Kernel Collide_, Remove_;
-  cl::Buffer Codes_, Normals_, Bins_, Deltas_, Ranges_, BinR_, Radial_, Table_, Fill_, Material_,
+  cl::Buffer Codes_, Normals_, Bins_, Deltas_, Ranges_, Radial_, Table_, Fill_, Material_,
       State_, Units_, Visible_, Sums_, RemovalSums_, VoidedCount_, Voided_;
   std::vector<int32_t> Bricks_;        // host copy of the brick occupancy
   std::vector<uint32_t> Visible_Host_; // visible block indices of the frame
   std::vector<int64_t> SumsHost_, RemovalSumsHost_;
   std::vector<int64_t> VoidedHost_;
-  std::vector<double> TableHost_;
+  std::vector<BinForce> TableHost_;
   size_t DeviceBytes_ = 0;
   uint32_t Frame_ = 0;
   bool Warming_ = false; // constructor's warm-up: launch the kernels even with no block visible

@@ -19,7 +19,7 @@ __kernel void vps_collide(__global const uint* visible, const uint nVisible,
                           __global const uint2* blockRange, __global const ulong* codes,
                           __global const float* areaNormals, __global const ushort* bins,
                           __global const float* deltas, __global const double* table,
-                          __global const double* binR, __global const double2* radial,
+                          __global const double2* radial,
                           __global const int* fill,
                           __global const float* material, __global Residency* state,
                           __global int* units, __global long* sums, __local long* scratch,
@@ -66,10 +66,12 @@ __kernel void vps_collide(__global const uint* visible, const uint nVisible,
         ++P[6];
         const ushort bin = bins[e];
         const double w = (double)(deltas[e] * (hasMaterial ? material[idx] : 1.0f));
-        const double t0 = table[3 * bin], t1 = table[3 * bin + 1], t2 = table[3 * bin + 2];
+        // bmForceModel.h BinForce: fx, fy, fz, torque per mm of delta.
+        const double t0 = table[4 * bin], t1 = table[4 * bin + 1], t2 = table[4 * bin + 2];
+        const double tm = table[4 * bin + 3];
         const double c = radial[e].x, s = radial[e].y; // PointShell::RadialDirs()
         P[0] += (long)(w * t2 * scale);
-        P[1] += (long)(-w * binR[bin] * t1 * scale);
+        P[1] += (long)(w * tm * scale);
         P[2] += (long)(w * (t0 * c - t1 * s) * scale);
         P[3] += (long)(w * (t0 * s + t1 * c) * scale);
       }
