@@ -2,10 +2,34 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <new>
+#include <sys/mman.h>
 #include <stdexcept>
 #include <string>
 
 namespace bm {
+
+namespace {
+constexpr size_t kHugeBytes = size_t(64) << 20;
+constexpr size_t kHugePage = size_t(2) << 20;
+} // namespace
+
+template <class T> T* HugePageAllocator<T>::allocate(size_t n) {
+  const size_t bytes = n * sizeof(T);
+  if (bytes < kHugeBytes) return std::allocator<T>().allocate(n);
+  void* p = std::aligned_alloc(kHugePage, (bytes + kHugePage - 1) / kHugePage * kHugePage);
+  if (!p) throw std::bad_alloc();
+  ::madvise(p, bytes, MADV_HUGEPAGE); // advice only: ignored where huge pages are off
+  return static_cast<T*>(p);
+}
+
+template <class T> void HugePageAllocator<T>::deallocate(T* p, size_t n) noexcept {
+  if (n * sizeof(T) < kHugeBytes) std::allocator<T>().deallocate(p, n);
+  else std::free(p);
+}
+
+template struct HugePageAllocator<Voxmap::Fill>;
 
 Voxmap::Voxmap(std::array<int, 3> dims, double spacingMm, std::array<double, 3> originMm)
     : Dims_(dims), Spacing_(spacingMm), Origin_(originMm) {

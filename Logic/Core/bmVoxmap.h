@@ -20,6 +20,19 @@
 
 namespace bm {
 
+/// Allocator for the voxmap's arrays: blocks of 64 MB and more are 2 MB aligned and marked for
+/// transparent huge pages before they are first touched. A 1024^3 voxmap is gigabytes, and with
+/// 4 KB pages nearly every element's voxel lookup also misses the TLB.
+template <class T> struct HugePageAllocator {
+  using value_type = T;
+  HugePageAllocator() = default;
+  template <class U> HugePageAllocator(const HugePageAllocator<U>&) {}
+  T* allocate(size_t n);
+  void deallocate(T* p, size_t n) noexcept;
+  template <class U> bool operator==(const HugePageAllocator<U>&) const { return true; }
+  template <class U> bool operator!=(const HugePageAllocator<U>&) const { return false; }
+};
+
 /// Axis-aligned box in world mm.
 struct Box3 {
   std::array<double, 3> lo{0, 0, 0};
@@ -113,7 +126,7 @@ private:
   std::array<int, 3> Dims_{0, 0, 0};
   double Spacing_ = 1.0;
   std::array<double, 3> Origin_{0, 0, 0};
-  std::vector<Fill> Fill_;
+  std::vector<Fill, HugePageAllocator<Fill>> Fill_;
   std::vector<float> Material_;
   std::array<int, 3> BrickDims_{0, 0, 0};
   std::vector<std::atomic<int32_t>> BrickCount_;
