@@ -18,7 +18,7 @@ set(dir "${WORK_DIR}/${MODE}")
 
 # bmsim_run(<out folder> <args...>): runs `bmsim run drilling --out <folder> args`, must succeed.
 function(bmsim_run out)
-  execute_process(COMMAND "${BMSIM}" run drilling --out "${out}" ${ARGN}
+  execute_process(COMMAND "${BMSIM}" run drilling --no-report --out "${out}" ${ARGN}
                   RESULT_VARIABLE rc OUTPUT_VARIABLE stdout ERROR_VARIABLE stderr)
   string(REPLACE ";" " " args "${ARGN}")
   message(STATUS "bmsim run drilling ${args}: exit ${rc}\n${stdout}")
