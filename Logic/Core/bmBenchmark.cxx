@@ -98,24 +98,14 @@ BenchCell RunBenchCell(Method method, const std::string& backend, int shell, int
   c.engine = setup.GetEngine().Name();
   c.elements = int64_t(setup.Shell().Size());
 
-  const TrialSpec& t = scene.trial;
-  const Eigen::Matrix3d rot = setup.ToolRotation();
-  const Eigen::Vector3d axis = t.axis.normalized();
-  const double zf = ForemostCuttingZ(setup.Tool());
-  const double step = t.feedMmPerRev * t.speedRpm / 60.0 * t.frameS;
+  const FeedPath path(setup);
+  const double step = path.StepMm();
   Engine& engine = setup.GetEngine();
   std::vector<double> ms;
   ms.reserve(size_t(o.frames));
   double thrust = 0, torque = 0, engaged = 0;
   for (int k = 0; k < o.warmup + o.frames; ++k) {
-    const double depth = start + step * double(k + 1);
-    FrameInput in;
-    in.rotation = rot;
-    in.position = t.entry - axis * depth - rot * Eigen::Vector3d(0, 0, zf);
-    in.motion = -axis * step;
-    in.feedMmPerRev = t.feedMmPerRev;
-    in.speedRpm = t.speedRpm;
-    in.spindleAngle = 2.0 * 3.14159265358979323846 * t.speedRpm / 60.0 * t.frameS * double(k + 1);
+    const FrameInput in = path.Frame(start + step * double(k + 1), k);
     const auto a = std::chrono::steady_clock::now();
     const FrameResult r = engine.Step(in);
     const auto b = std::chrono::steady_clock::now();
@@ -138,7 +128,7 @@ BenchCell RunBenchCell(Method method, const std::string& backend, int shell, int
   for (double v : ms)
     var += (v - c.meanMs) * (v - c.meanMs);
   c.sdMs = std::sqrt(var / double(ms.size()));
-  const EdgeIntegral ref = IntegrateEdges(setup.Tool(), setup.Model(), t.feedMmPerRev, t.speedRpm);
+  const EdgeIntegral ref = IntegrateEdges(setup.Tool(), setup.Model(), scene.trial.feedMmPerRev, scene.trial.speedRpm);
   c.refThrustN = ref.thrustN;
   c.refTorqueNmm = ref.torqueNmm;
   c.thrustError = std::abs(c.thrustN - ref.thrustN) / std::abs(ref.thrustN);

@@ -155,13 +155,7 @@ FrameResult CpuEngine::Step(const FrameInput& in) {
     });
   }
   FrameResult r = SumPartials(Partials_, Bone_.VoxelVolume());
-  // Lateral forces were summed in the spindle-turned frame; report them in the tool frame.
-  if (Shell_.Mode() == LipMode::Instantaneous) {
-    const double c = std::cos(in.spindleAngle), s = std::sin(in.spindleAngle);
-    const double fx = r.forceTool(0), fy = r.forceTool(1);
-    r.forceTool(0) = c * fx - s * fy;
-    r.forceTool(1) = s * fx + c * fy;
-  }
+  FrameGeometry::UnturnLateral(r, in, Shell_);
   return r;
 }
 

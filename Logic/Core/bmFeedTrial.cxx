@@ -19,6 +19,21 @@ double Percentile(std::vector<double> v, double pct) {
   return v[std::clamp<size_t>(rank, 1, v.size()) - 1];
 }
 
+FeedPath::FeedPath(const MachiningSetup& setup)
+    : T_(setup.GetScene().trial), Rot_(setup.ToolRotation()), Axis_(T_.axis.normalized()),
+      Zf_(ForemostCuttingZ(setup.Tool())), Step_(T_.feedMmPerRev * T_.speedRpm / 60.0 * T_.frameS) {}
+
+FrameInput FeedPath::Frame(double depthMm, int64_t k) const {
+  FrameInput in;
+  in.rotation = Rot_;
+  in.position = T_.entry - Axis_ * depthMm - Rot_ * Eigen::Vector3d(0, 0, Zf_);
+  in.motion = -Axis_ * Step_;
+  in.feedMmPerRev = T_.feedMmPerRev;
+  in.speedRpm = T_.speedRpm;
+  in.spindleAngle = 2.0 * 3.14159265358979323846 * T_.speedRpm / 60.0 * T_.frameS * double(k + 1);
+  return in;
+}
+
 FeedTrial::FeedTrial(MachiningSetup& setup) : Setup_(setup) {
   const Scene& s = setup.GetScene();
   const double full = FullEngagementDepth(setup.Tool());
@@ -29,23 +44,15 @@ FeedTrial::FeedTrial(MachiningSetup& setup) : Setup_(setup) {
 bool FeedTrial::Run(const std::function<bool(double)>& progress) {
   const Scene& s = Setup_.GetScene();
   const TrialSpec& t = s.trial;
-  const Eigen::Matrix3d rot = Setup_.ToolRotation();
-  const Eigen::Vector3d axis = t.axis.normalized();
-  const double zf = ForemostCuttingZ(Setup_.Tool());
-  const double step = t.feedMmPerRev * t.speedRpm / 60.0 * t.frameS; // mm per frame
+  const FeedPath path(Setup_);
+  const double step = path.StepMm();
   const int64_t frames = int64_t(std::ceil((FinalDepth_ + t.clearanceMm) / step));
   Engine& engine = Setup_.GetEngine();
   Frames_.clear();
   Frames_.reserve(size_t(frames));
   for (int64_t k = 0; k < frames; ++k) {
     const double depth = -t.clearanceMm + step * double(k + 1);
-    FrameInput in;
-    in.rotation = rot;
-    in.position = t.entry - axis * depth - rot * Eigen::Vector3d(0, 0, zf);
-    in.motion = -axis * step;
-    in.feedMmPerRev = t.feedMmPerRev;
-    in.speedRpm = t.speedRpm;
-    in.spindleAngle = 2.0 * 3.14159265358979323846 * t.speedRpm / 60.0 * t.frameS * double(k + 1);
+    const FrameInput in = path.Frame(depth, k);
     const auto t0 = std::chrono::steady_clock::now();
     const FrameResult r = engine.Step(in);
     const auto t1 = std::chrono::steady_clock::now();

@@ -55,6 +55,23 @@ private:
   int64_t RemovedVoxels_ = 0;
 };
 
+/// The straight feed path of a scene's trial (shared by the trial and the benchmark).
+class FeedPath {
+public:
+  explicit FeedPath(const MachiningSetup& setup);
+  /// Feed per frame period along the axis, mm.
+  double StepMm() const { return Step_; }
+  /// Frame k (0-based) with the foremost cutting point depthMm below the entry point: the tool
+  /// on the trial axis, moved one step along -axis this frame, the spindle turned k + 1 periods.
+  FrameInput Frame(double depthMm, int64_t k) const;
+
+private:
+  TrialSpec T_;
+  Eigen::Matrix3d Rot_;
+  Eigen::Vector3d Axis_;
+  double Zf_ = 0, Step_ = 0;
+};
+
 /// Percentile (0..100) of a sample, by nearest rank; 0 for an empty sample.
 double Percentile(std::vector<double> v, double pct);
 

@@ -45,6 +45,14 @@ void FrameGeometry::VoxelBox(const std::array<float, 3>& lo, const std::array<fl
   }
 }
 
+void FrameGeometry::UnturnLateral(FrameResult& r, const FrameInput& in, const PointShell& shell) {
+  if (shell.Mode() != LipMode::Instantaneous) return;
+  const double c = std::cos(in.spindleAngle), s = std::sin(in.spindleAngle);
+  const double fx = r.forceTool(0), fy = r.forceTool(1);
+  r.forceTool(0) = c * fx - s * fy;
+  r.forceTool(1) = s * fx + c * fy;
+}
+
 bool FrameGeometry::ToolMeetsBone(const ToolModel& tool, const Voxmap& bone) const {
   const double R = tool.OuterRadius();
   const auto zr = tool.AxialRange();

@@ -59,6 +59,9 @@ struct FrameGeometry {
   /// Voxel-index box (inclusive, unclamped) covered by a tool-frame box in mm.
   void VoxelBox(const std::array<float, 3>& lo, const std::array<float, 3>& hi, std::array<int, 3>& vlo,
                 std::array<int, 3>& vhi) const;
+  /// Lateral forces summed in the spindle-turned frame of an instantaneous shell, turned back into
+  /// the tool frame (nothing to do for time-averaged shells).
+  static void UnturnLateral(FrameResult& r, const FrameInput& in, const PointShell& shell);
   /// Whether the tool's bounding box, placed in the world, meets the voxmap's bounds.
   bool ToolMeetsBone(const ToolModel& tool, const Voxmap& bone) const;
 

@@ -114,12 +114,7 @@ FrameResult ZhengEngine::Step(const FrameInput& in) {
     res.removedFill += removedFill[t];
     res.removedVoxels += removedVoxels[t];
   }
-  if (Shell_.Mode() == LipMode::Instantaneous) { // lateral forces back from the spindle-turned frame
-    const double c = std::cos(in.spindleAngle), s = std::sin(in.spindleAngle);
-    const double fx = res.forceTool(0), fy = res.forceTool(1);
-    res.forceTool(0) = c * fx - s * fy;
-    res.forceTool(1) = s * fx + c * fy;
-  }
+  FrameGeometry::UnturnLateral(res, in, Shell_);
   res.removedVolumeMm3 = double(res.removedFill) / Voxmap::kFull * Bone_.VoxelVolume();
   res.sweptVolumeMm3 = double(requested) / Voxmap::kFull * Bone_.VoxelVolume();
   return res;

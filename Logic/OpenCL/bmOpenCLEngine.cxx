@@ -253,12 +253,7 @@ FrameResult OpenCLEngine::Step(const FrameInput& in) {
       throw std::runtime_error("OpenCL frame: " + DescribeOpenCLError(e));
     }
   }
-  if (Shell_.Mode() == LipMode::Instantaneous) {
-    const double c = std::cos(in.spindleAngle), s = std::sin(in.spindleAngle);
-    const double fx = r.forceTool(0), fy = r.forceTool(1);
-    r.forceTool(0) = c * fx - s * fy;
-    r.forceTool(1) = s * fx + c * fy;
-  }
+  FrameGeometry::UnturnLateral(r, in, Shell_);
   return r;
 }
 

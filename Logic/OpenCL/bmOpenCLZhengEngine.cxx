@@ -317,12 +317,7 @@ FrameResult OpenCLZhengEngine::Launch(const FrameInput& in, uint32_t frameNo) {
   res.visitedElements = s[0];
   res.engagedElements = s[1];
   res.engagedCutting = s[2];
-  if (Shell_.Mode() == LipMode::Instantaneous) { // lateral forces back from the turned frame
-    const double c = std::cos(in.spindleAngle), sn = std::sin(in.spindleAngle);
-    const double fx = res.forceTool(0), fy = res.forceTool(1);
-    res.forceTool(0) = c * fx - sn * fy;
-    res.forceTool(1) = sn * fx + c * fy;
-  }
+  FrameGeometry::UnturnLateral(res, in, Shell_);
   res.removedVolumeMm3 = double(res.removedFill) / Voxmap::kFull * Bone_.VoxelVolume();
   res.sweptVolumeMm3 = double(s[3]) / Voxmap::kFull * Bone_.VoxelVolume();
   return res;
