@@ -17,7 +17,8 @@ std::map<std::string, Command>& Registry() {
 
 static void PrintUsage(std::ostream& os) {
   os << "usage: bmsim COMMAND [options]\n\ncommands:\n";
-  for (const auto& [name, cmd] : bm::cli::Registry()) os << "  " << name << "\t" << cmd.help << "\n";
+  for (const auto& [name, cmd] : bm::cli::Registry())
+    os << "  " << name << "\t" << cmd.help << "\n";
   os << "\n'bmsim COMMAND --help' describes a command's options.\n";
 }
 

@@ -5,7 +5,8 @@
 
 namespace bm::cli {
 
-ParsedArgs::ParsedArgs(const Args& args, const std::set<std::string>& valued, const std::set<std::string>& flags) {
+ParsedArgs::ParsedArgs(const Args& args, const std::set<std::string>& valued,
+                       const std::set<std::string>& flags) {
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     if (a.rfind("--", 0) == 0) {
@@ -17,11 +18,13 @@ ParsedArgs::ParsedArgs(const Args& args, const std::set<std::string>& valued, co
         name = name.substr(0, eq);
       }
       if (flags.count(name)) {
-        if (hasInline) throw UsageError("option --" + name + " takes no value");
+        if (hasInline)
+          throw UsageError("option --" + name + " takes no value");
         Flags_.insert(name);
       } else if (valued.count(name)) {
         if (!hasInline) {
-          if (i + 1 >= args.size()) throw UsageError("option --" + name + " needs a value");
+          if (i + 1 >= args.size())
+            throw UsageError("option --" + name + " needs a value");
           value = args[++i];
         }
         Values_[name] = value;
@@ -36,15 +39,19 @@ ParsedArgs::ParsedArgs(const Args& args, const std::set<std::string>& valued, co
 
 std::optional<std::string> ParsedArgs::Get(const std::string& name) const {
   auto it = Values_.find(name);
-  if (it == Values_.end()) return std::nullopt;
+  if (it == Values_.end())
+    return std::nullopt;
   return it->second;
 }
 
-std::string ParsedArgs::Get(const std::string& name, const std::string& def) const { return Get(name).value_or(def); }
+std::string ParsedArgs::Get(const std::string& name, const std::string& def) const {
+  return Get(name).value_or(def);
+}
 
 std::optional<long> ParsedArgs::GetInt(const std::string& name, long lo, long hi) const {
   auto v = Get(name);
-  if (!v) return std::nullopt;
+  if (!v)
+    return std::nullopt;
   size_t pos = 0;
   long x = 0;
   try {
@@ -52,15 +59,18 @@ std::optional<long> ParsedArgs::GetInt(const std::string& name, long lo, long hi
   } catch (const std::exception&) {
     pos = 0;
   }
-  if (pos == 0 || pos != v->size()) throw UsageError("--" + name + " needs an integer, got '" + *v + "'");
+  if (pos == 0 || pos != v->size())
+    throw UsageError("--" + name + " needs an integer, got '" + *v + "'");
   if (x < lo || x > hi)
-    throw UsageError("--" + name + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + *v);
+    throw UsageError("--" + name + " must be in [" + std::to_string(lo) + ", " +
+                     std::to_string(hi) + "], got " + *v);
   return x;
 }
 
 std::optional<double> ParsedArgs::GetDouble(const std::string& name, double lo, double hi) const {
   auto v = Get(name);
-  if (!v) return std::nullopt;
+  if (!v)
+    return std::nullopt;
   size_t pos = 0;
   double x = 0;
   try {
@@ -68,7 +78,8 @@ std::optional<double> ParsedArgs::GetDouble(const std::string& name, double lo, 
   } catch (const std::exception&) {
     pos = 0;
   }
-  if (pos == 0 || pos != v->size() || !std::isfinite(x)) throw UsageError("--" + name + " needs a number, got '" + *v + "'");
+  if (pos == 0 || pos != v->size() || !std::isfinite(x))
+    throw UsageError("--" + name + " needs a number, got '" + *v + "'");
   if (x < lo || x > hi) {
     std::ostringstream os;
     os << "--" << name << " must be in [" << lo << ", " << hi << "], got " << *v;
@@ -77,9 +88,11 @@ std::optional<double> ParsedArgs::GetDouble(const std::string& name, double lo, 
   return x;
 }
 
-std::optional<std::vector<double>> ParsedArgs::GetDoubles(const std::string& name, size_t count) const {
+std::optional<std::vector<double>> ParsedArgs::GetDoubles(const std::string& name,
+                                                          size_t count) const {
   auto v = Get(name);
-  if (!v) return std::nullopt;
+  if (!v)
+    return std::nullopt;
   std::vector<double> out;
   std::stringstream ss(*v);
   std::string item;
@@ -92,11 +105,13 @@ std::optional<std::vector<double>> ParsedArgs::GetDoubles(const std::string& nam
       pos = 0;
     }
     if (pos == 0 || pos != item.size() || !std::isfinite(x))
-      throw UsageError("--" + name + " needs " + std::to_string(count) + " comma-separated numbers, got '" + *v + "'");
+      throw UsageError("--" + name + " needs " + std::to_string(count) +
+                       " comma-separated numbers, got '" + *v + "'");
     out.push_back(x);
   }
   if (out.size() != count)
-    throw UsageError("--" + name + " needs " + std::to_string(count) + " comma-separated numbers, got '" + *v + "'");
+    throw UsageError("--" + name + " needs " + std::to_string(count) +
+                     " comma-separated numbers, got '" + *v + "'");
   return out;
 }
 

@@ -17,7 +17,8 @@ namespace bm::cli {
 class ParsedArgs {
 public:
   /// valued: options that take a value; flags: options that do not.
-  ParsedArgs(const Args& args, const std::set<std::string>& valued, const std::set<std::string>& flags = {});
+  ParsedArgs(const Args& args, const std::set<std::string>& valued,
+             const std::set<std::string>& flags = {});
 
   const std::vector<std::string>& Positional() const { return Positional_; }
   bool Has(const std::string& name) const { return Values_.count(name) || Flags_.count(name); }

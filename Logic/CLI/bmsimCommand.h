@@ -3,8 +3,9 @@
 // Each subcommand lives in its own file (bmsimRun.cxx, bmsimImport.cxx, ...) and registers itself:
 //   BM_REGISTER_COMMAND(run, "run a scene (drilling, glenoid or FILE.json)", RunCommand);
 // The function gets the arguments after the subcommand name and returns the process exit code.
-// Errors: throw bm::cli::UsageError (exit 2, message + usage) or any std::exception (exit 1, message).
-// A command writes its outputs only after all its inputs were checked (nothing half written).
+// Errors: throw bm::cli::UsageError (exit 2, message + usage) or any std::exception (exit 1,
+// message). A command writes its outputs only after all its inputs were checked (nothing half
+// written).
 #pragma once
 
 #include <functional>
@@ -38,5 +39,5 @@ struct Registrar {
 
 } // namespace bm::cli
 
-#define BM_REGISTER_COMMAND(name, help, fn) \
+#define BM_REGISTER_COMMAND(name, help, fn)                                                        \
   static ::bm::cli::Registrar bmRegistrar_##name(#name, help, fn)

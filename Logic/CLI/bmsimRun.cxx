@@ -19,13 +19,15 @@
 namespace {
 
 bm::Voxmap SceneBone(const bm::Scene& scene) {
-  if (scene.bone.type == "block") return bm::MakeSceneBlock(scene);
+  if (scene.bone.type == "block")
+    return bm::MakeSceneBlock(scene);
 #ifdef BM_WITH_IO
   bm::cli::ProgressBar bar("import bone");
   return bm::MakeCTVoxmap(scene.bone.ct, scene.baseDir, scene.voxmapResolution,
                           [&](double f, const std::string&) { return bar.Update(f); });
 #else
-  throw std::runtime_error("scene '" + scene.name + "' needs CT import, which this build leaves out");
+  throw std::runtime_error("scene '" + scene.name +
+                           "' needs CT import, which this build leaves out");
 #endif
 }
 
@@ -49,38 +51,50 @@ const char* kUsage = R"(usage: bmsim run SCENE [options]
 
 int RunCommand(const bm::cli::Args& args) {
   using bm::cli::UsageError;
-  std::set<std::string> valued = {"out",     "feed",   "speed",  "voxmap-resolution", "shell-resolution",
-                                  "method",  "threads", "backend", "device",           "lips"};
+  std::set<std::string> valued = {
+      "out",     "feed",   "speed", "voxmap-resolution", "shell-resolution", "method", "threads",
+      "backend", "device", "lips"};
   valued.insert(bm::cli::kSessionRunOptions.begin(), bm::cli::kSessionRunOptions.end());
   bm::cli::ParsedArgs p(args, valued, {"help", "no-report"});
   if (p.Has("help")) {
     std::cout << kUsage;
     return 0;
   }
-  if (p.Positional().size() != 1) throw UsageError(std::string("needs exactly one SCENE\n") + kUsage);
+  if (p.Positional().size() != 1)
+    throw UsageError(std::string("needs exactly one SCENE\n") + kUsage);
   const std::string name = p.Positional()[0];
   bm::Scene scene;
   try {
-    if (std::filesystem::path(name).extension() == ".json" || std::filesystem::exists(name)) scene = bm::Scene::Load(name);
-    else scene = bm::Scene::Builtin(name);
+    if (std::filesystem::path(name).extension() == ".json" || std::filesystem::exists(name))
+      scene = bm::Scene::Load(name);
+    else
+      scene = bm::Scene::Builtin(name);
     nlohmann::json j = scene.ToJson();
-    if (auto v = p.GetDouble("feed", 1e-5, 1.0)) j["trial"]["feed_mm_per_rev"] = *v;
-    if (auto v = p.GetDouble("speed", 1.0, 100000.0)) j["trial"]["speed_rpm"] = *v;
-    if (auto v = p.GetInt("voxmap-resolution", 8, 4096)) j["voxmap_resolution"] = *v;
-    if (auto v = p.GetInt("shell-resolution", 8, 4096)) j["shell_resolution"] = *v;
+    if (auto v = p.GetDouble("feed", 1e-5, 1.0))
+      j["trial"]["feed_mm_per_rev"] = *v;
+    if (auto v = p.GetDouble("speed", 1.0, 100000.0))
+      j["trial"]["speed_rpm"] = *v;
+    if (auto v = p.GetInt("voxmap-resolution", 8, 4096))
+      j["voxmap_resolution"] = *v;
+    if (auto v = p.GetInt("shell-resolution", 8, 4096))
+      j["shell_resolution"] = *v;
     if (auto v = p.Get("method")) {
       j["method"] = *v;
       j.erase("force_model");
     }
-    if (auto v = p.GetInt("threads", 1, 64)) j["threads"] = *v;
-    if (auto v = p.Get("backend")) j["backend"] = *v;
-    if (auto v = p.Get("lips")) j["lips"] = *v;
+    if (auto v = p.GetInt("threads", 1, 64))
+      j["threads"] = *v;
+    if (auto v = p.Get("backend"))
+      j["backend"] = *v;
+    if (auto v = p.Get("lips"))
+      j["lips"] = *v;
     scene = bm::Scene::FromJson(j);
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
   const std::string out = p.Get("out", "out/" + scene.name);
-  if (bm::cli::WantsSession(p)) return bm::cli::RunSessionScene(scene, p, out);
+  if (bm::cli::WantsSession(p))
+    return bm::cli::RunSessionScene(scene, p, out);
   bm::MachiningSetup setup(scene, SceneBone(scene), p.Get("device", ""));
   bm::FeedTrial trial(setup);
   {
@@ -90,14 +104,15 @@ int RunCommand(const bm::cli::Args& args) {
   trial.WriteOutputs(out);
   const auto s = trial.Summary();
   std::cout << "scene " << scene.name << " (" << s["engine"].get<std::string>() << ", voxmap "
-            << scene.voxmapResolution << ", shell " << scene.shellResolution << ", " << scene.threads
-            << " threads)\n"
-            << "  thrust " << s["thrust_N"].get<double>() << " N (reference " << s["reference_thrust_N"].get<double>()
-            << ", ripple " << s["thrust_ripple"].get<double>() << ")\n"
+            << scene.voxmapResolution << ", shell " << scene.shellResolution << ", "
+            << scene.threads << " threads)\n"
+            << "  thrust " << s["thrust_N"].get<double>() << " N (reference "
+            << s["reference_thrust_N"].get<double>() << ", ripple "
+            << s["thrust_ripple"].get<double>() << ")\n"
             << "  torque " << s["torque_Nmm"].get<double>() << " N mm (reference "
             << s["reference_torque_Nmm"].get<double>() << ")\n"
-            << "  frame  p50 " << s["frame_ms_p50"].get<double>() << " ms, p99 " << s["frame_ms_p99"].get<double>()
-            << " ms\n"
+            << "  frame  p50 " << s["frame_ms_p50"].get<double>() << " ms, p99 "
+            << s["frame_ms_p99"].get<double>() << " ms\n"
             << "  removed " << s["removed_volume_mm3"].get<double>() << " mm^3\n"
             << "wrote " << out << "/forces.csv and " << out << "/summary.json\n";
 #ifdef BM_WITH_REPORT
@@ -111,4 +126,5 @@ int RunCommand(const bm::cli::Args& args) {
 
 } // namespace
 
-BM_REGISTER_COMMAND(run, "run a scene (drilling or FILE.json) and write forces.csv, summary.json", RunCommand);
+BM_REGISTER_COMMAND(run, "run a scene (drilling or FILE.json) and write forces.csv, summary.json",
+                    RunCommand);

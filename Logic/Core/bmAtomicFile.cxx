@@ -28,14 +28,18 @@ void WriteFileAtomic(const std::string& path, const std::function<void(std::ostr
   try {
     {
       std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-      if (!out) throw std::runtime_error("cannot write '" + path + "' (cannot create a file in its directory)");
+      if (!out)
+        throw std::runtime_error("cannot write '" + path +
+                                 "' (cannot create a file in its directory)");
       write(out);
       out.flush();
-      if (!out) throw std::runtime_error("writing '" + path + "' failed");
+      if (!out)
+        throw std::runtime_error("writing '" + path + "' failed");
     }
     std::error_code ec;
     std::filesystem::rename(tmp, path, ec);
-    if (ec) throw std::runtime_error("cannot save '" + path + "': " + ec.message());
+    if (ec)
+      throw std::runtime_error("cannot save '" + path + "': " + ec.message());
   } catch (...) {
     std::error_code ec;
     std::filesystem::remove(tmp, ec);
@@ -44,7 +48,8 @@ void WriteFileAtomic(const std::string& path, const std::function<void(std::ostr
 }
 
 void WriteFileAtomic(const std::string& path, const std::string& content) {
-  WriteFileAtomic(path, [&](std::ostream& out) { out.write(content.data(), std::streamsize(content.size())); });
+  WriteFileAtomic(
+      path, [&](std::ostream& out) { out.write(content.data(), std::streamsize(content.size())); });
 }
 
 void WriteFilesAtomic(const std::vector<std::pair<std::string, std::string>>& files) {
@@ -53,15 +58,19 @@ void WriteFilesAtomic(const std::vector<std::pair<std::string, std::string>>& fi
     for (const auto& [path, content] : files) {
       temps.push_back(TemporarySibling(path));
       std::ofstream out(temps.back(), std::ios::binary | std::ios::trunc);
-      if (!out) throw std::runtime_error("cannot write '" + path + "' (cannot create a file in its directory)");
+      if (!out)
+        throw std::runtime_error("cannot write '" + path +
+                                 "' (cannot create a file in its directory)");
       out.write(content.data(), std::streamsize(content.size()));
       out.flush();
-      if (!out) throw std::runtime_error("writing '" + path + "' failed");
+      if (!out)
+        throw std::runtime_error("writing '" + path + "' failed");
     }
     for (size_t i = 0; i < files.size(); ++i) {
       std::error_code ec;
       std::filesystem::rename(temps[i], files[i].first, ec);
-      if (ec) throw std::runtime_error("cannot save '" + files[i].first + "': " + ec.message());
+      if (ec)
+        throw std::runtime_error("cannot save '" + files[i].first + "': " + ec.message());
     }
   } catch (...) {
     for (const auto& t : temps) {

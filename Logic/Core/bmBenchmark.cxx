@@ -128,7 +128,8 @@ BenchCell RunBenchCell(Method method, const std::string& backend, int shell, int
   for (double v : ms)
     var += (v - c.meanMs) * (v - c.meanMs);
   c.sdMs = std::sqrt(var / double(ms.size()));
-  const EdgeIntegral ref = IntegrateEdges(setup.Tool(), setup.Model(), scene.trial.feedMmPerRev, scene.trial.speedRpm);
+  const EdgeIntegral ref =
+      IntegrateEdges(setup.Tool(), setup.Model(), scene.trial.feedMmPerRev, scene.trial.speedRpm);
   c.refThrustN = ref.thrustN;
   c.refTorqueNmm = ref.torqueNmm;
   c.thrustError = std::abs(c.thrustN - ref.thrustN) / std::abs(ref.thrustN);

@@ -14,8 +14,10 @@ namespace bm {
 namespace {
 constexpr int kPanels = 400;
 
-ForceModel ZeroLips(Method method, const std::vector<BasisTerm>& basis, const ForceModel& chiselFrom) {
-  Coefficients z{basis, std::vector<double>(basis.size(), 0.0), std::vector<double>(basis.size(), 0.0)};
+ForceModel ZeroLips(Method method, const std::vector<BasisTerm>& basis,
+                    const ForceModel& chiselFrom) {
+  Coefficients z{basis, std::vector<double>(basis.size(), 0.0),
+                 std::vector<double>(basis.size(), 0.0)};
   return ForceModel(method, z, chiselFrom.ChiselCoefficients());
 }
 
@@ -36,15 +38,18 @@ void DesignRows(const ToolModel& tool, const ForceModel& basisModel, const Calib
       torqueRow(m + i) += -r * c * t.dirT[1];
     }
   });
-  chisel = IntegrateEdges(tool, basisModel, s.feedMmPerRev, s.speedRpm, s.depthMm, EdgeKind::Chisel, kPanels);
+  chisel = IntegrateEdges(tool, basisModel, s.feedMmPerRev, s.speedRpm, s.depthMm, EdgeKind::Chisel,
+                          kPanels);
 }
 } // namespace
 
 ForceModel Calibrate(const ToolModel& tool, Method method, const std::vector<BasisTerm>& basis,
                      const ForceModel& chiselFrom, const std::vector<CalibrationSample>& samples) {
   const Eigen::Index m = Eigen::Index(basis.size());
-  if (m == 0) throw std::invalid_argument("calibration: empty basis");
-  if (Eigen::Index(samples.size()) < m) throw std::invalid_argument("calibration: fewer samples than coefficients");
+  if (m == 0)
+    throw std::invalid_argument("calibration: empty basis");
+  if (Eigen::Index(samples.size()) < m)
+    throw std::invalid_argument("calibration: fewer samples than coefficients");
   const ForceModel basisModel = ZeroLips(method, basis, chiselFrom);
   const Eigen::Index n = Eigen::Index(samples.size());
   Eigen::MatrixXd A(2 * n, 2 * m);
@@ -54,7 +59,8 @@ ForceModel Calibrate(const ToolModel& tool, Method method, const std::vector<Bas
     sT += s.thrustN * s.thrustN;
     sM += s.torqueNmm * s.torqueNmm;
   }
-  const double wT = 1.0 / std::max(std::sqrt(sT / n), 1e-12), wM = 1.0 / std::max(std::sqrt(sM / n), 1e-12);
+  const double wT = 1.0 / std::max(std::sqrt(sT / n), 1e-12),
+               wM = 1.0 / std::max(std::sqrt(sM / n), 1e-12);
   for (Eigen::Index i = 0; i < n; ++i) {
     EdgeIntegral chisel;
     Eigen::RowVectorXd rT(2 * m), rM(2 * m);
@@ -66,8 +72,9 @@ ForceModel Calibrate(const ToolModel& tool, Method method, const std::vector<Bas
   }
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
   if (qr.rank() < 2 * m)
-    throw std::invalid_argument("calibration: the samples do not determine all coefficients (rank " +
-                                std::to_string(qr.rank()) + " < " + std::to_string(2 * m) + ")");
+    throw std::invalid_argument(
+        "calibration: the samples do not determine all coefficients (rank " +
+        std::to_string(qr.rank()) + " < " + std::to_string(2 * m) + ")");
   Eigen::VectorXd x = qr.solve(y);
   Coefficients c{basis, {}, {}};
   for (Eigen::Index i = 0; i < m; ++i) {
@@ -78,15 +85,19 @@ ForceModel Calibrate(const ToolModel& tool, Method method, const std::vector<Bas
 }
 
 EdgeIntegral Predict(const ToolModel& tool, const ForceModel& model, const CalibrationSample& s) {
-  return IntegrateEdges(tool, model, s.feedMmPerRev, s.speedRpm, s.depthMm, EdgeKind::None, kPanels);
+  return IntegrateEdges(tool, model, s.feedMmPerRev, s.speedRpm, s.depthMm, EdgeKind::None,
+                        kPanels);
 }
 
 std::vector<FoldResult> CrossValidate(const ToolModel& tool, Method method,
-                                      const std::vector<BasisTerm>& basis, const ForceModel& chiselFrom,
+                                      const std::vector<BasisTerm>& basis,
+                                      const ForceModel& chiselFrom,
                                       const std::vector<CalibrationSample>& samples) {
   std::map<std::pair<double, double>, int> conditions;
-  for (const auto& s : samples) conditions[{s.feedMmPerRev, s.speedRpm}]++;
-  if (conditions.size() < 2) throw std::invalid_argument("cross-validation needs >= 2 conditions");
+  for (const auto& s : samples)
+    conditions[{s.feedMmPerRev, s.speedRpm}]++;
+  if (conditions.size() < 2)
+    throw std::invalid_argument("cross-validation needs >= 2 conditions");
   std::vector<FoldResult> folds;
   for (const auto& [cond, count] : conditions) {
     std::vector<CalibrationSample> train, test;
@@ -101,7 +112,8 @@ std::vector<FoldResult> CrossValidate(const ToolModel& tool, Method method,
       EdgeIntegral p = Predict(tool, f.model, s);
       eT += (p.thrustN - s.thrustN) * (p.thrustN - s.thrustN);
       eM += (p.torqueNmm - s.torqueNmm) * (p.torqueNmm - s.torqueNmm);
-      if (s.depthMm > 0) minM = std::min(minM, p.torqueNmm);
+      if (s.depthMm > 0)
+        minM = std::min(minM, p.torqueNmm);
       sumM += p.torqueNmm;
     }
     f.rmsThrustErrorN = std::sqrt(eT / test.size());
@@ -115,7 +127,8 @@ std::vector<FoldResult> CrossValidate(const ToolModel& tool, Method method,
 
 std::vector<CalibrationSample> EntryCurves(const ToolModel& tool, const ForceModel& model,
                                            const std::vector<std::pair<double, double>>& conditions,
-                                           int steps, const std::function<void(CalibrationSample&)>& perturb) {
+                                           int steps,
+                                           const std::function<void(CalibrationSample&)>& perturb) {
   const double full = EdgeHeight(tool, tool.EdgeRange(EdgeKind::Lip)[1]);
   std::vector<CalibrationSample> out;
   for (const auto& [f, n] : conditions)
@@ -127,7 +140,8 @@ std::vector<CalibrationSample> EntryCurves(const ToolModel& tool, const ForceMod
       EdgeIntegral p = Predict(tool, model, s);
       s.thrustN = p.thrustN;
       s.torqueNmm = p.torqueNmm;
-      if (perturb) perturb(s);
+      if (perturb)
+        perturb(s);
       out.push_back(s);
     }
   return out;

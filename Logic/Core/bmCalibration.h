@@ -39,23 +39,25 @@ struct FoldResult {
   double rmsTorqueErrorNmm = 0;          ///< RMS error of predicted torque
   double minPredictedTorqueNmm = 0;      ///< smallest predicted torque on the held-out samples
   double meanPredictedTorqueNmm = 0;
-  ForceModel model;                      ///< the model fitted on the other conditions
+  ForceModel model; ///< the model fitted on the other conditions
 };
 
 /// Leave-one-condition-out: for each distinct (feed, speed), fit on the others, predict it.
 std::vector<FoldResult> CrossValidate(const ToolModel& tool, Method method,
-                                      const std::vector<BasisTerm>& basis, const ForceModel& chiselFrom,
+                                      const std::vector<BasisTerm>& basis,
+                                      const ForceModel& chiselFrom,
                                       const std::vector<CalibrationSample>& samples);
 
 /// Entry-phase curves from a known model: for each condition, `steps` depths evenly from 0 to
 /// full engagement (the tip's cutting-edge height). `perturb`, if given, maps (sample) -> sample
 /// to add a documented trend or noise to the synthetic measurements.
-std::vector<CalibrationSample> EntryCurves(const ToolModel& tool, const ForceModel& model,
-                                           const std::vector<std::pair<double, double>>& conditions,
-                                           int steps,
-                                           const std::function<void(CalibrationSample&)>& perturb = {});
+std::vector<CalibrationSample>
+EntryCurves(const ToolModel& tool, const ForceModel& model,
+            const std::vector<std::pair<double, double>>& conditions, int steps,
+            const std::function<void(CalibrationSample&)>& perturb = {});
 
-/// The four drilling conditions of Lee et al. 2012: f in {0.01, 0.02} mm/rev x n in {500, 3000} rpm.
+/// The four drilling conditions of Lee et al. 2012: f in {0.01, 0.02} mm/rev x n in {500, 3000}
+/// rpm.
 std::vector<std::pair<double, double>> LeeConditions();
 
 } // namespace bm

@@ -46,14 +46,15 @@ FrameResult SumPartials(const std::vector<FramePartial>& parts, double voxelVolu
   return r;
 }
 
-CpuEngine::CpuEngine(Voxmap& bone, const ToolModel& tool, const PointShell& shell, const ForceModel& model,
-                     int threads, CullingOptions culling)
+CpuEngine::CpuEngine(Voxmap& bone, const ToolModel& tool, const PointShell& shell,
+                     const ForceModel& model, int threads, CullingOptions culling)
     : Bone_(bone), Tool_(tool), Shell_(shell), Model_(model), Culling_(culling), Pool_(threads),
       Partials_(size_t(threads)), State_(shell.Size()),
       VoxelScratch_(size_t(threads), std::vector<int64_t>(kBatch)) {}
 
 void CpuEngine::UpdateForceTable(double f, double n) {
-  if (f == TableFeed_ && n == TableSpeed_) return;
+  if (f == TableFeed_ && n == TableSpeed_)
+    return;
   Table_ = ForceTable(Tool_, Model_, ShellBinSpans(Shell_), f, n);
   TableFeed_ = f;
   TableSpeed_ = n;
@@ -61,15 +62,18 @@ void CpuEngine::UpdateForceTable(double f, double n) {
 
 std::vector<std::pair<EdgeKind, std::array<double, 2>>> ShellBinSpans(const PointShell& shell) {
   std::vector<std::pair<EdgeKind, std::array<double, 2>>> spans;
-  for (const auto& fb : shell.ForceBins()) spans.push_back({fb.kind, {fb.r, fb.dr}});
+  for (const auto& fb : shell.ForceBins())
+    spans.push_back({fb.kind, {fb.r, fb.dr}});
   return spans;
 }
 
 FrameResult CpuEngine::Step(const FrameInput& in) {
-  for (auto& p : Partials_) p.Clear();
+  for (auto& p : Partials_)
+    p.Clear();
   const uint32_t frameNo = ++Frame_;
   const FrameGeometry G(in, Shell_, Bone_);
-  if (G.cutting) UpdateForceTable(in.feedMmPerRev, in.speedRpm);
+  if (G.cutting)
+    UpdateForceTable(in.feedMmPerRev, in.speedRpm);
   const bool cutting = G.cutting, remove = G.remove;
   const Eigen::Vector3d& d = G.motionTool;
   const Voxmap::Fill* fill = Bone_.FillData();
@@ -84,10 +88,13 @@ FrameResult CpuEngine::Step(const FrameInput& in) {
   auto blockVisible = [&](const ShellBlock& blk) {
     if (Culling_.motion && !blk.hasCutting) {
       double up = 0;
-      for (int a = 0; a < 3; ++a) up += std::max(blk.nLo[a] * d(a), blk.nHi[a] * d(a));
-      if (up <= 0 || !remove) return false;
+      for (int a = 0; a < 3; ++a)
+        up += std::max(blk.nLo[a] * d(a), blk.nHi[a] * d(a));
+      if (up <= 0 || !remove)
+        return false;
     }
-    if (!Culling_.blocks) return true;
+    if (!Culling_.blocks)
+      return true;
     std::array<int, 3> lo, hi;
     G.VoxelBox(blk.lo, blk.hi, lo, hi);
     return Bone_.AnyBoneIn(lo, hi);
@@ -100,7 +107,8 @@ FrameResult CpuEngine::Step(const FrameInput& in) {
     const int bEnd = std::min(nBlocks, (task + 1) * chunk);
     for (int bi = task * chunk; bi < bEnd; ++bi) {
       const ShellBlock& blk = blocks[size_t(bi)];
-      if (!blockVisible(blk)) continue;
+      if (!blockVisible(blk))
+        continue;
       // Pass A: voxel of every element of the block, prefetching the fills (the voxel reads
       // miss the cache: hiding that latency is most of the frame's cost).
       for (uint32_t base = blk.begin; base < blk.end; base += kBatch) {
@@ -108,21 +116,25 @@ FrameResult CpuEngine::Step(const FrameInput& in) {
         int64_t* vox = VoxelScratch_[size_t(thread)].data();
         for (uint32_t e = base; e < end; ++e) {
           const int64_t idx = G.VoxelOf(ElementCoords(codes[e]));
-          if (idx >= 0) __builtin_prefetch(fill + idx);
+          if (idx >= 0)
+            __builtin_prefetch(fill + idx);
           vox[e - base] = idx;
         }
         // Pass B: engagement, removal requests, elemental forces.
         for (uint32_t e = base; e < end; ++e) {
           const int64_t idx = vox[e - base];
           ++P.visited;
-          if (!State_[e].Visit(frameNo, idx, idx >= 0 ? fill[idx] : 0)) continue;
+          if (!State_[e].Visit(frameNo, idx, idx >= 0 ? fill[idx] : 0))
+            continue;
           ++P.engaged;
           if (remove) {
             if (const int32_t units = G.RemovalUnits(an[e]); units > 0) {
               // Consecutive elements often share a voxel: one request per run (same result,
               // since the clamped decrement telescopes).
-              if (!P.removals.empty() && P.removals.back().first == idx) P.removals.back().second += units;
-              else P.removals.emplace_back(idx, units);
+              if (!P.removals.empty() && P.removals.back().first == idx)
+                P.removals.back().second += units;
+              else
+                P.removals.emplace_back(idx, units);
               P.requested += units;
             }
           }

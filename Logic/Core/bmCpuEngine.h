@@ -6,7 +6,8 @@
 //     bone is skipped: none of its elements can be inside bone;
 //  2. a block without cutting elements whose normals cannot face the frame's motion
 //     (max over the block's normal bounds of n . d <= 0) is skipped: its elements sweep no
-//     material and produce no cutting force (margins sliding along a wall the envelope already cut).
+//     material and produce no cutting force (margins sliding along a wall the envelope already
+//     cut).
 // Elemental forces depend on the element's radius only: a table per force bin (averaged over the
 // bin's width, bmForceModel.h ForceTable) is evaluated once per (feed, speed) and each engaged
 // element adds delta x material x table[bin].
@@ -60,9 +61,9 @@ private:
   std::vector<FramePartial> Partials_;
   std::vector<ElementResidency> State_; // per element
   uint32_t Frame_ = 0;
-  static constexpr uint32_t kBatch = 64;            // elements whose voxels are fetched ahead
-  std::vector<std::vector<int64_t>> VoxelScratch_;  // per thread: the batch's voxel indices
-  std::vector<BinForce> Table_; // per force bin, per mm of delta
+  static constexpr uint32_t kBatch = 64;           // elements whose voxels are fetched ahead
+  std::vector<std::vector<int64_t>> VoxelScratch_; // per thread: the batch's voxel indices
+  std::vector<BinForce> Table_;                    // per force bin, per mm of delta
   double TableFeed_ = -1, TableSpeed_ = -1;
 };
 

@@ -24,22 +24,26 @@ double VolumeBelowDepth(const ToolModel& tool, double depthMm);
 /// Calls fn(kind, r_mm, weight_mm) for every node on edges of `onlyKind` (None = all kinds)
 /// whose edge height above the foremost cutting point is below depthMm.
 template <class Fn>
-void ForEachEdgeNode(const ToolModel& tool, double depthMm, EdgeKind onlyKind, int panels, Fn&& fn) {
+void ForEachEdgeNode(const ToolModel& tool, double depthMm, EdgeKind onlyKind, int panels,
+                     Fn&& fn) {
   static constexpr std::array<double, 4> x{-0.8611363115940526, -0.3399810435848563,
                                            0.3399810435848563, 0.8611363115940526};
   static constexpr std::array<double, 4> w{0.3478548451374538, 0.6521451548625461,
                                            0.6521451548625461, 0.3478548451374538};
   const double zMin = ForemostCuttingZ(tool);
   for (EdgeKind kind : {EdgeKind::Chisel, EdgeKind::Lip}) {
-    if (onlyKind != EdgeKind::None && kind != onlyKind) continue;
+    if (onlyKind != EdgeKind::None && kind != onlyKind)
+      continue;
     const auto range = tool.EdgeRange(kind);
-    if (!(range[1] > range[0])) continue;
+    if (!(range[1] > range[0]))
+      continue;
     const double h = (range[1] - range[0]) / panels;
     for (int p = 0; p < panels; ++p) {
       const double mid = range[0] + (p + 0.5) * h;
       for (int q = 0; q < 4; ++q) {
         const double r = mid + 0.5 * h * x[q];
-        if (tool.EdgeZ(kind, r) - zMin >= depthMm) continue;
+        if (tool.EdgeZ(kind, r) - zMin >= depthMm)
+          continue;
         fn(kind, r, tool.NumLips() * 0.5 * h * w[q]);
       }
     }

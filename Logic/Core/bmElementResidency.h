@@ -17,8 +17,8 @@
 namespace bm {
 
 struct ElementResidency {
-  int64_t voxel = -1;  ///< voxel index of the last visit, -1 outside the grid
-  uint32_t frame = 0;  ///< frame number of the last visit
+  int64_t voxel = -1; ///< voxel index of the last visit, -1 outside the grid
+  uint32_t frame = 0; ///< frame number of the last visit
   uint32_t engaged = 0;
 
   /// Updates the state for a visit in `frameNo` to voxel `idx` (-1: outside) whose fill at the

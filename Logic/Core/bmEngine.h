@@ -24,25 +24,25 @@ constexpr double kForceFixedScale = 4294967296.0;
 struct FrameInput {
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity(); ///< tool -> world
   Eigen::Vector3d position = Eigen::Vector3d::Zero();     ///< world mm of the tool frame origin
-  Eigen::Vector3d motion = Eigen::Vector3d::Zero();       ///< tool displacement over this frame, world mm
-  double feedMmPerRev = 0.02;  ///< feed per revolution f, mm/rev (sets the chip area)
-  double speedRpm = 1000;      ///< spindle speed n, rpm (0: spindle stopped, no cutting force)
-  double spindleAngle = 0;     ///< rad; turns the shell with instantaneous lips
-  bool removeMaterial = true;  ///< false: query forces only, leave the voxmap unchanged
+  Eigen::Vector3d motion = Eigen::Vector3d::Zero(); ///< tool displacement over this frame, world mm
+  double feedMmPerRev = 0.02; ///< feed per revolution f, mm/rev (sets the chip area)
+  double speedRpm = 1000;     ///< spindle speed n, rpm (0: spindle stopped, no cutting force)
+  double spindleAngle = 0;    ///< rad; turns the shell with instantaneous lips
+  bool removeMaterial = true; ///< false: query forces only, leave the voxmap unchanged
 };
 
 struct FrameResult {
-  double thrustN = 0;     ///< F = sum dF_z, N
-  double torqueNmm = 0;   ///< M = -sum r dF_y, N mm
+  double thrustN = 0;                                  ///< F = sum dF_z, N
+  double torqueNmm = 0;                                ///< M = -sum r dF_y, N mm
   Eigen::Vector3d forceTool = Eigen::Vector3d::Zero(); ///< (lateral x, lateral y, thrust) in T, N
   int64_t thrustFixed = 0, torqueFixed = 0;            ///< the exact fixed-point sums
-  int64_t visitedElements = 0;  ///< elements tested against the voxmap (after culling)
-  int64_t engagedElements = 0;  ///< elements inside bone
-  int64_t engagedCutting = 0;   ///< cutting elements inside bone
-  int64_t removedVoxels = 0;    ///< voxels this frame took to void
-  int64_t removedFill = 0;      ///< fill units removed (Voxmap::kFull per voxel)
-  double removedVolumeMm3 = 0;  ///< removedFill as mm^3
-  double sweptVolumeMm3 = 0;    ///< volume the engaged elements asked to remove, mm^3
+  int64_t visitedElements = 0; ///< elements tested against the voxmap (after culling)
+  int64_t engagedElements = 0; ///< elements inside bone
+  int64_t engagedCutting = 0;  ///< cutting elements inside bone
+  int64_t removedVoxels = 0;   ///< voxels this frame took to void
+  int64_t removedFill = 0;     ///< fill units removed (Voxmap::kFull per voxel)
+  double removedVolumeMm3 = 0; ///< removedFill as mm^3
+  double sweptVolumeMm3 = 0;   ///< volume the engaged elements asked to remove, mm^3
 };
 
 class Engine {

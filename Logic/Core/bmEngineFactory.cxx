@@ -34,7 +34,8 @@ std::vector<std::string> Backends() {
   std::lock_guard<std::mutex> lock(RegistryMutex());
   std::vector<std::string> names{"cpu"};
   for (const auto& [name, maker] : Registry())
-    if (name != "cpu") names.push_back(name);
+    if (name != "cpu")
+      names.push_back(name);
   return names;
 }
 
@@ -45,7 +46,8 @@ std::unique_ptr<Engine> MakeEngine(const std::string& backend, const EngineConte
     auto it = Registry().find(backend);
     if (it == Registry().end()) {
       std::string names;
-      for (const auto& [name, m] : Registry()) names += (names.empty() ? "" : ", ") + name;
+      for (const auto& [name, m] : Registry())
+        names += (names.empty() ? "" : ", ") + name;
       throw std::invalid_argument("unknown backend '" + backend + "' (available: " + names + ")");
     }
     maker = it->second;

@@ -21,9 +21,9 @@ struct EngineContext {
   Voxmap& bone;
   const ToolModel& tool;
   const PointShell& shell;
-  const ForceModel& model;  ///< its method picks the Lazar (VPS) or Zheng (octree) pipeline
-  int threads = 2;          ///< CPU threads
-  std::string device;       ///< backend-specific device choice ("" = default)
+  const ForceModel& model; ///< its method picks the Lazar (VPS) or Zheng (octree) pipeline
+  int threads = 2;         ///< CPU threads
+  std::string device;      ///< backend-specific device choice ("" = default)
 };
 
 using EngineMaker = std::function<std::unique_ptr<Engine>(const EngineContext&)>;

@@ -13,7 +13,8 @@
 namespace bm {
 
 double Percentile(std::vector<double> v, double pct) {
-  if (v.empty()) return 0;
+  if (v.empty())
+    return 0;
   std::sort(v.begin(), v.end());
   size_t rank = size_t(std::ceil(pct / 100.0 * v.size()));
   return v[std::clamp<size_t>(rank, 1, v.size()) - 1];
@@ -21,7 +22,8 @@ double Percentile(std::vector<double> v, double pct) {
 
 FeedPath::FeedPath(const MachiningSetup& setup)
     : T_(setup.GetScene().trial), Rot_(setup.ToolRotation()), Axis_(T_.axis.normalized()),
-      Zf_(ForemostCuttingZ(setup.Tool())), Step_(T_.feedMmPerRev * T_.speedRpm / 60.0 * T_.frameS) {}
+      Zf_(ForemostCuttingZ(setup.Tool())), Step_(T_.feedMmPerRev * T_.speedRpm / 60.0 * T_.frameS) {
+}
 
 FrameInput FeedPath::Frame(double depthMm, int64_t k) const {
   FrameInput in;
@@ -70,7 +72,8 @@ bool FeedTrial::Run(const std::function<bool(double)>& progress) {
     SweptVolume_ += r.sweptVolumeMm3;
     RemovedVolume_ += r.removedVolumeMm3;
     RemovedVoxels_ += r.removedVoxels;
-    if (progress && (k % 256 == 0 || k + 1 == frames) && !progress(double(k + 1) / double(frames))) return false;
+    if (progress && (k % 256 == 0 || k + 1 == frames) && !progress(double(k + 1) / double(frames)))
+      return false;
   }
   engine.SyncBone();
   return true;
@@ -82,7 +85,8 @@ nlohmann::json FeedTrial::Summary() const {
   // Statistics over full engagement; a trial that never engages every edge element (reaming to a
   // shallow depth) takes its last fifth of travel instead, and says so.
   const bool full = FinalDepth_ >= EngagedDepth_;
-  const double from = full ? EngagedDepth_ : FinalDepth_ - 0.2 * (FinalDepth_ + s.trial.clearanceMm);
+  const double from =
+      full ? EngagedDepth_ : FinalDepth_ - 0.2 * (FinalDepth_ + s.trial.clearanceMm);
   for (const auto& f : Frames_) {
     ms.push_back(f.frameMs);
     if (f.depthMm >= from) {
@@ -93,18 +97,22 @@ nlohmann::json FeedTrial::Summary() const {
   }
   auto mean = [](const std::vector<double>& v) {
     double m = 0;
-    for (double x : v) m += x;
+    for (double x : v)
+      m += x;
     return v.empty() ? 0.0 : m / double(v.size());
   };
   auto sd = [&](const std::vector<double>& v) {
     const double m = mean(v);
     double q = 0;
-    for (double x : v) q += (x - m) * (x - m);
+    for (double x : v)
+      q += (x - m) * (x - m);
     return v.size() < 2 ? 0.0 : std::sqrt(q / double(v.size() - 1));
   };
-  const EdgeIntegral ref = IntegrateEdges(Setup_.Tool(), Setup_.Model(), s.trial.feedMmPerRev, s.trial.speedRpm);
+  const EdgeIntegral ref =
+      IntegrateEdges(Setup_.Tool(), Setup_.Model(), s.trial.feedMmPerRev, s.trial.speedRpm);
   const double mT = mean(thrust), mM = mean(torque);
-  const double analytic = s.bone.type == "block" ? VolumeBelowDepth(Setup_.Tool(), FinalDepth_) : -1.0;
+  const double analytic =
+      s.bone.type == "block" ? VolumeBelowDepth(Setup_.Tool(), FinalDepth_) : -1.0;
   nlohmann::json j = {
       {"scene", s.name},
       {"method", ToString(s.method)},
@@ -153,12 +161,13 @@ void FeedTrial::WriteOutputs(const std::string& dir) const {
   csv << "time_s,depth_mm,feed_mm_per_rev,thrust_N,torque_Nmm,frame_ms,removed_voxels\n";
   csv << std::setprecision(9);
   for (const auto& f : Frames_)
-    csv << f.timeS << ',' << f.depthMm << ',' << f.feedMmPerRev << ',' << f.thrustN << ',' << f.torqueNmm << ','
-        << f.frameMs << ',' << f.removedVoxels << '\n';
+    csv << f.timeS << ',' << f.depthMm << ',' << f.feedMmPerRev << ',' << f.thrustN << ','
+        << f.torqueNmm << ',' << f.frameMs << ',' << f.removedVoxels << '\n';
   const std::string summary = Summary().dump(2) + "\n";
   std::filesystem::create_directories(dir);
   const std::filesystem::path d(dir);
-  WriteFilesAtomic({{(d / "forces.csv").string(), csv.str()}, {(d / "summary.json").string(), summary}});
+  WriteFilesAtomic(
+      {{(d / "forces.csv").string(), csv.str()}, {(d / "summary.json").string(), summary}});
 }
 
 } // namespace bm

@@ -19,15 +19,15 @@
 namespace bm {
 
 struct TrialFrame {
-  double timeS = 0;       ///< s since the start
-  double depthMm = 0;     ///< foremost cutting point below the entry point, mm (< 0 above)
+  double timeS = 0;   ///< s since the start
+  double depthMm = 0; ///< foremost cutting point below the entry point, mm (< 0 above)
   double feedMmPerRev = 0;
   double thrustN = 0;
   double torqueNmm = 0;
-  double frameMs = 0;     ///< engine time of this frame, ms
+  double frameMs = 0;        ///< engine time of this frame, ms
   int64_t removedVoxels = 0; ///< voxels taken to void this frame
   double removedVolumeMm3 = 0;
-  double lateralN = 0;    ///< |lateral force| in the tool frame, N
+  double lateralN = 0; ///< |lateral force| in the tool frame, N
 };
 
 class FeedTrial {

@@ -10,21 +10,30 @@
 
 namespace bm {
 
-std::string ToString(Method m) { return m == Method::Lazar ? "lazar" : "zheng"; }
+std::string ToString(Method m) {
+  return m == Method::Lazar ? "lazar" : "zheng";
+}
 
 Method MethodFromString(const std::string& s) {
-  if (s == "lazar") return Method::Lazar;
-  if (s == "zheng") return Method::Zheng;
+  if (s == "lazar")
+    return Method::Lazar;
+  if (s == "zheng")
+    return Method::Zheng;
   throw std::invalid_argument("unknown method '" + s + "' (lazar or zheng)");
 }
 
 std::string ToString(BasisTerm t) {
   switch (t) {
-  case BasisTerm::One: return "1";
-  case BasisTerm::OneMinusSinGamma: return "1-sin(gamma_n)";
-  case BasisTerm::ChipThickness: return "chip_thickness_mm";
-  case BasisTerm::CuttingSpeed: return "V_m_per_min";
-  case BasisTerm::InvCuttingSpeed: return "1/V_min_per_m";
+  case BasisTerm::One:
+    return "1";
+  case BasisTerm::OneMinusSinGamma:
+    return "1-sin(gamma_n)";
+  case BasisTerm::ChipThickness:
+    return "chip_thickness_mm";
+  case BasisTerm::CuttingSpeed:
+    return "V_m_per_min";
+  case BasisTerm::InvCuttingSpeed:
+    return "1/V_min_per_m";
   }
   return "?";
 }
@@ -32,19 +41,22 @@ std::string ToString(BasisTerm t) {
 BasisTerm BasisTermFromString(const std::string& s) {
   for (BasisTerm t : {BasisTerm::One, BasisTerm::OneMinusSinGamma, BasisTerm::ChipThickness,
                       BasisTerm::CuttingSpeed, BasisTerm::InvCuttingSpeed})
-    if (ToString(t) == s) return t;
+    if (ToString(t) == s)
+      return t;
   throw std::invalid_argument("unknown basis term '" + s + "'");
 }
 
 nlohmann::json Coefficients::ToJson() const {
   nlohmann::json b = nlohmann::json::array();
-  for (auto t : basis) b.push_back(ToString(t));
+  for (auto t : basis)
+    b.push_back(ToString(t));
   return {{"basis", b}, {"kc_N_per_mm2", kc}, {"kt_N_per_mm2", kt}};
 }
 
 Coefficients Coefficients::FromJson(const nlohmann::json& j) {
   Coefficients c;
-  for (const auto& t : j.at("basis")) c.basis.push_back(BasisTermFromString(t.get<std::string>()));
+  for (const auto& t : j.at("basis"))
+    c.basis.push_back(BasisTermFromString(t.get<std::string>()));
   c.kc = j.at("kc_N_per_mm2").get<std::vector<double>>();
   c.kt = j.at("kt_N_per_mm2").get<std::vector<double>>();
   if (c.kc.size() != c.basis.size() || c.kt.size() != c.basis.size())
@@ -59,12 +71,16 @@ ForceModel::ForceModel(Method m, Coefficients lips, Coefficients chisel)
       throw std::invalid_argument("force model: kc and kt need one value per basis term");
 }
 
-void ForceModel::SetLipCoefficients(const Coefficients& c) { *this = ForceModel(Method_, c, Chisel_); }
+void ForceModel::SetLipCoefficients(const Coefficients& c) {
+  *this = ForceModel(Method_, c, Chisel_);
+}
 
 namespace {
 // Default chisel edge: k_c = 1000 N/mm^2, k_f = 0.5 (MODEL_NOTES' magnitude check), same for both
 // methods.
-Coefficients DefaultChisel() { return {{BasisTerm::One}, {1000.0}, {500.0}}; }
+Coefficients DefaultChisel() {
+  return {{BasisTerm::One}, {1000.0}, {500.0}};
+}
 } // namespace
 
 ForceModel ForceModel::Default(Method m, const ToolModel& tool) {
@@ -77,14 +93,16 @@ ForceModel ForceModel::Default(Method m, const ToolModel& tool) {
     // at once would need k_f = 0.385, which makes the outer 4 % of each lip pull the tool in, and
     // a free gamma_n slope makes k_c negative near the chisel. Every lip element's thrust and
     // torque stay positive with these values (Testing/Logic/Core checks both).
-    Coefficients lips{{BasisTerm::One, BasisTerm::OneMinusSinGamma}, {600.572, 300.286}, {300.286, 150.143}};
+    Coefficients lips{
+        {BasisTerm::One, BasisTerm::OneMinusSinGamma}, {600.572, 300.286}, {300.286, 150.143}};
     return ForceModel(Method::Lazar, lips, DefaultChisel());
   }
   (void)tool;
   // Zheng et al.'s reciprocal-speed form, fitted to the default Lazar model's entry-phase curves
   // over f in {0.01, 0.02} mm/rev x n in {500, 3000} rpm by bmCalibration (TestDefaults re-derives
   // these), so the two methods are compared on equal footing.
-  Coefficients lips{{BasisTerm::One, BasisTerm::InvCuttingSpeed}, {872.070, 17.28516}, {452.591, 7.99249}};
+  Coefficients lips{
+      {BasisTerm::One, BasisTerm::InvCuttingSpeed}, {872.070, 17.28516}, {452.591, 7.99249}};
   return ForceModel(Method::Zheng, lips, DefaultChisel());
 }
 
@@ -100,7 +118,8 @@ ForceModel ForceModel::FromJson(const nlohmann::json& j, const ToolModel& tool) 
   return ForceModel(m, lips, chisel);
 }
 
-ElementTerms ForceModel::Terms(const ToolModel& tool, EdgeKind kind, double r, double f, double n) const {
+ElementTerms ForceModel::Terms(const ToolModel& tool, EdgeKind kind, double r, double f,
+                               double n) const {
   const bool useMu = kind == EdgeKind::Chisel || UsesFeedAngleOnLips();
   const CuttingAngles a = tool.Angles(kind, r, f, useMu);
   const Coefficients& C = kind == EdgeKind::Chisel ? Chisel_ : Lips_;
@@ -123,18 +142,28 @@ ElementTerms ForceModel::Terms(const ToolModel& tool, EdgeKind kind, double r, d
   t.g.reserve(C.basis.size());
   for (BasisTerm b : C.basis) {
     switch (b) {
-    case BasisTerm::One: t.g.push_back(1.0); break;
-    case BasisTerm::OneMinusSinGamma: t.g.push_back(1.0 - sg); break;
-    case BasisTerm::ChipThickness: t.g.push_back(t.auPerDelta); break;
-    case BasisTerm::CuttingSpeed: t.g.push_back(V); break;
-    case BasisTerm::InvCuttingSpeed: t.g.push_back(1.0 / std::max(V, 1e-9)); break;
+    case BasisTerm::One:
+      t.g.push_back(1.0);
+      break;
+    case BasisTerm::OneMinusSinGamma:
+      t.g.push_back(1.0 - sg);
+      break;
+    case BasisTerm::ChipThickness:
+      t.g.push_back(t.auPerDelta);
+      break;
+    case BasisTerm::CuttingSpeed:
+      t.g.push_back(V);
+      break;
+    case BasisTerm::InvCuttingSpeed:
+      t.g.push_back(1.0 / std::max(V, 1e-9));
+      break;
     }
   }
   return t;
 }
 
-ElementForce ForceModel::Evaluate(const ToolModel& tool, EdgeKind kind, double r, double f, double n,
-                                  double material) const {
+ElementForce ForceModel::Evaluate(const ToolModel& tool, EdgeKind kind, double r, double f,
+                                  double n, double material) const {
   const ElementTerms t = Terms(tool, kind, r, f, n);
   const Coefficients& C = kind == EdgeKind::Chisel ? Chisel_ : Lips_;
   double kc = 0, kt = 0;
@@ -147,11 +176,14 @@ ElementForce ForceModel::Evaluate(const ToolModel& tool, EdgeKind kind, double r
           s * (kc * t.dirN[2] + kt * t.dirT[2])};
 }
 
-std::vector<BinForce> ForceTable(const ToolModel& tool, const ForceModel& model,
-                                 const std::vector<std::pair<EdgeKind, std::array<double, 2>>>& bins,
-                                 double f, double n) {
-  static constexpr double x[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526};
-  static constexpr double w[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538};
+std::vector<BinForce>
+ForceTable(const ToolModel& tool, const ForceModel& model,
+           const std::vector<std::pair<EdgeKind, std::array<double, 2>>>& bins, double f,
+           double n) {
+  static constexpr double x[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
+                                  0.8611363115940526};
+  static constexpr double w[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
+                                  0.3478548451374538};
   std::vector<BinForce> table(bins.size());
   for (size_t b = 0; b < bins.size(); ++b) {
     const auto [kind, rdr] = bins[b];

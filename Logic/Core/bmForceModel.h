@@ -1,4 +1,5 @@
-// bmForceModel.h - elemental oblique-cutting forces (Faieghi et al. 2020 eqs. 1-6, MODEL_NOTES 1-2).
+// bmForceModel.h - elemental oblique-cutting forces (Faieghi et al. 2020 eqs. 1-6, MODEL_NOTES
+// 1-2).
 //
 // For a cutting-edge element at radial distance r with radial extent delta:
 //   A_u = (f delta / N_c) cos(mu),  df_n = k_c A_u,  df_t = k_t A_u  (k_t = k_f k_c)
@@ -35,11 +36,11 @@ Method MethodFromString(const std::string& s);
 
 /// A basis function of the cutting coefficients.
 enum class BasisTerm {
-  One,               ///< 1
-  OneMinusSinGamma,  ///< 1 - sin(gamma_n)
-  ChipThickness,     ///< f cos(mu) / N_c, mm
-  CuttingSpeed,      ///< V = 2 pi r n / 1000, m/min
-  InvCuttingSpeed,   ///< 1 / V, min/m
+  One,              ///< 1
+  OneMinusSinGamma, ///< 1 - sin(gamma_n)
+  ChipThickness,    ///< f cos(mu) / N_c, mm
+  CuttingSpeed,     ///< V = 2 pi r n / 1000, m/min
+  InvCuttingSpeed,  ///< 1 / V, min/m
 };
 std::string ToString(BasisTerm t);
 BasisTerm BasisTermFromString(const std::string& s);
@@ -63,10 +64,10 @@ struct ElementForce {
 /// Parts of an element's force that are linear in the coefficients: force per mm of delta =
 /// sum_i (kc_i dirN + kt_i dirT) g_i * auPerDelta.
 struct ElementTerms {
-  double auPerDelta = 0;           ///< A_u / delta = f cos(mu) / N_c, mm
-  std::array<double, 3> dirN{};    ///< R T[:,0]: unit normal-force direction (x, y, z)
-  std::array<double, 3> dirT{};    ///< R T[:,1]: unit friction-force direction
-  std::vector<double> g;           ///< basis values
+  double auPerDelta = 0;        ///< A_u / delta = f cos(mu) / N_c, mm
+  std::array<double, 3> dirN{}; ///< R T[:,0]: unit normal-force direction (x, y, z)
+  std::array<double, 3> dirT{}; ///< R T[:,1]: unit friction-force direction
+  std::vector<double> g;        ///< basis values
 };
 
 class ForceModel {
@@ -113,9 +114,9 @@ struct BinForce {
   double torque = 0;             ///< N mm/mm
 };
 /// The table of every bin for feed f (mm/rev) and speed n (rpm), as the VPS engines use it.
-std::vector<BinForce> ForceTable(const ToolModel& tool, const ForceModel& model,
-                                 const std::vector<std::pair<EdgeKind, std::array<double, 2>>>& bins,
-                                 double f, double n);
+std::vector<BinForce>
+ForceTable(const ToolModel& tool, const ForceModel& model,
+           const std::vector<std::pair<EdgeKind, std::array<double, 2>>>& bins, double f, double n);
 
 /// Thrust (N) and resisting torque (N mm) of the fully engaged tool, integrated along every
 /// cutting edge by composite Gauss-Legendre quadrature: the number a VPS result converges to.

@@ -12,7 +12,8 @@ namespace bm {
 FrameGeometry::FrameGeometry(const FrameInput& in, const PointShell& shell, const Voxmap& bone)
     : rotation(in.rotation), position(in.position), dims(bone.Dims()) {
   if (shell.Mode() == LipMode::Instantaneous)
-    rotation = rotation * Eigen::AngleAxisd(in.spindleAngle, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    rotation =
+        rotation * Eigen::AngleAxisd(in.spindleAngle, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   const double hs = shell.Spacing(), hv = bone.Spacing();
   VoxelMm_ = hv;
   const Eigen::Vector3d so(shell.Origin()[0], shell.Origin()[1], shell.Origin()[2]);
@@ -20,7 +21,8 @@ FrameGeometry::FrameGeometry(const FrameInput& in, const PointShell& shell, cons
   const Eigen::Matrix3d Ad = rotation * (hs / hv);
   const Eigen::Vector3d bd = (rotation * so + in.position - VoxmapOrigin_) / hv;
   for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) A[size_t(3 * r + c)] = float(Ad(r, c));
+    for (int c = 0; c < 3; ++c)
+      A[size_t(3 * r + c)] = float(Ad(r, c));
     b[size_t(r)] = float(bd(r));
   }
   motionTool = rotation.transpose() * in.motion;
@@ -30,12 +32,13 @@ FrameGeometry::FrameGeometry(const FrameInput& in, const PointShell& shell, cons
   maxUnits = MaxRemovalUnits(motionTool, hv, unitsPerMm3);
 }
 
-void FrameGeometry::VoxelBox(const std::array<float, 3>& lo, const std::array<float, 3>& hi, std::array<int, 3>& vlo,
-                             std::array<int, 3>& vhi) const {
+void FrameGeometry::VoxelBox(const std::array<float, 3>& lo, const std::array<float, 3>& hi,
+                             std::array<int, 3>& vlo, std::array<int, 3>& vhi) const {
   vlo = {INT_MAX, INT_MAX, INT_MAX};
   vhi = {INT_MIN, INT_MIN, INT_MIN};
   for (int c = 0; c < 8; ++c) {
-    const Eigen::Vector3d p((c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1], (c & 4) ? hi[2] : lo[2]);
+    const Eigen::Vector3d p((c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1],
+                            (c & 4) ? hi[2] : lo[2]);
     const Eigen::Vector3d g = (rotation * p + position - VoxmapOrigin_) / VoxelMm_;
     for (int a = 0; a < 3; ++a) {
       const int v = int(std::floor(g(a) + 0.5));
@@ -46,7 +49,8 @@ void FrameGeometry::VoxelBox(const std::array<float, 3>& lo, const std::array<fl
 }
 
 void FrameGeometry::UnturnLateral(FrameResult& r, const FrameInput& in, const PointShell& shell) {
-  if (shell.Mode() != LipMode::Instantaneous) return;
+  if (shell.Mode() != LipMode::Instantaneous)
+    return;
   const double c = std::cos(in.spindleAngle), s = std::sin(in.spindleAngle);
   const double fx = r.forceTool(0), fy = r.forceTool(1);
   r.forceTool(0) = c * fx - s * fy;
@@ -58,7 +62,9 @@ bool FrameGeometry::ToolMeetsBone(const ToolModel& tool, const Voxmap& bone) con
   const auto zr = tool.AxialRange();
   Box3 tb{{1e300, 1e300, 1e300}, {-1e300, -1e300, -1e300}};
   for (int c = 0; c < 8; ++c) {
-    const Eigen::Vector3d w = rotation * Eigen::Vector3d((c & 1) ? R : -R, (c & 2) ? R : -R, (c & 4) ? zr[1] : zr[0]) + position;
+    const Eigen::Vector3d w =
+        rotation * Eigen::Vector3d((c & 1) ? R : -R, (c & 2) ? R : -R, (c & 4) ? zr[1] : zr[0]) +
+        position;
     for (int a = 0; a < 3; ++a) {
       tb.lo[size_t(a)] = std::min(tb.lo[size_t(a)], w(a));
       tb.hi[size_t(a)] = std::max(tb.hi[size_t(a)], w(a));

@@ -25,9 +25,9 @@ struct FrameGeometry {
   /// spindle) and the voxmap (its grid).
   FrameGeometry(const FrameInput& in, const PointShell& shell, const Voxmap& bone);
 
-  Eigen::Matrix3d rotation;   ///< tool (turned by the spindle angle for instantaneous lips) -> world
-  Eigen::Vector3d position;   ///< world mm of the tool frame's origin
-  std::array<float, 9> A{};   ///< tool grid -> voxmap grid, row-major
+  Eigen::Matrix3d rotation; ///< tool (turned by the spindle angle for instantaneous lips) -> world
+  Eigen::Vector3d position; ///< world mm of the tool frame's origin
+  std::array<float, 9> A{}; ///< tool grid -> voxmap grid, row-major
   std::array<float, 3> b{};
   Eigen::Vector3d motionTool; ///< this frame's motion in the (turned) tool frame, mm
   double unitsPerMm3 = 0;     ///< fill units per mm^3 removed
@@ -42,23 +42,27 @@ struct FrameGeometry {
     const float gx = A[0] * x + A[1] * y + A[2] * z + b[0];
     const float gy = A[3] * x + A[4] * y + A[5] * z + b[1];
     const float gz = A[6] * x + A[7] * y + A[8] * z + b[2];
-    const int vi = int(std::floor(gx + 0.5f)), vj = int(std::floor(gy + 0.5f)), vk = int(std::floor(gz + 0.5f));
-    if (vi < 0 || vj < 0 || vk < 0 || vi >= dims[0] || vj >= dims[1] || vk >= dims[2]) return -1;
+    const int vi = int(std::floor(gx + 0.5f)), vj = int(std::floor(gy + 0.5f)),
+              vk = int(std::floor(gz + 0.5f));
+    if (vi < 0 || vj < 0 || vk < 0 || vi >= dims[0] || vj >= dims[1] || vk >= dims[2])
+      return -1;
     return vi + int64_t(dims[0]) * (vj + int64_t(dims[1]) * vk);
   }
   /// Voxel coordinates of an in-grid voxel index.
   std::array<int, 3> Coords(int64_t idx) const {
-    return {int(idx % dims[0]), int((idx / dims[0]) % dims[1]), int(idx / (int64_t(dims[0]) * dims[1]))};
+    return {int(idx % dims[0]), int((idx / dims[0]) % dims[1]),
+            int(idx / (int64_t(dims[0]) * dims[1]))};
   }
   /// Fill units an element with area-normal `an` (mm^2) asks to remove this frame (0 if none).
   int32_t RemovalUnits(const std::array<float, 3>& an) const {
     const double vol = an[0] * motionTool(0) + an[1] * motionTool(1) + an[2] * motionTool(2);
-    if (!(vol > 0)) return 0;
+    if (!(vol > 0))
+      return 0;
     return int32_t(std::min(vol * unitsPerMm3, maxUnits) + 0.5);
   }
   /// Voxel-index box (inclusive, unclamped) covered by a tool-frame box in mm.
-  void VoxelBox(const std::array<float, 3>& lo, const std::array<float, 3>& hi, std::array<int, 3>& vlo,
-                std::array<int, 3>& vhi) const;
+  void VoxelBox(const std::array<float, 3>& lo, const std::array<float, 3>& hi,
+                std::array<int, 3>& vlo, std::array<int, 3>& vhi) const;
   /// Lateral forces summed in the spindle-turned frame of an instantaneous shell, turned back into
   /// the tool frame (nothing to do for time-averaged shells).
   static void UnturnLateral(FrameResult& r, const FrameInput& in, const PointShell& shell);

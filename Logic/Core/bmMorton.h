@@ -45,7 +45,8 @@ constexpr std::array<uint32_t, 3> MortonDecode(uint64_t m) {
 #if defined(__BMI2__)
   // One instruction per axis where the CPU has BMI2 (the hot loop decodes every element).
   if (!std::is_constant_evaluated())
-    return {uint32_t(_pext_u64(m, 0x1249249249249249ULL)), uint32_t(_pext_u64(m, 0x2492492492492492ULL)),
+    return {uint32_t(_pext_u64(m, 0x1249249249249249ULL)),
+            uint32_t(_pext_u64(m, 0x2492492492492492ULL)),
             uint32_t(_pext_u64(m, 0x4924924924924924ULL))};
 #endif
   return {MortonCompact(m), MortonCompact(m >> 1), MortonCompact(m >> 2)};
@@ -55,7 +56,11 @@ constexpr std::array<uint32_t, 3> MortonDecode(uint64_t m) {
 constexpr uint64_t PackElement(uint32_t i, uint32_t j, uint32_t k, bool cutting) {
   return (MortonEncode(i, j, k) << 1) | (cutting ? 1u : 0u);
 }
-constexpr bool ElementIsCutting(uint64_t code) { return code & 1u; }
-constexpr std::array<uint32_t, 3> ElementCoords(uint64_t code) { return MortonDecode(code >> 1); }
+constexpr bool ElementIsCutting(uint64_t code) {
+  return code & 1u;
+}
+constexpr std::array<uint32_t, 3> ElementCoords(uint64_t code) {
+  return MortonDecode(code >> 1);
+}
 
 } // namespace bm

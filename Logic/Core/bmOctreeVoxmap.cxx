@@ -7,7 +7,8 @@ namespace bm {
 
 OctreeVoxmap::OctreeVoxmap(const Voxmap& v) : Dims_(v.Dims()) {
   const int n = std::max({Dims_[0], Dims_[1], Dims_[2]});
-  while ((1 << Levels_) < n) ++Levels_;
+  while ((1 << Levels_) < n)
+    ++Levels_;
   Nodes_.reserve(1024);
   Nodes_.push_back({});
   Root_ = 0;
@@ -28,10 +29,12 @@ int32_t OctreeVoxmap::Build(const Voxmap& v, int level, int i0, int j0, int k0) 
   const int half = size / 2;
   int32_t kids[8];
   for (int c = 0; c < 8; ++c)
-    kids[c] = Build(v, level - 1, i0 + ((c & 1) ? half : 0), j0 + ((c & 2) ? half : 0), k0 + ((c & 4) ? half : 0));
+    kids[c] = Build(v, level - 1, i0 + ((c & 1) ? half : 0), j0 + ((c & 2) ? half : 0),
+                    k0 + ((c & 4) ? half : 0));
   bool uniform = true;
   for (int c = 0; c < 8 && uniform; ++c)
-    uniform = Nodes_[size_t(kids[c])].child < 0 && Nodes_[size_t(kids[c])].value == Nodes_[size_t(kids[0])].value;
+    uniform = Nodes_[size_t(kids[c])].child < 0 &&
+              Nodes_[size_t(kids[c])].value == Nodes_[size_t(kids[0])].value;
   if (uniform) {
     // Children were appended last, as leaves: drop them and keep one leaf.
     const Voxmap::Fill value = Nodes_[size_t(kids[0])].value;
@@ -41,7 +44,8 @@ int32_t OctreeVoxmap::Build(const Voxmap& v, int level, int i0, int j0, int k0) 
   }
   // Keep the 8 children consecutive: copy them to a fresh run of 8 nodes.
   const int32_t first = int32_t(Nodes_.size());
-  for (int c = 0; c < 8; ++c) Nodes_.push_back(Nodes_[size_t(kids[c])]);
+  for (int c = 0; c < 8; ++c)
+    Nodes_.push_back(Nodes_[size_t(kids[c])]);
   Nodes_.push_back({first, 0});
   return int32_t(Nodes_.size() - 1);
 }
@@ -63,7 +67,8 @@ int32_t OctreeVoxmap::Refine(int i, int j, int k) {
   while (level > 0) {
     const int32_t first = int32_t(Nodes_.size());
     const Voxmap::Fill value = Nodes_[size_t(node)].value;
-    for (int c = 0; c < 8; ++c) Nodes_.push_back({-1, value});
+    for (int c = 0; c < 8; ++c)
+      Nodes_.push_back({-1, value});
     Nodes_[size_t(node)].child = first;
     --level;
     const int c = ((i >> level) & 1) | (((j >> level) & 1) << 1) | (((k >> level) & 1) << 2);
@@ -85,7 +90,8 @@ void OctreeVoxmap::CopyTo(Voxmap& v) const {
   int level = 0;
   for (int k = 0; k < Dims_[2]; ++k)
     for (int j = 0; j < Dims_[1]; ++j)
-      for (int i = 0; i < Dims_[0]; ++i) f[v.Index(i, j, k)] = Nodes_[size_t(Find(i, j, k, level))].value;
+      for (int i = 0; i < Dims_[0]; ++i)
+        f[v.Index(i, j, k)] = Nodes_[size_t(Find(i, j, k, level))].value;
   v.RebuildOccupancy();
 }
 

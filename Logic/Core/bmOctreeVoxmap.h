@@ -17,8 +17,8 @@ namespace bm {
 class OctreeVoxmap {
 public:
   struct Node {
-    int32_t child = -1;       ///< index of the first of 8 children, -1 for a leaf
-    Voxmap::Fill value = 0;   ///< a leaf's fill, for every voxel of its cube
+    int32_t child = -1;     ///< index of the first of 8 children, -1 for a leaf
+    Voxmap::Fill value = 0; ///< a leaf's fill, for every voxel of its cube
   };
 
   /// Builds from a dense voxmap (same geometry).

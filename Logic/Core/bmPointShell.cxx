@@ -17,8 +17,8 @@ constexpr double kPi = std::numbers::pi;
 class ProfileLocator {
 public:
   struct Hit {
-    double s = 0;     // arc length along the outline, mm
-    double rho = 0;   // radius of the nearest outline point, mm
+    double s = 0;            // arc length along the outline, mm
+    double rho = 0;          // radius of the nearest outline point, mm
     double nRho = 0, nZ = 0; // outward unit normal in (rho, z)
     EdgeKind kind = EdgeKind::None;
   };
@@ -43,7 +43,8 @@ public:
       int r0 = CellR(std::min(a.rho, b.rho)), r1 = CellR(std::max(a.rho, b.rho));
       int z0 = CellZ(std::min(a.z, b.z)), z1 = CellZ(std::max(a.z, b.z));
       for (int zz = z0; zz <= z1; ++zz)
-        for (int rr = r0; rr <= r1; ++rr) Buckets_[size_t(zz) * NR_ + rr].push_back(uint32_t(i));
+        for (int rr = r0; rr <= r1; ++rr)
+          Buckets_[size_t(zz) * NR_ + rr].push_back(uint32_t(i));
     }
   }
 
@@ -61,7 +62,8 @@ public:
         for (uint32_t i : Buckets_[size_t(zz) * NR_ + rr]) {
           const auto &a = P_[i], &b = P_[i + 1];
           const double dr = b.rho - a.rho, dz = b.z - a.z, len2 = dr * dr + dz * dz;
-          if (len2 <= 0) continue;
+          if (len2 <= 0)
+            continue;
           const double t = std::clamp(((rho - a.rho) * dr + (z - a.z) * dz) / len2, 0.0, 1.0);
           const double pr = a.rho + t * dr, pz = a.z + t * dz;
           const double d = (rho - pr) * (rho - pr) + (z - pz) * (z - pz);
@@ -75,7 +77,8 @@ public:
             best.kind = a.kind;
           }
         }
-    if (bestD == 1e300) throw std::logic_error("point shell: surface element far from the tool outline");
+    if (bestD == 1e300)
+      throw std::logic_error("point shell: surface element far from the tool outline");
     return best;
   }
 
@@ -84,9 +87,12 @@ public:
     double area = 0;
     for (size_t i = 0; i + 1 < P_.size(); ++i) {
       const double a = std::max(s0, S_[i]), b = std::min(s1, S_[i + 1]);
-      if (b <= a) continue;
+      if (b <= a)
+        continue;
       const double len = S_[i + 1] - S_[i];
-      auto rhoAt = [&](double s) { return P_[i].rho + (P_[i + 1].rho - P_[i].rho) * (s - S_[i]) / len; };
+      auto rhoAt = [&](double s) {
+        return P_[i].rho + (P_[i + 1].rho - P_[i].rho) * (s - S_[i]) / len;
+      };
       area += kPi * (rhoAt(a) + rhoAt(b)) * (b - a);
     }
     return area;
@@ -112,15 +118,18 @@ struct RawElement {
 
 double WrapAngle(double a) {
   a = std::fmod(a + kPi, 2 * kPi);
-  if (a < 0) a += 2 * kPi;
+  if (a < 0)
+    a += 2 * kPi;
   return a - kPi;
 }
 } // namespace
 
 PointShell PointShell::Build(const ToolModel& tool, int resolution, LipMode mode, int blockSize) {
   if (resolution < 8 || resolution > int(kMortonMaxCoord))
-    throw std::invalid_argument("point shell resolution must be in [8, 2^21), got " + std::to_string(resolution));
-  if (blockSize < 1) throw std::invalid_argument("point shell block size must be >= 1");
+    throw std::invalid_argument("point shell resolution must be in [8, 2^21), got " +
+                                std::to_string(resolution));
+  if (blockSize < 1)
+    throw std::invalid_argument("point shell block size must be >= 1");
   PointShell ps;
   ps.Resolution_ = resolution;
   ps.Mode_ = mode;
@@ -144,7 +153,8 @@ PointShell PointShell::Build(const ToolModel& tool, int resolution, LipMode mode
     for (int i = 0; i < dims[0]; ++i) {
       const double x = ps.Origin_[0] + i * h, y = ps.Origin_[1] + j * h;
       double zl = 0, zh = 0;
-      if (!tool.ZRange(std::hypot(x, y), zl, zh)) continue;
+      if (!tool.ZRange(std::hypot(x, y), zl, zh))
+        continue;
       const int a = int(std::ceil((zl - ps.Origin_[2]) / h - 1e-9));
       const int b = int(std::floor((zh - ps.Origin_[2]) / h + 1e-9));
       kLo[size_t(j) * dims[0] + i] = std::max(a, 0);
@@ -162,22 +172,26 @@ PointShell PointShell::Build(const ToolModel& tool, int resolution, LipMode mode
   std::vector<KindBins> kb;
   for (EdgeKind k : {EdgeKind::Chisel, EdgeKind::Lip}) {
     auto range = tool.EdgeRange(k);
-    if (!(range[1] > range[0])) continue;
+    if (!(range[1] > range[0]))
+      continue;
     KindBins b{k, range[0], 0, int(ps.ForceBins_.size()), 0};
     b.count = std::max(1, int(std::ceil((range[1] - range[0]) / h)));
     b.dr = (range[1] - range[0]) / b.count;
-    for (int i = 0; i < b.count; ++i) ps.ForceBins_.push_back({range[0] + (i + 0.5) * b.dr, b.dr, k});
+    for (int i = 0; i < b.count; ++i)
+      ps.ForceBins_.push_back({range[0] + (i + 0.5) * b.dr, b.dr, k});
     kb.push_back(b);
   }
-  if (ps.ForceBins_.size() >= kNoBin) throw std::invalid_argument("point shell resolution too fine for 16-bit force bins");
+  if (ps.ForceBins_.size() >= kNoBin)
+    throw std::invalid_argument("point shell resolution too fine for 16-bit force bins");
   const int nLips = tool.NumLips();
 
   // Surface elements: inside voxels with a face neighbour outside.
   std::vector<RawElement> raw;
-  std::vector<double> sOf;   // arc length per element (for the area share)
-  std::vector<int> lipOf;    // lip index per cutting element (instantaneous), else 0
+  std::vector<double> sOf; // arc length per element (for the area share)
+  std::vector<int> lipOf;  // lip index per cutting element (instantaneous), else 0
   auto inside = [&](int i, int j, int k) {
-    if (i < 0 || j < 0 || i >= dims[0] || j >= dims[1]) return false;
+    if (i < 0 || j < 0 || i >= dims[0] || j >= dims[1])
+      return false;
     const size_t c = size_t(j) * dims[0] + i;
     return k >= kLo[c] && k <= kHi[c];
   };
@@ -194,7 +208,8 @@ PointShell PointShell::Build(const ToolModel& tool, int resolution, LipMode mode
           k = std::max(k, stop); // the loop's ++k visits stop + 1 next
           continue;
         }
-        const double x = ps.Origin_[0] + i * h, y = ps.Origin_[1] + j * h, z = ps.Origin_[2] + k * h;
+        const double x = ps.Origin_[0] + i * h, y = ps.Origin_[1] + j * h,
+                     z = ps.Origin_[2] + k * h;
         const double rho = std::hypot(x, y);
         const auto hit = loc.Nearest(rho, z);
         const double cphi = rho > 0 ? x / rho : 1.0, sphi = rho > 0 ? y / rho : 0.0;
@@ -213,12 +228,15 @@ PointShell PointShell::Build(const ToolModel& tool, int resolution, LipMode mode
                 cutting = false;
                 const double phi = std::atan2(y, x);
                 for (int l = 0; l < nLips && !cutting; ++l)
-                  if (std::abs(WrapAngle(phi - tool.LipAzimuth(l, hit.rho))) * std::max(rho, 0.5 * h) <= h) {
+                  if (std::abs(WrapAngle(phi - tool.LipAzimuth(l, hit.rho))) *
+                          std::max(rho, 0.5 * h) <=
+                      h) {
                     cutting = true;
                     lip = l;
                   }
               }
-              if (cutting) e.bin = uint16_t(b.first + bi);
+              if (cutting)
+                e.bin = uint16_t(b.first + bi);
             }
         }
         e.code = PackElement(uint32_t(i), uint32_t(j), uint32_t(k), cutting);
@@ -232,15 +250,21 @@ PointShell PointShell::Build(const ToolModel& tool, int resolution, LipMode mode
   const int nS = std::max(1, int(std::ceil(loc.TotalLength() / h)));
   const double ds = loc.TotalLength() / nS;
   std::vector<int> sCount(nS, 0);
-  for (double s : sOf) sCount[std::clamp(int(s / ds), 0, nS - 1)]++;
+  for (double s : sOf)
+    sCount[std::clamp(int(s / ds), 0, nS - 1)]++;
   std::vector<double> sArea(nS);
-  for (int b = 0; b < nS; ++b) sArea[b] = loc.Area(b * ds, (b + 1) * ds);
-  // Edge shares: time-averaged N_c dr / count per radial bin; instantaneous dr / count per lip and bin.
+  for (int b = 0; b < nS; ++b)
+    sArea[b] = loc.Area(b * ds, (b + 1) * ds);
+  // Edge shares: time-averaged N_c dr / count per radial bin; instantaneous dr / count per lip and
+  // bin.
   const size_t nB = ps.ForceBins_.size();
   std::vector<int> binCount(nB * (mode == LipMode::Instantaneous ? nLips : 1), 0);
-  auto binSlot = [&](size_t e) { return size_t(raw[e].bin) + (mode == LipMode::Instantaneous ? nB * lipOf[e] : 0); };
+  auto binSlot = [&](size_t e) {
+    return size_t(raw[e].bin) + (mode == LipMode::Instantaneous ? nB * lipOf[e] : 0);
+  };
   for (size_t e = 0; e < raw.size(); ++e)
-    if (raw[e].bin != kNoBin) binCount[binSlot(e)]++;
+    if (raw[e].bin != kNoBin)
+      binCount[binSlot(e)]++;
   // Radial extent each slot stands for. A bin that no element of a lip landed in (a single lip
   // of the instantaneous shell is one spacing wide, so some bins stay empty) hands its extent to
   // the nearest filled bin of the same lip and kind, so no part of an edge is lost.
@@ -249,7 +273,8 @@ PointShell PointShell::Build(const ToolModel& tool, int resolution, LipMode mode
     const size_t bin = slot % nB, lipBase = slot - bin;
     const KindBins* k = nullptr;
     for (const auto& b : kb)
-      if (int(bin) >= b.first && int(bin) < b.first + b.count) k = &b;
+      if (int(bin) >= b.first && int(bin) < b.first + b.count)
+        k = &b;
     if (binCount[slot] > 0) {
       slotDr[slot] += k->dr;
       continue;
@@ -270,7 +295,8 @@ PointShell PointShell::Build(const ToolModel& tool, int resolution, LipMode mode
   for (size_t e = 0; e < raw.size(); ++e) {
     const int sb = std::clamp(int(sOf[e] / ds), 0, nS - 1);
     const double area = sArea[sb] / sCount[sb];
-    for (int a = 0; a < 3; ++a) raw[e].areaNormal[a] = float(area * raw[e].unitNormal[a]);
+    for (int a = 0; a < 3; ++a)
+      raw[e].areaNormal[a] = float(area * raw[e].unitNormal[a]);
     if (raw[e].bin != kNoBin) {
       const double lips = mode == LipMode::Instantaneous ? 1.0 : double(nLips);
       raw[e].delta = float(lips * slotDr[binSlot(e)] / binCount[binSlot(e)]);
@@ -290,11 +316,13 @@ PointShell PointShell::Build(const ToolModel& tool, int resolution, LipMode mode
       return size_t(ijk[1]) * dims[0] + ijk[0];
     };
     for (const auto& e : raw)
-      if (std::abs(e.unitNormal[2]) > 0.05f) sum[2 * colOf(e) + (e.unitNormal[2] > 0)] += std::abs(e.areaNormal[2]);
+      if (std::abs(e.unitNormal[2]) > 0.05f)
+        sum[2 * colOf(e) + (e.unitNormal[2] > 0)] += std::abs(e.areaNormal[2]);
     constexpr int kSub = 4;
     std::vector<double> scale(2 * nCol, 1.0);
     for (size_t c = 0; c < nCol; ++c) {
-      if (sum[2 * c] == 0 && sum[2 * c + 1] == 0) continue;
+      if (sum[2 * c] == 0 && sum[2 * c + 1] == 0)
+        continue;
       const int i = int(c % size_t(dims[0])), j = int(c / size_t(dims[0]));
       int in = 0;
       double zl = 0, zh = 0;
@@ -306,13 +334,16 @@ PointShell PointShell::Build(const ToolModel& tool, int resolution, LipMode mode
         }
       const double target = h * h * in / (kSub * kSub);
       for (int g = 0; g < 2; ++g)
-        if (sum[2 * c + g] > 0) scale[2 * c + g] = target / sum[2 * c + g];
+        if (sum[2 * c + g] > 0)
+          scale[2 * c + g] = target / sum[2 * c + g];
     }
     for (auto& e : raw)
-      if (std::abs(e.unitNormal[2]) > 0.05f) e.areaNormal[2] = float(e.areaNormal[2] * scale[2 * colOf(e) + (e.unitNormal[2] > 0)]);
+      if (std::abs(e.unitNormal[2]) > 0.05f)
+        e.areaNormal[2] = float(e.areaNormal[2] * scale[2 * colOf(e) + (e.unitNormal[2] > 0)]);
   }
 
-  std::sort(raw.begin(), raw.end(), [](const RawElement& a, const RawElement& b) { return a.code < b.code; });
+  std::sort(raw.begin(), raw.end(),
+            [](const RawElement& a, const RawElement& b) { return a.code < b.code; });
   const size_t n = raw.size();
   ps.Codes_.resize(n);
   ps.AreaNormal_.resize(n);
@@ -356,18 +387,20 @@ PointShell PointShell::Build(const ToolModel& tool, int resolution, LipMode mode
 
 std::array<double, 3> PointShell::Position(size_t e) const {
   const auto ijk = ElementCoords(Codes_[e]);
-  return {Origin_[0] + ijk[0] * Spacing_, Origin_[1] + ijk[1] * Spacing_, Origin_[2] + ijk[2] * Spacing_};
+  return {Origin_[0] + ijk[0] * Spacing_, Origin_[1] + ijk[1] * Spacing_,
+          Origin_[2] + ijk[2] * Spacing_};
 }
 
 double PointShell::SurfaceArea() const {
   double a = 0;
-  for (const auto& n : AreaNormal_) a += std::sqrt(double(n[0]) * n[0] + double(n[1]) * n[1] + double(n[2]) * n[2]);
+  for (const auto& n : AreaNormal_)
+    a += std::sqrt(double(n[0]) * n[0] + double(n[1]) * n[1] + double(n[2]) * n[2]);
   return a;
 }
 
 size_t PointShell::MemoryBytes() const {
-  return Codes_.size() * (sizeof(uint64_t) + sizeof(std::array<float, 3>) + sizeof(uint16_t) + sizeof(float) +
-                          sizeof(std::array<double, 2>)) +
+  return Codes_.size() * (sizeof(uint64_t) + sizeof(std::array<float, 3>) + sizeof(uint16_t) +
+                          sizeof(float) + sizeof(std::array<double, 2>)) +
          ForceBins_.size() * sizeof(ForceBin) + Blocks_.size() * sizeof(ShellBlock);
 }
 

@@ -37,8 +37,8 @@ struct ForceBin {
 };
 
 struct ShellBlock {
-  uint32_t begin = 0, end = 0;   ///< element range [begin, end)
-  std::array<float, 3> lo{}, hi{}; ///< tool-frame bounds of the elements' voxels, mm
+  uint32_t begin = 0, end = 0;       ///< element range [begin, end)
+  std::array<float, 3> lo{}, hi{};   ///< tool-frame bounds of the elements' voxels, mm
   std::array<float, 3> nLo{}, nHi{}; ///< bounds of the unit outward normals' components
   bool hasCutting = false;
 };
@@ -49,8 +49,8 @@ public:
 
   /// Voxelise `tool` with `resolution` cells along its bounding box's longest side (>= 8).
   /// blockSize: elements per block. Throws std::invalid_argument on a bad resolution.
-  static PointShell Build(const ToolModel& tool, int resolution, LipMode mode = LipMode::TimeAveraged,
-                          int blockSize = 256);
+  static PointShell Build(const ToolModel& tool, int resolution,
+                          LipMode mode = LipMode::TimeAveraged, int blockSize = 256);
 
   int Resolution() const { return Resolution_; }
   LipMode Mode() const { return Mode_; }

@@ -13,48 +13,62 @@ namespace {
 using json = nlohmann::json;
 
 void CheckKeys(const json& j, const std::set<std::string>& allowed, const std::string& where) {
-  if (!j.is_object()) throw std::invalid_argument(where + " must be a JSON object");
+  if (!j.is_object())
+    throw std::invalid_argument(where + " must be a JSON object");
   for (auto it = j.begin(); it != j.end(); ++it)
-    if (!allowed.count(it.key())) throw std::invalid_argument("unknown field '" + it.key() + "' in " + where);
+    if (!allowed.count(it.key()))
+      throw std::invalid_argument("unknown field '" + it.key() + "' in " + where);
 }
 
 template <class T> T Get(const json& j, const char* key, const T& def, const std::string& where) {
-  if (!j.contains(key) || j.at(key).is_null()) return def;
+  if (!j.contains(key) || j.at(key).is_null())
+    return def;
   try {
     return j.at(key).get<T>();
   } catch (const std::exception&) {
-    throw std::invalid_argument("field '" + std::string(key) + "' in " + where + " has the wrong type");
+    throw std::invalid_argument("field '" + std::string(key) + "' in " + where +
+                                " has the wrong type");
   }
 }
 
-Eigen::Vector3d GetVec(const json& j, const char* key, const Eigen::Vector3d& def, const std::string& where) {
+Eigen::Vector3d GetVec(const json& j, const char* key, const Eigen::Vector3d& def,
+                       const std::string& where) {
   auto v = Get<std::vector<double>>(j, key, {def(0), def(1), def(2)}, where);
-  if (v.size() != 3) throw std::invalid_argument("field '" + std::string(key) + "' in " + where + " needs 3 numbers");
+  if (v.size() != 3)
+    throw std::invalid_argument("field '" + std::string(key) + "' in " + where +
+                                " needs 3 numbers");
   return {v[0], v[1], v[2]};
 }
 } // namespace
 
 Scene Scene::FromJson(const json& j) {
-  CheckKeys(j, {"name", "tool", "bone", "trial", "voxmap_resolution", "shell_resolution", "method", "lips",
-                "threads", "backend", "force_model", "description"},
+  CheckKeys(j,
+            {"name", "tool", "bone", "trial", "voxmap_resolution", "shell_resolution", "method",
+             "lips", "threads", "backend", "force_model", "description"},
             "scene");
   Scene s;
   s.name = Get<std::string>(j, "name", s.name, "scene");
-  if (j.contains("tool")) s.tool = j.at("tool");
+  if (j.contains("tool"))
+    s.tool = j.at("tool");
   MakeTool(s.tool); // validates the tool now
   if (j.contains("bone")) {
     const json& b = j.at("bone");
     CheckKeys(b, {"type", "size_mm", "material", "ct"}, "bone");
     s.bone.type = Get<std::string>(b, "type", s.bone.type, "bone");
-    auto size = Get<std::vector<double>>(b, "size_mm", {s.bone.sizeMm[0], s.bone.sizeMm[1], s.bone.sizeMm[2]}, "bone");
-    if (size.size() != 3) throw std::invalid_argument("field 'size_mm' in bone needs 3 numbers");
+    auto size = Get<std::vector<double>>(
+        b, "size_mm", {s.bone.sizeMm[0], s.bone.sizeMm[1], s.bone.sizeMm[2]}, "bone");
+    if (size.size() != 3)
+      throw std::invalid_argument("field 'size_mm' in bone needs 3 numbers");
     s.bone.sizeMm = {size[0], size[1], size[2]};
     s.bone.material = Get<double>(b, "material", s.bone.material, "bone");
-    if (b.contains("ct")) s.bone.ct = b.at("ct");
+    if (b.contains("ct"))
+      s.bone.ct = b.at("ct");
   }
   if (j.contains("trial")) {
     const json& t = j.at("trial");
-    CheckKeys(t, {"feed_mm_per_rev", "speed_rpm", "entry_mm", "axis", "clearance_mm", "depth_mm", "extra_depth_mm", "frame_s"},
+    CheckKeys(t,
+              {"feed_mm_per_rev", "speed_rpm", "entry_mm", "axis", "clearance_mm", "depth_mm",
+               "extra_depth_mm", "frame_s"},
               "trial");
     s.trial.feedMmPerRev = Get<double>(t, "feed_mm_per_rev", s.trial.feedMmPerRev, "trial");
     s.trial.speedRpm = Get<double>(t, "speed_rpm", s.trial.speedRpm, "trial");
@@ -69,12 +83,17 @@ Scene Scene::FromJson(const json& j) {
   s.shellResolution = Get<int>(j, "shell_resolution", s.shellResolution, "scene");
   s.method = MethodFromString(Get<std::string>(j, "method", ToString(s.method), "scene"));
   const std::string lips = Get<std::string>(j, "lips", "averaged", "scene");
-  if (lips == "averaged") s.lips = LipMode::TimeAveraged;
-  else if (lips == "instantaneous") s.lips = LipMode::Instantaneous;
-  else throw std::invalid_argument("field 'lips' must be 'averaged' or 'instantaneous', got '" + lips + "'");
+  if (lips == "averaged")
+    s.lips = LipMode::TimeAveraged;
+  else if (lips == "instantaneous")
+    s.lips = LipMode::Instantaneous;
+  else
+    throw std::invalid_argument("field 'lips' must be 'averaged' or 'instantaneous', got '" + lips +
+                                "'");
   s.threads = Get<int>(j, "threads", s.threads, "scene");
   s.backend = Get<std::string>(j, "backend", s.backend, "scene");
-  if (j.contains("force_model")) s.forceModel = j.at("force_model");
+  if (j.contains("force_model"))
+    s.forceModel = j.at("force_model");
   s.Validate();
   return s;
 }
@@ -82,8 +101,8 @@ Scene Scene::FromJson(const json& j) {
 void Scene::Validate() const {
   auto range = [](double v, double lo, double hi, const std::string& what) {
     if (!(v >= lo && v <= hi))
-      throw std::invalid_argument(what + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
-                                  std::to_string(v));
+      throw std::invalid_argument(what + " must be in [" + std::to_string(lo) + ", " +
+                                  std::to_string(hi) + "], got " + std::to_string(v));
   };
   range(voxmapResolution, 8, 4096, "field 'voxmap_resolution' (voxmap resolution)");
   range(shellResolution, 8, 4096, "field 'shell_resolution' (shell resolution)");
@@ -93,16 +112,21 @@ void Scene::Validate() const {
   range(trial.frameS, 1e-5, 0.1, "field 'frame_s' in trial (frame period)");
   range(trial.clearanceMm, 0.0, 100.0, "field 'clearance_mm' in trial");
   range(trial.extraDepthMm, 0.0, 100.0, "field 'extra_depth_mm' in trial");
-  if (trial.depthMm >= 0) range(trial.depthMm, 0.0, 200.0, "field 'depth_mm' in trial");
+  if (trial.depthMm >= 0)
+    range(trial.depthMm, 0.0, 200.0, "field 'depth_mm' in trial");
   if (!(trial.axis.norm() > 0.5 && trial.axis.norm() < 2.0) || !trial.axis.allFinite())
     throw std::invalid_argument("field 'axis' in trial must be a unit vector");
-  if (!trial.entry.allFinite()) throw std::invalid_argument("field 'entry_mm' in trial must be finite");
+  if (!trial.entry.allFinite())
+    throw std::invalid_argument("field 'entry_mm' in trial must be finite");
   if (bone.type == "block") {
-    for (double v : bone.sizeMm) range(v, 1e-3, 1000.0, "field 'size_mm' in bone (block size)");
+    for (double v : bone.sizeMm)
+      range(v, 1e-3, 1000.0, "field 'size_mm' in bone (block size)");
     range(bone.material, 0.0, 10.0, "field 'material' in bone (material scale)");
   } else if (bone.type == "ct") {
-    if (!bone.ct.is_object() || !(bone.ct.contains("ct") || bone.ct.contains("phantom") || bone.ct.contains("voxmap")))
-      throw std::invalid_argument("bone of type 'ct' needs a 'ct' object naming a \"ct\", \"phantom\" or \"voxmap\"");
+    if (!bone.ct.is_object() ||
+        !(bone.ct.contains("ct") || bone.ct.contains("phantom") || bone.ct.contains("voxmap")))
+      throw std::invalid_argument(
+          "bone of type 'ct' needs a 'ct' object naming a \"ct\", \"phantom\" or \"voxmap\"");
   } else {
     throw std::invalid_argument("bone type must be 'block' or 'ct', got '" + bone.type + "'");
   }
@@ -114,27 +138,32 @@ std::vector<std::string> Scene::BuiltinNames() {
   std::vector<std::string> names{"drilling"};
   std::error_code ec;
   for (const auto& e : std::filesystem::directory_iterator(BM_SCENE_DIR, ec))
-    if (e.path().extension() == ".json" && e.path().stem() != "drilling") names.push_back(e.path().stem().string());
+    if (e.path().extension() == ".json" && e.path().stem() != "drilling")
+      names.push_back(e.path().stem().string());
   std::sort(names.begin() + 1, names.end());
   return names;
 }
 
 Scene Scene::Builtin(const std::string& name) {
-  if (name == "drilling") return Scene{};
+  if (name == "drilling")
+    return Scene{};
   const std::filesystem::path file = std::filesystem::path(BM_SCENE_DIR) / (name + ".json");
   if (name.find('/') == std::string::npos && std::filesystem::exists(file)) {
     Scene s = Load(file.string());
     return s;
   }
   std::string list;
-  for (const auto& n : BuiltinNames()) list += (list.empty() ? "" : ", ") + n;
+  for (const auto& n : BuiltinNames())
+    list += (list.empty() ? "" : ", ") + n;
   throw std::invalid_argument("no built-in scene '" + name + "' (built-in: " + list + ")");
 }
 
 Scene Scene::Load(const std::string& path) {
-  if (std::filesystem::is_directory(path)) throw std::runtime_error("scene file '" + path + "' is a folder");
+  if (std::filesystem::is_directory(path))
+    throw std::runtime_error("scene file '" + path + "' is a folder");
   std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot read scene file '" + path + "'");
+  if (!in)
+    throw std::runtime_error("cannot read scene file '" + path + "'");
   json j;
   try {
     j = json::parse(in);
@@ -157,19 +186,23 @@ json Scene::ToJson() const {
   } else {
     j["bone"]["ct"] = bone.ct;
   }
-  j["trial"] = {{"feed_mm_per_rev", trial.feedMmPerRev}, {"speed_rpm", trial.speedRpm},
+  j["trial"] = {{"feed_mm_per_rev", trial.feedMmPerRev},
+                {"speed_rpm", trial.speedRpm},
                 {"entry_mm", {trial.entry(0), trial.entry(1), trial.entry(2)}},
                 {"axis", {trial.axis(0), trial.axis(1), trial.axis(2)}},
-                {"clearance_mm", trial.clearanceMm}, {"extra_depth_mm", trial.extraDepthMm},
+                {"clearance_mm", trial.clearanceMm},
+                {"extra_depth_mm", trial.extraDepthMm},
                 {"frame_s", trial.frameS}};
-  if (trial.depthMm >= 0) j["trial"]["depth_mm"] = trial.depthMm;
+  if (trial.depthMm >= 0)
+    j["trial"]["depth_mm"] = trial.depthMm;
   j["voxmap_resolution"] = voxmapResolution;
   j["shell_resolution"] = shellResolution;
   j["method"] = ToString(method);
   j["lips"] = lips == LipMode::TimeAveraged ? "averaged" : "instantaneous";
   j["threads"] = threads;
   j["backend"] = backend;
-  if (!forceModel.is_null()) j["force_model"] = forceModel;
+  if (!forceModel.is_null())
+    j["force_model"] = forceModel;
   return j;
 }
 

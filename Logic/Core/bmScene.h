@@ -42,21 +42,22 @@
 namespace bm {
 
 struct TrialSpec {
-  double feedMmPerRev = 0.02;  ///< f, mm/rev
-  double speedRpm = 1000;      ///< n, rpm
+  double feedMmPerRev = 0.02;     ///< f, mm/rev
+  double speedRpm = 1000;         ///< n, rpm
   Eigen::Vector3d entry{0, 0, 0}; ///< world mm: where the axis enters the bone surface
   Eigen::Vector3d axis{0, 0, 1};  ///< world unit vector of z_t (out of the bone)
-  double clearanceMm = 0.02;   ///< start this far above the entry point, mm
-  double depthMm = -1;         ///< final depth of the foremost cutting point, mm (< 0: automatic)
-  double extraDepthMm = 0.3;   ///< automatic depth = full edge engagement + this, mm
-  double frameS = 0.001;       ///< frame period, s (1 kHz)
+  double clearanceMm = 0.02;      ///< start this far above the entry point, mm
+  double depthMm = -1;       ///< final depth of the foremost cutting point, mm (< 0: automatic)
+  double extraDepthMm = 0.3; ///< automatic depth = full edge engagement + this, mm
+  double frameS = 0.001;     ///< frame period, s (1 kHz)
 };
 
 struct BoneSpec {
-  std::string type = "block";                ///< "block" or "ct"
-  std::array<double, 3> sizeMm{5.0, 5.0, 1.5}; ///< block: x, y, z extent; top face at z = 0, centred
-  double material = 1.0;                     ///< block: material scale (1 = cortical)
-  nlohmann::json ct;                         ///< ct: the importer's settings (path, threshold, roi...)
+  std::string type = "block"; ///< "block" or "ct"
+  std::array<double, 3> sizeMm{5.0, 5.0,
+                               1.5}; ///< block: x, y, z extent; top face at z = 0, centred
+  double material = 1.0;             ///< block: material scale (1 = cortical)
+  nlohmann::json ct;                 ///< ct: the importer's settings (path, threshold, roi...)
 };
 
 struct Scene {

@@ -11,11 +11,16 @@ namespace bm {
 
 namespace {
 constexpr double kPi = std::numbers::pi;
-double Deg(double d) { return d * kPi / 180.0; }
-double Clamp1(double x) { return std::clamp(x, -1.0, 1.0); }
+double Deg(double d) {
+  return d * kPi / 180.0;
+}
+double Clamp1(double x) {
+  return std::clamp(x, -1.0, 1.0);
+}
 
 double FeedAngle(double r, double f, bool use) {
-  if (!use) return 0.0;
+  if (!use)
+    return 0.0;
   return std::atan2(f, 2.0 * kPi * std::max(r, 1e-12));
 }
 
@@ -34,8 +39,11 @@ void AppendLine(std::vector<ProfilePoint>& out, double r0, double z0, double r1,
                 EdgeKind kind, double maxSeg) {
   double len = std::hypot(r1 - r0, z1 - z0);
   AppendCurve(
-      out, [&](double s) { return std::pair{r0 + s * (r1 - r0), z0 + s * (z1 - z0)}; }, kind, len,
-      maxSeg);
+      out,
+      [&](double s) {
+        return std::pair{r0 + s * (r1 - r0), z0 + s * (z1 - z0)};
+      },
+      kind, len, maxSeg);
 }
 
 void CheckPositive(double v, const char* name) {
@@ -58,7 +66,8 @@ TwistDrill::TwistDrill(const TwistDrillParams& p) : P_(p) {
     throw std::invalid_argument("tool parameter 'chisel_angle_deg' must be in (90, 180)");
   if (!(P_.webHalfWidth >= 0 && ChiselCornerRadius() < P_.radius))
     throw std::invalid_argument("tool parameter 'web_half_width' must be >= 0 and leave a lip");
-  if (P_.lips < 1) throw std::invalid_argument("tool parameter 'lips' must be >= 1");
+  if (P_.lips < 1)
+    throw std::invalid_argument("tool parameter 'lips' must be >= 1");
   if (P_.fluteLength <= TipHeight(P_.radius))
     throw std::invalid_argument("tool parameter 'flute_length' must exceed the tip height");
 }
@@ -71,12 +80,15 @@ double TwistDrill::TipHeight(double rho) const {
   // The lip's projection is a line at distance w from the axis; it meets the chisel edge at the
   // corner radius R_c = w / sin(psi). Heights are measured from the (flat) chisel edge.
   const double w = P_.webHalfWidth, rc = ChiselCornerRadius();
-  if (rho <= rc) return 0.0;
-  return (std::sqrt(rho * rho - w * w) - std::sqrt(rc * rc - w * w)) / std::tan(Deg(P_.pointAngleDeg));
+  if (rho <= rc)
+    return 0.0;
+  return (std::sqrt(rho * rho - w * w) - std::sqrt(rc * rc - w * w)) /
+         std::tan(Deg(P_.pointAngleDeg));
 }
 
 bool TwistDrill::ZRange(double rho, double& zLo, double& zHi) const {
-  if (rho > P_.radius || rho < 0) return false;
+  if (rho > P_.radius || rho < 0)
+    return false;
   zLo = TipHeight(rho);
   zHi = P_.fluteLength;
   return true;
@@ -84,9 +96,12 @@ bool TwistDrill::ZRange(double rho, double& zLo, double& zHi) const {
 
 std::array<double, 2> TwistDrill::EdgeRange(EdgeKind kind) const {
   switch (kind) {
-  case EdgeKind::Lip: return {ChiselCornerRadius(), P_.radius};
-  case EdgeKind::Chisel: return {0.0, ChiselCornerRadius()};
-  default: return {0.0, 0.0};
+  case EdgeKind::Lip:
+    return {ChiselCornerRadius(), P_.radius};
+  case EdgeKind::Chisel:
+    return {0.0, ChiselCornerRadius()};
+  default:
+    return {0.0, 0.0};
   }
 }
 
@@ -117,16 +132,22 @@ CuttingAngles TwistDrill::Angles(EdgeKind kind, double r, double f, bool useFeed
 
 double TwistDrill::LipAzimuth(int lip, double r) const {
   double base = 2.0 * kPi * lip / P_.lips;
-  if (r < ChiselCornerRadius()) return base + kPi / 2; // the chisel edge joins the lips' inner ends
+  if (r < ChiselCornerRadius())
+    return base + kPi / 2; // the chisel edge joins the lips' inner ends
   return base + std::asin(std::min(1.0, P_.webHalfWidth / std::max(r, 1e-12)));
 }
 
 std::vector<ProfilePoint> TwistDrill::Profile(double maxSeg) const {
   std::vector<ProfilePoint> out;
   const double w = ChiselCornerRadius(), R = P_.radius, L = P_.fluteLength;
-  if (w > 0) AppendLine(out, 0, 0, w, 0, EdgeKind::Chisel, maxSeg);
+  if (w > 0)
+    AppendLine(out, 0, 0, w, 0, EdgeKind::Chisel, maxSeg);
   AppendCurve(
-      out, [&](double s) { double rho = w + s * (R - w); return std::pair{rho, TipHeight(rho)}; },
+      out,
+      [&](double s) {
+        double rho = w + s * (R - w);
+        return std::pair{rho, TipHeight(rho)};
+      },
       EdgeKind::Lip, (R - w) / std::sin(Deg(P_.pointAngleDeg)), maxSeg);
   AppendLine(out, R, TipHeight(R), R, L, EdgeKind::None, maxSeg);
   AppendLine(out, R, L, 0, L, EdgeKind::None, maxSeg);
@@ -172,20 +193,25 @@ ArcLipTool::ArcLipTool(const ArcLipParams& p) : P_(p) {
   CheckPositive(P_.shaftLength, "shaft_length");
   if (P_.kind != "reamer" && P_.kind != "burr")
     throw std::invalid_argument("arc-lip tool kind must be 'reamer' or 'burr'");
-  if (P_.lips < 1) throw std::invalid_argument("tool parameter 'lips' must be >= 1");
-  if (P_.arcCentreOffset < 0) throw std::invalid_argument("tool parameter 'arc_centre_offset' must be >= 0");
+  if (P_.lips < 1)
+    throw std::invalid_argument("tool parameter 'lips' must be >= 1");
+  if (P_.arcCentreOffset < 0)
+    throw std::invalid_argument("tool parameter 'arc_centre_offset' must be >= 0");
   if (std::abs(P_.outerRadius - P_.arcCentreOffset) > P_.arcRadius)
     throw std::invalid_argument("tool parameter 'outer_radius' lies beyond the lip arc");
   if (P_.nippleRadius < 0 || P_.nippleRadius >= P_.outerRadius)
     throw std::invalid_argument("tool parameter 'nipple_radius' must be in [0, outer_radius)");
   if (P_.shaftRadius > P_.outerRadius)
     throw std::invalid_argument("tool parameter 'shaft_radius' must not exceed outer_radius");
-  if (P_.kind == "reamer") CheckPositive(P_.headThickness, "head_thickness");
+  if (P_.kind == "reamer")
+    CheckPositive(P_.headThickness, "head_thickness");
   if (LipInnerRadius() >= P_.outerRadius)
     throw std::invalid_argument("tool has no cutting lip: nipple or alpha leave no radius to cut");
 }
 
-double ArcLipTool::OuterRadius() const { return P_.outerRadius; }
+double ArcLipTool::OuterRadius() const {
+  return P_.outerRadius;
+}
 
 double ArcLipTool::FaceHeight(double rho) const {
   // Lip arc centred at (w, R) in (rho, z): its lowest point (rho = w) is at z = 0.
@@ -194,7 +220,8 @@ double ArcLipTool::FaceHeight(double rho) const {
 }
 
 double ArcLipTool::LipInnerRadius() const {
-  double betaLimit = P_.arcRadius * std::sin(Deg(P_.alphaDeg)); // beta = asin(R sin a / r) needs r >= this
+  double betaLimit =
+      P_.arcRadius * std::sin(Deg(P_.alphaDeg)); // beta = asin(R sin a / r) needs r >= this
   return std::max({P_.nippleRadius, betaLimit * (1 + 1e-9), 0.0});
 }
 
@@ -205,12 +232,15 @@ std::array<double, 2> ArcLipTool::AxialRange() const {
 }
 
 double ArcLipTool::BackHeight() const {
-  if (P_.kind == "burr") return P_.arcRadius + std::sqrt(std::max(0.0, P_.arcRadius * P_.arcRadius - P_.shaftRadius * P_.shaftRadius));
+  if (P_.kind == "burr")
+    return P_.arcRadius +
+           std::sqrt(std::max(0.0, P_.arcRadius * P_.arcRadius - P_.shaftRadius * P_.shaftRadius));
   return FaceHeight(P_.outerRadius) + P_.headThickness;
 }
 
 bool ArcLipTool::ZRange(double rho, double& zLo, double& zHi) const {
-  if (rho < 0 || rho > P_.outerRadius) return false;
+  if (rho < 0 || rho > P_.outerRadius)
+    return false;
   zLo = (P_.nippleRadius > 0 && rho <= P_.nippleRadius) ? -P_.nippleLength : FaceHeight(rho);
   if (rho <= P_.shaftRadius) {
     zHi = BackHeight() + P_.shaftLength;
@@ -223,7 +253,8 @@ bool ArcLipTool::ZRange(double rho, double& zLo, double& zHi) const {
 }
 
 std::array<double, 2> ArcLipTool::EdgeRange(EdgeKind kind) const {
-  if (kind == EdgeKind::Lip) return {LipInnerRadius(), P_.outerRadius};
+  if (kind == EdgeKind::Lip)
+    return {LipInnerRadius(), P_.outerRadius};
   return {0.0, 0.0};
 }
 
@@ -248,9 +279,14 @@ std::vector<ProfilePoint> ArcLipTool::Profile(double maxSeg) const {
   std::vector<ProfilePoint> out;
   const double rn = P_.nippleRadius, rl = LipInnerRadius(), ro = P_.outerRadius;
   auto face = [&](double a, double b, EdgeKind kind) {
-    if (b <= a) return;
+    if (b <= a)
+      return;
     AppendCurve(
-        out, [&](double s) { double rho = a + s * (b - a); return std::pair{rho, FaceHeight(rho)}; },
+        out,
+        [&](double s) {
+          double rho = a + s * (b - a);
+          return std::pair{rho, FaceHeight(rho)};
+        },
         kind, (b - a) * 2.0, maxSeg);
   };
   if (rn > 0) {
@@ -298,9 +334,11 @@ nlohmann::json ArcLipTool::Parameters() const {
 // ---------------------------------------------------------------------------------------------
 
 namespace {
-template <class T> void Take(const nlohmann::json& spec, const char* key, T& dst, std::vector<std::string>& used) {
+template <class T>
+void Take(const nlohmann::json& spec, const char* key, T& dst, std::vector<std::string>& used) {
   used.push_back(key);
-  if (!spec.contains(key)) return;
+  if (!spec.contains(key))
+    return;
   try {
     dst = spec.at(key).get<T>();
   } catch (const std::exception&) {
@@ -310,7 +348,8 @@ template <class T> void Take(const nlohmann::json& spec, const char* key, T& dst
 } // namespace
 
 std::unique_ptr<ToolModel> MakeTool(const nlohmann::json& spec) {
-  if (!spec.is_object()) throw std::invalid_argument("tool must be a JSON object");
+  if (!spec.is_object())
+    throw std::invalid_argument("tool must be a JSON object");
   std::string type = spec.value("type", std::string("drill"));
   std::vector<std::string> used{"type"};
   std::unique_ptr<ToolModel> tool;

@@ -37,8 +37,8 @@ struct CuttingAngles {
 
 /// One vertex of the tool's half-section outline in the (rho, z) plane.
 struct ProfilePoint {
-  double rho = 0; ///< mm
-  double z = 0;   ///< mm
+  double rho = 0;                 ///< mm
+  double z = 0;                   ///< mm
   EdgeKind kind = EdgeKind::None; ///< kind of the outline from this vertex to the next
 };
 
@@ -61,8 +61,10 @@ public:
   virtual double EdgeZ(EdgeKind kind, double r) const = 0;
   /// Cutting angles at radius r (mm) on an edge of the given kind, at feed f (mm/rev).
   /// useFeedAngle = false takes mu = 0 (Zheng et al.'s simplification on the lips).
-  virtual CuttingAngles Angles(EdgeKind kind, double r, double feedMmPerRev, bool useFeedAngle) const = 0;
-  /// Azimuth (rad, tool frame, spindle angle 0) of lip `lip` at radius r: for the instantaneous lip.
+  virtual CuttingAngles Angles(EdgeKind kind, double r, double feedMmPerRev,
+                               bool useFeedAngle) const = 0;
+  /// Azimuth (rad, tool frame, spindle angle 0) of lip `lip` at radius r: for the instantaneous
+  /// lip.
   virtual double LipAzimuth(int lip, double r) const = 0;
   /// Half-section outline from the axis at the tip around to the axis at the back, sampled so
   /// that no segment is longer than maxSegmentMm. Used for the point shell and the display mesh.
@@ -84,9 +86,10 @@ struct TwistDrillParams {
   double pointAngleDeg = 59.0;   ///< eps (half of the 118 deg point angle), deg
   double helixAngleDeg = 20.0;   ///< theta at the periphery, deg
   double chiselAngleDeg = 116.0; ///< psi, deg
-  double webHalfWidth = 0.2;     ///< w, half chisel-edge width, mm (not given by Lee et al.: a parameter)
-  int lips = 2;                  ///< N_c
-  double fluteLength = 10.0;     ///< modelled length from the tip, mm
+  double webHalfWidth =
+      0.2;      ///< w, half chisel-edge width, mm (not given by Lee et al.: a parameter)
+  int lips = 2; ///< N_c
+  double fluteLength = 10.0; ///< modelled length from the tip, mm
 };
 
 class TwistDrill final : public ToolModel {
@@ -120,7 +123,7 @@ private:
 /// Tool frame: z = 0 at the face's foremost ring (rho = w); the nipple reaches to -nippleLength.
 /// With w = 0, alpha = 0 and no nipple it is a spherical burr of radius R.
 struct ArcLipParams {
-  double arcRadius = 16.22;     ///< R, mm
+  double arcRadius = 16.22;      ///< R, mm
   double arcCentreOffset = 6.43; ///< w, mm
   double alphaDeg = 9.46;        ///< alpha, deg
   double rakeDeg = 0.0;          ///< gamma_n, deg

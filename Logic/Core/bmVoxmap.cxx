@@ -17,16 +17,20 @@ constexpr size_t kHugePage = size_t(2) << 20;
 
 template <class T> T* HugePageAllocator<T>::allocate(size_t n) {
   const size_t bytes = n * sizeof(T);
-  if (bytes < kHugeBytes) return std::allocator<T>().allocate(n);
+  if (bytes < kHugeBytes)
+    return std::allocator<T>().allocate(n);
   void* p = std::aligned_alloc(kHugePage, (bytes + kHugePage - 1) / kHugePage * kHugePage);
-  if (!p) throw std::bad_alloc();
+  if (!p)
+    throw std::bad_alloc();
   ::madvise(p, bytes, MADV_HUGEPAGE); // advice only: ignored where huge pages are off
   return static_cast<T*>(p);
 }
 
 template <class T> void HugePageAllocator<T>::deallocate(T* p, size_t n) noexcept {
-  if (n * sizeof(T) < kHugeBytes) std::allocator<T>().deallocate(p, n);
-  else std::free(p);
+  if (n * sizeof(T) < kHugeBytes)
+    std::allocator<T>().deallocate(p, n);
+  else
+    std::free(p);
 }
 
 template struct HugePageAllocator<Voxmap::Fill>;
@@ -40,15 +44,21 @@ Voxmap::Voxmap(std::array<int, 3> dims, double spacingMm, std::array<double, 3> 
   if (!(spacingMm > 0) || !std::isfinite(spacingMm))
     throw std::invalid_argument("Voxmap: spacing must be a positive number of mm");
   Fill_.assign(size_t(NumVoxels()), 0);
-  for (int a = 0; a < 3; ++a) BrickDims_[a] = (Dims_[a] + kBrick - 1) / kBrick;
-  BrickCount_ = std::vector<std::atomic<int32_t>>(size_t(BrickDims_[0]) * BrickDims_[1] * BrickDims_[2]);
-  for (auto& c : BrickCount_) c.store(0, std::memory_order_relaxed);
+  for (int a = 0; a < 3; ++a)
+    BrickDims_[a] = (Dims_[a] + kBrick - 1) / kBrick;
+  BrickCount_ =
+      std::vector<std::atomic<int32_t>>(size_t(BrickDims_[0]) * BrickDims_[1] * BrickDims_[2]);
+  for (auto& c : BrickCount_)
+    c.store(0, std::memory_order_relaxed);
 }
 
-Voxmap::Voxmap(const Voxmap& o) { *this = o; }
+Voxmap::Voxmap(const Voxmap& o) {
+  *this = o;
+}
 
 Voxmap& Voxmap::operator=(const Voxmap& o) {
-  if (this == &o) return *this;
+  if (this == &o)
+    return *this;
   Dims_ = o.Dims_;
   Spacing_ = o.Spacing_;
   Origin_ = o.Origin_;
@@ -57,7 +67,8 @@ Voxmap& Voxmap::operator=(const Voxmap& o) {
   BrickDims_ = o.BrickDims_;
   BrickCount_ = std::vector<std::atomic<int32_t>>(o.BrickCount_.size());
   for (size_t b = 0; b < BrickCount_.size(); ++b)
-    BrickCount_[b].store(o.BrickCount_[b].load(std::memory_order_relaxed), std::memory_order_relaxed);
+    BrickCount_[b].store(o.BrickCount_[b].load(std::memory_order_relaxed),
+                         std::memory_order_relaxed);
   return *this;
 }
 
@@ -71,7 +82,8 @@ Box3 Voxmap::Bounds() const {
 }
 
 std::array<double, 3> Voxmap::WorldToGrid(const std::array<double, 3>& p) const {
-  return {(p[0] - Origin_[0]) / Spacing_, (p[1] - Origin_[1]) / Spacing_, (p[2] - Origin_[2]) / Spacing_};
+  return {(p[0] - Origin_[0]) / Spacing_, (p[1] - Origin_[1]) / Spacing_,
+          (p[2] - Origin_[2]) / Spacing_};
 }
 
 std::array<double, 3> Voxmap::GridToWorld(const std::array<double, 3>& g) const {
@@ -82,29 +94,35 @@ bool Voxmap::VoxelAt(const std::array<double, 3>& p, std::array<int, 3>& ijk) co
   auto g = WorldToGrid(p);
   for (int a = 0; a < 3; ++a) {
     double f = std::floor(g[a] + 0.5);
-    if (!(f >= 0 && f < Dims_[a])) return false;
+    if (!(f >= 0 && f < Dims_[a]))
+      return false;
     ijk[a] = int(f);
   }
   return true;
 }
 
-static inline int64_t BrickOfIndex(const std::array<int, 3>& dims, const std::array<int, 3>& bdims, int64_t idx) {
+static inline int64_t BrickOfIndex(const std::array<int, 3>& dims, const std::array<int, 3>& bdims,
+                                   int64_t idx) {
   int64_t i = idx % dims[0];
   int64_t rest = idx / dims[0];
   int64_t j = rest % dims[1];
   int64_t k = rest / dims[1];
-  return i / Voxmap::kBrick + bdims[0] * (j / Voxmap::kBrick + int64_t(bdims[1]) * (k / Voxmap::kBrick));
+  return i / Voxmap::kBrick +
+         bdims[0] * (j / Voxmap::kBrick + int64_t(bdims[1]) * (k / Voxmap::kBrick));
 }
 
 void Voxmap::SetFill(int64_t idx, Fill f) {
   f = std::min(f, kFull);
   bool was = Fill_[idx] > 0, now = f > 0;
   Fill_[idx] = f;
-  if (was != now) BrickCount_[BrickOfIndex(Dims_, BrickDims_, idx)].fetch_add(now ? 1 : -1, std::memory_order_relaxed);
+  if (was != now)
+    BrickCount_[BrickOfIndex(Dims_, BrickDims_, idx)].fetch_add(now ? 1 : -1,
+                                                                std::memory_order_relaxed);
 }
 
 void Voxmap::SetMaterial(int64_t idx, float m) {
-  if (Material_.empty()) Material_.assign(Fill_.size(), 1.0f);
+  if (Material_.empty())
+    Material_.assign(Fill_.size(), 1.0f);
   Material_[idx] = m;
 }
 
@@ -113,20 +131,23 @@ Voxmap::Fill Voxmap::Remove(int64_t idx, Fill amount, bool& becameVoid) {
   Fill old = cell.fetch_sub(amount, std::memory_order_relaxed);
   Fill after = old - amount;
   becameVoid = old > 0 && after <= 0;
-  if (becameVoid) BrickCount_[BrickOfIndex(Dims_, BrickDims_, idx)].fetch_sub(1, std::memory_order_relaxed);
+  if (becameVoid)
+    BrickCount_[BrickOfIndex(Dims_, BrickDims_, idx)].fetch_sub(1, std::memory_order_relaxed);
   return std::max(old, 0) - std::max(after, 0);
 }
 
 double Voxmap::BoneVolume() const {
   long double s = 0;
   for (Fill f : Fill_)
-    if (f > 0) s += f;
+    if (f > 0)
+      s += f;
   return double(s / kFull) * VoxelVolume();
 }
 
 int64_t Voxmap::CountBone() const {
   int64_t n = 0;
-  for (Fill f : Fill_) n += f > 0;
+  for (Fill f : Fill_)
+    n += f > 0;
   return n;
 }
 
@@ -135,34 +156,40 @@ bool Voxmap::AnyBoneIn(std::array<int, 3> lo, std::array<int, 3> hi) const {
   for (int a = 0; a < 3; ++a) {
     lo[a] = std::max(lo[a], 0);
     hi[a] = std::min(hi[a], Dims_[a] - 1);
-    if (lo[a] > hi[a]) return false;
+    if (lo[a] > hi[a])
+      return false;
     blo[a] = lo[a] / kBrick;
     bhi[a] = hi[a] / kBrick;
   }
   for (int bk = blo[2]; bk <= bhi[2]; ++bk)
     for (int bj = blo[1]; bj <= bhi[1]; ++bj)
       for (int bi = blo[0]; bi <= bhi[0]; ++bi)
-        if (BrickCount_[BrickIndex(bi, bj, bk)].load(std::memory_order_relaxed) > 0) return true;
+        if (BrickCount_[BrickIndex(bi, bj, bk)].load(std::memory_order_relaxed) > 0)
+          return true;
   return false;
 }
 
 void Voxmap::RebuildOccupancy() {
-  for (auto& c : BrickCount_) c.store(0, std::memory_order_relaxed);
+  for (auto& c : BrickCount_)
+    c.store(0, std::memory_order_relaxed);
   for (int k = 0; k < Dims_[2]; ++k)
     for (int j = 0; j < Dims_[1]; ++j) {
       const Fill* row = Fill_.data() + Index(0, j, k);
       int64_t bbase = BrickIndex(0, j / kBrick, k / kBrick);
       for (int i = 0; i < Dims_[0]; ++i)
-        if (row[i] > 0) BrickCount_[bbase + i / kBrick].fetch_add(1, std::memory_order_relaxed);
+        if (row[i] > 0)
+          BrickCount_[bbase + i / kBrick].fetch_add(1, std::memory_order_relaxed);
     }
 }
 
 bool Voxmap::operator==(const Voxmap& o) const {
-  if (Dims_ != o.Dims_ || Spacing_ != o.Spacing_ || Origin_ != o.Origin_ || Fill_ != o.Fill_) return false;
+  if (Dims_ != o.Dims_ || Spacing_ != o.Spacing_ || Origin_ != o.Origin_ || Fill_ != o.Fill_)
+    return false;
   if (Material_.empty() != o.Material_.empty()) {
     const Voxmap& withM = Material_.empty() ? o : *this;
     for (float m : withM.Material_)
-      if (m != 1.0f) return false;
+      if (m != 1.0f)
+        return false;
     return true;
   }
   return Material_ == o.Material_;

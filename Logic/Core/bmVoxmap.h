@@ -3,8 +3,8 @@
 // One contiguous 1D array, index = i + nx * (j + ny * k). Each voxel holds its remaining bone
 // fill as a fixed-point fraction of the voxel volume (kFull = whole voxel, <= 0 = void) and a
 // material scale (1 = cortical bone, < 1 = cancellous) that scales the cutting coefficients.
-// Removal lowers the fill by the volume swept into the voxel (MODEL_NOTES section 8), so material is
-// conserved and steady drilling gives a steady force. Fill may go slightly negative when several
+// Removal lowers the fill by the volume swept into the voxel (MODEL_NOTES section 8), so material
+// is conserved and steady drilling gives a steady force. Fill may go slightly negative when several
 // elements cut the last of a voxel in the same frame; any value <= 0 is void.
 //
 // A coarse occupancy per brick (kBrick^3 voxels) is kept current as voxels go, so whole blocks of
@@ -39,7 +39,8 @@ struct Box3 {
   std::array<double, 3> hi{0, 0, 0};
   bool Intersects(const Box3& o) const {
     for (int a = 0; a < 3; ++a)
-      if (hi[a] < o.lo[a] || o.hi[a] < lo[a]) return false;
+      if (hi[a] < o.lo[a] || o.hi[a] < lo[a])
+        return false;
     return true;
   }
 };
@@ -69,7 +70,9 @@ public:
   /// World bounds (mm) of the grid's outer faces.
   Box3 Bounds() const;
 
-  int64_t Index(int i, int j, int k) const { return i + int64_t(Dims_[0]) * (j + int64_t(Dims_[1]) * k); }
+  int64_t Index(int i, int j, int k) const {
+    return i + int64_t(Dims_[0]) * (j + int64_t(Dims_[1]) * k);
+  }
   bool Contains(int i, int j, int k) const {
     return i >= 0 && j >= 0 && k >= 0 && i < Dims_[0] && j < Dims_[1] && k < Dims_[2];
   }
@@ -107,7 +110,8 @@ public:
     return bi + int64_t(BrickDims_[0]) * (bj + int64_t(BrickDims_[1]) * bk);
   }
   int32_t BrickCount(int64_t b) const { return BrickCount_[b].load(std::memory_order_relaxed); }
-  /// True when any bone voxel lies in the voxel index box [lo, hi] (inclusive, clamped to the grid).
+  /// True when any bone voxel lies in the voxel index box [lo, hi] (inclusive, clamped to the
+  /// grid).
   bool AnyBoneIn(std::array<int, 3> lo, std::array<int, 3> hi) const;
   /// Recompute the brick occupancy from the fills (after bulk writes through MutableFill()).
   void RebuildOccupancy();

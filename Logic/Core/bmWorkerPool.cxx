@@ -5,11 +5,15 @@
 namespace bm {
 
 WorkerPool::WorkerPool(int threads) {
-  if (threads < 1) throw std::invalid_argument("worker pool needs >= 1 thread");
-  for (int t = 1; t < threads; ++t) Workers_.emplace_back([this, t] { WorkerLoop(t); });
+  if (threads < 1)
+    throw std::invalid_argument("worker pool needs >= 1 thread");
+  for (int t = 1; t < threads; ++t)
+    Workers_.emplace_back([this, t] { WorkerLoop(t); });
 }
 
-WorkerPool::~WorkerPool() { Stop(); }
+WorkerPool::~WorkerPool() {
+  Stop();
+}
 
 void WorkerPool::Stop() {
   {
@@ -18,23 +22,27 @@ void WorkerPool::Stop() {
   }
   Wake_.notify_all();
   for (auto& w : Workers_)
-    if (w.joinable()) w.join();
+    if (w.joinable())
+      w.join();
   Workers_.clear();
 }
 
 void WorkerPool::Drain(int thread) {
   for (;;) {
     const int task = Next_.fetch_add(1, std::memory_order_acq_rel);
-    if (task >= Tasks_.load(std::memory_order_acquire)) break;
+    if (task >= Tasks_.load(std::memory_order_acquire))
+      break;
     (*Fn_.load(std::memory_order_acquire))(task, thread);
     Remaining_.fetch_sub(1, std::memory_order_acq_rel);
   }
 }
 
 void WorkerPool::Run(int tasks, const std::function<void(int, int)>& fn) {
-  if (tasks <= 0) return;
+  if (tasks <= 0)
+    return;
   if (Workers_.empty() || tasks == 1) {
-    for (int t = 0; t < tasks; ++t) fn(t, 0);
+    for (int t = 0; t < tasks; ++t)
+      fn(t, 0);
     return;
   }
   {
@@ -50,9 +58,11 @@ void WorkerPool::Run(int tasks, const std::function<void(int, int)>& fn) {
   }
   Wake_.notify_all();
   Drain(0);
-  while (Remaining_.load(std::memory_order_acquire) > 0) std::this_thread::yield();
+  while (Remaining_.load(std::memory_order_acquire) > 0)
+    std::this_thread::yield();
   // Workers may still be between their last fetch_add and going idle: wait until none holds Fn_.
-  while (Busy_.load(std::memory_order_acquire) > 0) std::this_thread::yield();
+  while (Busy_.load(std::memory_order_acquire) > 0)
+    std::this_thread::yield();
 }
 
 void WorkerPool::WorkerLoop(int thread) {
@@ -61,18 +71,22 @@ void WorkerPool::WorkerLoop(int thread) {
     // Spin briefly for the next frame's run, then sleep.
     bool woke = false;
     for (int spin = 0; spin < 2000 && !woke; ++spin) {
-      if (Stopping_.load(std::memory_order_acquire)) return;
+      if (Stopping_.load(std::memory_order_acquire))
+        return;
       woke = Generation_.load(std::memory_order_acquire) != seen;
-      if (!woke) std::this_thread::yield();
+      if (!woke)
+        std::this_thread::yield();
     }
     if (!woke) {
       std::unique_lock<std::mutex> lock(Mutex_);
       Wake_.wait(lock, [&] { return Stopping_.load() || Generation_.load() != seen; });
-      if (Stopping_.load()) return;
+      if (Stopping_.load())
+        return;
     }
     {
       std::lock_guard<std::mutex> lock(Mutex_);
-      if (Stopping_.load()) return;
+      if (Stopping_.load())
+        return;
       seen = Generation_.load();
       Busy_.fetch_add(1, std::memory_order_acq_rel);
     }

@@ -9,24 +9,28 @@
 
 namespace bm {
 
-ZhengEngine::ZhengEngine(Voxmap& bone, const ToolModel& tool, const PointShell& shell, const ForceModel& model,
-                         int threads)
+ZhengEngine::ZhengEngine(Voxmap& bone, const ToolModel& tool, const PointShell& shell,
+                         const ForceModel& model, int threads)
     : Bone_(bone), Tool_(tool), Shell_(shell), Model_(model), Tree_(bone), Pool_(threads),
-      Buffer_(shell.Size()), Requests_(size_t(threads)), Engaged_(size_t(threads)), EngagedCut_(size_t(threads)),
-      Visited_(size_t(threads)), State_(shell.Size()) {}
+      Buffer_(shell.Size()), Requests_(size_t(threads)), Engaged_(size_t(threads)),
+      EngagedCut_(size_t(threads)), Visited_(size_t(threads)), State_(shell.Size()) {}
 
-void ZhengEngine::SyncBone() { Tree_.CopyTo(Bone_); }
+void ZhengEngine::SyncBone() {
+  Tree_.CopyTo(Bone_);
+}
 
 FrameResult ZhengEngine::Step(const FrameInput& in) {
   FrameResult res;
   const uint32_t frameNo = ++Frame_;
-  for (auto& r : Requests_) r.clear();
+  for (auto& r : Requests_)
+    r.clear();
   std::fill(Engaged_.begin(), Engaged_.end(), 0);
   std::fill(EngagedCut_.begin(), EngagedCut_.end(), 0);
   std::fill(Visited_.begin(), Visited_.end(), 0);
   const FrameGeometry G(in, Shell_, Bone_);
   // Global bounding-box pre-check only (no block culling in the baseline).
-  if (!G.ToolMeetsBone(Tool_, Bone_)) return res;
+  if (!G.ToolMeetsBone(Tool_, Bone_))
+    return res;
   const bool cutting = G.cutting, remove = G.remove;
   const float* material = Bone_.MaterialData();
   const auto& codes = Shell_.Codes();
@@ -55,7 +59,8 @@ FrameResult ZhengEngine::Step(const FrameInput& in) {
       const auto v = G.Coords(vidx);
       int level = 0;
       const int32_t leaf = Tree_.Find(v[0], v[1], v[2], level);
-      if (!st.Visit(frameNo, vidx, Tree_.Value(leaf))) continue;
+      if (!st.Visit(frameNo, vidx, Tree_.Value(leaf)))
+        continue;
       ++Engaged_[size_t(thread)];
       if (remove)
         if (const int32_t units = G.RemovalUnits(an[size_t(e)]); units > 0)
@@ -64,7 +69,8 @@ FrameResult ZhengEngine::Step(const FrameInput& in) {
         ++EngagedCut_[size_t(thread)];
         const ForceBin& fb = fbins[bins[size_t(e)]];
         const double mat = material ? material[vidx] : 1.0;
-        const ElementForce f = Model_.Evaluate(Tool_, fb.kind, fb.r, in.feedMmPerRev, in.speedRpm, mat);
+        const ElementForce f =
+            Model_.Evaluate(Tool_, fb.kind, fb.r, in.feedMmPerRev, in.speedRpm, mat);
         const double w = deltas[size_t(e)];
         const double c = radial[size_t(e)][0], s = radial[size_t(e)][1];
         out = {w * (f.fx * c - f.fy * s), w * (f.fx * s + f.fy * c), w * f.fz, -w * fb.r * f.fy};
@@ -78,11 +84,13 @@ FrameResult ZhengEngine::Step(const FrameInput& in) {
     const int end = std::min(n, (task + 1) * chunk);
     auto& s = sums[size_t(task)];
     for (int e = task * chunk; e < end; ++e)
-      for (int q = 0; q < 4; ++q) s[q] += Buffer_[size_t(e)][q];
+      for (int q = 0; q < 4; ++q)
+        s[q] += Buffer_[size_t(e)][q];
   });
   std::array<double, 4> total{0, 0, 0, 0};
   for (const auto& s : sums)
-    for (int q = 0; q < 4; ++q) total[q] += s[q];
+    for (int q = 0; q < 4; ++q)
+      total[q] += s[q];
 
   // Pass 3: removal. Leaves are refined to voxels first (one thread), then cut in parallel.
   int64_t requested = 0;

@@ -88,7 +88,8 @@ void OpenCLEngine::UpdateForceTable(double f, double n) {
   TableHost_ = ForceTable(Tool_, Model_, ShellBinSpans(Shell_), f, n);
   static_assert(sizeof(BinForce) == 4 * sizeof(double), "double4 per bin");
   if (!TableHost_.empty())
-    Rt_.queue.enqueueWriteBuffer(Table_, CL_TRUE, 0, TableHost_.size() * sizeof(BinForce), TableHost_.data());
+    Rt_.queue.enqueueWriteBuffer(Table_, CL_TRUE, 0, TableHost_.size() * sizeof(BinForce),
+                                 TableHost_.data());
   TableFeed_ = f;
   TableSpeed_ = n;
 }

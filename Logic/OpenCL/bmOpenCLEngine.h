@@ -57,8 +57,8 @@ private:
   OpenCLRuntime Rt_;
   cl::Program Program_;
   cl::Kernel Collide_, Remove_;
-  cl::Buffer Codes_, Normals_, Bins_, Deltas_, Ranges_, Radial_, Table_, Fill_, Material_,
-      State_, Units_, Visible_, Sums_, RemovalSums_, VoidedCount_, Voided_;
+  cl::Buffer Codes_, Normals_, Bins_, Deltas_, Ranges_, Radial_, Table_, Fill_, Material_, State_,
+      Units_, Visible_, Sums_, RemovalSums_, VoidedCount_, Voided_;
   std::vector<int32_t> Bricks_;        // host copy of the brick occupancy
   std::vector<uint32_t> Visible_Host_; // visible block indices of the frame
   std::vector<int64_t> SumsHost_, RemovalSumsHost_;

@@ -22,7 +22,8 @@ struct EngagedDrill {
     setup = std::make_unique<bm::MachiningSetup>(s, bm::MakeSceneBlock(s));
     step = s.trial.feedMmPerRev * s.trial.speedRpm / 60.0 * s.trial.frameS;
     const double full = bm::FullEngagementDepth(setup->Tool()) + 2 * setup->Bone().Spacing();
-    for (depth = -0.005; depth < full; depth += step) Frame();
+    for (depth = -0.005; depth < full; depth += step)
+      Frame();
   }
   bm::FrameResult Frame() {
     bm::FrameInput in;
@@ -46,12 +47,27 @@ void Frame(benchmark::State& state, bm::Method method) {
   state.counters["visited_elements"] = double(elements);
 }
 
-void LazarFrame(benchmark::State& state) { Frame(state, bm::Method::Lazar); }
-void ZhengFrame(benchmark::State& state) { Frame(state, bm::Method::Zheng); }
+void LazarFrame(benchmark::State& state) {
+  Frame(state, bm::Method::Lazar);
+}
+void ZhengFrame(benchmark::State& state) {
+  Frame(state, bm::Method::Zheng);
+}
 
 // Args: shell resolution, voxmap resolution, threads.
-BENCHMARK(LazarFrame)->Args({512, 256, 1})->Args({1024, 256, 1})->Args({1024, 256, 2})->Unit(benchmark::kMillisecond)->Repetitions(3)->ReportAggregatesOnly(true);
-BENCHMARK(ZhengFrame)->Args({512, 256, 1})->Args({512, 256, 2})->Unit(benchmark::kMillisecond)->Repetitions(3)->ReportAggregatesOnly(true);
+BENCHMARK(LazarFrame)
+    ->Args({512, 256, 1})
+    ->Args({1024, 256, 1})
+    ->Args({1024, 256, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->Repetitions(3)
+    ->ReportAggregatesOnly(true);
+BENCHMARK(ZhengFrame)
+    ->Args({512, 256, 1})
+    ->Args({512, 256, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->Repetitions(3)
+    ->ReportAggregatesOnly(true);
 
 } // namespace
 

@@ -8,7 +8,7 @@
 #endif
 #pragma OPENCL FP_CONTRACT OFF
 
-#define BM_SUMS 8 // thrust, torque, fx, fy, visited, engaged, engagedCutting, requested
+#define BM_SUMS 8         // thrust, torque, fx, fy, visited, engaged, engagedCutting, requested
 #define BM_REMOVAL_SUMS 2 // removedFill, removedVoxels
 // Largest merged removal of one voxel in one atomic subtraction (no int32 overflow).
 #define BM_MERGE_LIMIT (1 << 30)
@@ -44,25 +44,30 @@ inline void GroupSum(long* mine, int n, __local long* scratch, __global long* ou
   const uint L = get_local_size(0), l = get_local_id(0);
   if (L == 1) {
 #ifdef BM_INT64_ATOMICS
-    for (int q = 0; q < n; ++q) atom_add(out + q, mine[q]);
+    for (int q = 0; q < n; ++q)
+      atom_add(out + q, mine[q]);
 #else
-    for (int q = 0; q < n; ++q) out[get_group_id(0) * n + q] = mine[q];
+    for (int q = 0; q < n; ++q)
+      out[get_group_id(0) * n + q] = mine[q];
 #endif
     return;
   }
-  for (int q = 0; q < n; ++q) scratch[l * n + q] = mine[q];
+  for (int q = 0; q < n; ++q)
+    scratch[l * n + q] = mine[q];
   barrier(CLK_LOCAL_MEM_FENCE);
   for (uint s = L / 2; s > 0; s >>= 1) {
     if (l < s)
-      for (int q = 0; q < n; ++q) scratch[l * n + q] += scratch[(l + s) * n + q];
+      for (int q = 0; q < n; ++q)
+        scratch[l * n + q] += scratch[(l + s) * n + q];
     barrier(CLK_LOCAL_MEM_FENCE);
   }
   if (l == 0) {
 #ifdef BM_INT64_ATOMICS
-    for (int q = 0; q < n; ++q) atom_add(out + q, scratch[q]);
+    for (int q = 0; q < n; ++q)
+      atom_add(out + q, scratch[q]);
 #else
-    for (int q = 0; q < n; ++q) out[get_group_id(0) * n + q] = scratch[q];
+    for (int q = 0; q < n; ++q)
+      out[get_group_id(0) * n + q] = scratch[q];
 #endif
   }
 }
-

@@ -19,8 +19,7 @@ __kernel void vps_collide(__global const uint* visible, const uint nVisible,
                           __global const uint2* blockRange, __global const ulong* codes,
                           __global const float* areaNormals, __global const ushort* bins,
                           __global const float* deltas, __global const double* table,
-                          __global const double2* radial,
-                          __global const int* fill,
+                          __global const double2* radial, __global const int* fill,
                           __global const float* material, __global Residency* state,
                           __global int* units, __global long* sums, __local long* scratch,
                           const float4 A0, const float4 A1, const float4 A2, const int4 dims,
@@ -48,11 +47,12 @@ __kernel void vps_collide(__global const uint* visible, const uint nVisible,
         continue;
       }
       const long idx = vi + (long)dims.x * (vj + (long)dims.y * vk);
-      if (!Visit(st, frameNo, idx, fill[idx])) continue;
+      if (!Visit(st, frameNo, idx, fill[idx]))
+        continue;
       ++P[5];
       if (remove) {
-        const double vol = areaNormals[3 * e] * dx + areaNormals[3 * e + 1] * dy +
-                           areaNormals[3 * e + 2] * dz;
+        const double vol =
+            areaNormals[3 * e] * dx + areaNormals[3 * e + 1] * dy + areaNormals[3 * e + 2] * dz;
         if (vol > 0) {
           const double want = vol * unitsPerMm3;
           const int u = (int)((maxUnits < want ? maxUnits : want) + 0.5);
@@ -107,16 +107,19 @@ __kernel void vps_remove(__global const uint* visible, const uint nVisible,
     int amount = 0;
     for (uint e = range.x; e < range.y; ++e) {
       const int u = units[e];
-      if (u <= 0) continue;
+      if (u <= 0)
+        continue;
       const long idx = state[e].voxel;
       if (idx != cur || amount > BM_MERGE_LIMIT - u) {
-        if (amount > 0) Flush(fill, cur, amount, R, voidedCount, voided);
+        if (amount > 0)
+          Flush(fill, cur, amount, R, voidedCount, voided);
         cur = idx;
         amount = 0;
       }
       amount += u;
     }
-    if (amount > 0) Flush(fill, cur, amount, R, voidedCount, voided);
+    if (amount > 0)
+      Flush(fill, cur, amount, R, voidedCount, voided);
   }
 #ifdef BM_INT64_ATOMICS
   atom_add(sums, R[0]);

@@ -33,14 +33,13 @@ inline int FindLeaf(__global const int2* nodes, int levels, int i, int j, int k,
 __kernel void zheng_collide(const uint n, const uint per, __global const ulong* codes,
                             __global const float* areaNormals, __global const ushort* bins,
                             __global const float* deltas, __global const double2* radial,
-                            __global const double* terms,
-                            __global const int2* nodes, const int levels,
-                            __global const float* material, __global Residency* state,
-                            __global int* units, __global double4* buffer, __global long* sums,
-                            __local long* scratch, __global uint* refineCount,
-                            __global int4* refine, const float4 A0, const float4 A1,
-                            const float4 A2, const int4 dims, const uint frameNo, const int flags,
-                            const double dx, const double dy, const double dz,
+                            __global const double* terms, __global const int2* nodes,
+                            const int levels, __global const float* material,
+                            __global Residency* state, __global int* units,
+                            __global double4* buffer, __global long* sums, __local long* scratch,
+                            __global uint* refineCount, __global int4* refine, const float4 A0,
+                            const float4 A1, const float4 A2, const int4 dims, const uint frameNo,
+                            const int flags, const double dx, const double dy, const double dz,
                             const double unitsPerMm3, const double maxUnits) {
   const bool remove = flags & 1, cutting = flags & 2, hasMaterial = flags & 4;
   long P[BM_ZHENG_SUMS] = {0, 0, 0, 0};
@@ -64,7 +63,8 @@ __kernel void zheng_collide(const uint n, const uint per, __global const ulong* 
     int level = 0;
     const int leaf = FindLeaf(nodes, levels, vi, vj, vk, &level);
     const long idx = vi + (long)dims.x * (vj + (long)dims.y * vk);
-    if (!Visit(st, frameNo, idx, nodes[leaf].y)) continue;
+    if (!Visit(st, frameNo, idx, nodes[leaf].y))
+      continue;
     ++P[1];
     if (remove) {
       const double vol =
@@ -75,7 +75,8 @@ __kernel void zheng_collide(const uint n, const uint per, __global const ulong* 
         if (u > 0) {
           units[e] = u;
           P[3] += u;
-          if (level > 0) refine[atomic_inc(refineCount)] = (int4)(vi, vj, vk, 0);
+          if (level > 0)
+            refine[atomic_inc(refineCount)] = (int4)(vi, vj, vk, 0);
         }
       }
     }
@@ -89,8 +90,7 @@ __kernel void zheng_collide(const uint n, const uint per, __global const ulong* 
       const double fz = s * (t[0] * t[5] + t[1] * t[8]);
       const double w = (double)deltas[e];
       const double c = radial[e].x, sn = radial[e].y; // PointShell::RadialDirs()
-      buffer[e] = (double4)(w * (fx * c - fy * sn), w * (fx * sn + fy * c), w * fz,
-                            -w * t[9] * fy);
+      buffer[e] = (double4)(w * (fx * c - fy * sn), w * (fx * sn + fy * c), w * fz, -w * t[9] * fy);
     }
   }
   GroupSum(P, BM_ZHENG_SUMS, scratch, sums);
@@ -103,14 +103,14 @@ __kernel void zheng_reduce(const uint n, __global const double4* buffer,
   const uint begin = c * BM_ZHENG_CHUNK;
   const uint end = min(n, begin + BM_ZHENG_CHUNK);
   double4 s = (double4)(0.0, 0.0, 0.0, 0.0);
-  for (uint e = begin; e < end; ++e) s += buffer[e];
+  for (uint e = begin; e < end; ++e)
+    s += buffer[e];
   chunkSums[c] = s;
 }
 
 // Removal after the host refined the leaves: work item t walks its element range in order and
 // merges the requests of one voxel into one atomic subtraction on the voxel's leaf.
-inline void ZhengFlush(__global int2* nodes, int levels, int4 dims, long idx, int amount,
-                       long* R) {
+inline void ZhengFlush(__global int2* nodes, int levels, int4 dims, long idx, int amount, long* R) {
   const int i = (int)(idx % dims.x);
   const long rest = idx / dims.x;
   const int j = (int)(rest % dims.y), k = (int)(rest / dims.y);
@@ -119,7 +119,8 @@ inline void ZhengFlush(__global int2* nodes, int levels, int4 dims, long idx, in
   const int old = atomic_sub((__global int*)nodes + 2 * leaf + 1, amount);
   const int after = old - amount;
   R[0] += max(old, 0) - max(after, 0);
-  if (old > 0 && after <= 0) ++R[1];
+  if (old > 0 && after <= 0)
+    ++R[1];
 }
 
 __kernel void zheng_remove(const uint n, const uint per, __global const Residency* state,
@@ -132,16 +133,19 @@ __kernel void zheng_remove(const uint n, const uint per, __global const Residenc
   int amount = 0;
   for (uint e = begin; e < end; ++e) {
     const int u = units[e];
-    if (u <= 0) continue;
+    if (u <= 0)
+      continue;
     const long idx = state[e].voxel;
     if (idx != cur || amount > BM_MERGE_LIMIT - u) {
-      if (amount > 0) ZhengFlush(nodes, levels, dims, cur, amount, R);
+      if (amount > 0)
+        ZhengFlush(nodes, levels, dims, cur, amount, R);
       cur = idx;
       amount = 0;
     }
     amount += u;
   }
-  if (amount > 0) ZhengFlush(nodes, levels, dims, cur, amount, R);
+  if (amount > 0)
+    ZhengFlush(nodes, levels, dims, cur, amount, R);
 #ifdef BM_INT64_ATOMICS
   atom_add(sums, R[0]);
   atom_add(sums + 1, R[1]);

@@ -3,10 +3,11 @@
 // Revolves the half-section outline of a bm::ToolModel (Logic/Core/bmToolModel.h) about the tool
 // axis. The output is in the tool frame of bm::ToolModel: z along the axis from the tip toward the
 // shank, origin on the axis at the foremost cutting point (a non-cutting guide such as the
-// reamer's nipple reaches below z = 0); units are mm. The z bounds equal GetAxialRange(). Point data "Normals" (outward, split at
-// edges sharper than 30 degrees); cell data "EdgeKind" (unsigned char, bm::EdgeKind: 0 = non-
-// cutting surface, 1 = cutting lip, 2 = chisel edge), so the cutting part of the tool can be
-// coloured. The mesh is the time-averaged (axisymmetric) tool: it does not show flutes.
+// reamer's nipple reaches below z = 0); units are mm. The z bounds equal GetAxialRange(). Point
+// data "Normals" (outward, split at edges sharper than 30 degrees); cell data "EdgeKind" (unsigned
+// char, bm::EdgeKind: 0 = non- cutting surface, 1 = cutting lip, 2 = chisel edge), so the cutting
+// part of the tool can be coloured. The mesh is the time-averaged (axisymmetric) tool: it does not
+// show flutes.
 //
 // This class only displays: the haptic engine samples the same bm::ToolModel itself.
 #pragma once
