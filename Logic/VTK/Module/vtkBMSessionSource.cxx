@@ -12,26 +12,36 @@
 #include "bmProgrammableDevice.h"
 #include "bmScene.h"
 #include "bmScriptedDevice.h"
+#include "bmTouchDevice.h"
 #include "vtkBMToolSource.h"
 
+#include "vtkDataObject.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkPointData.h"
 #include "vtkPolyData.h"
+#include "vtkTable.h"
 #include "vtkTransform.h"
 #include "vtkTransformPolyDataFilter.h"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <deque>
 #include <exception>
 #include <filesystem>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace {
 /// Limits of the scripted robot and the mouse proxy: both are position sources with no hand on
@@ -59,6 +69,73 @@ public:
   bool HavePreviousBox = false;
   bm::Box3 PreviousBox;
   std::string Error;
+  std::string TouchStatus;
+  /// History rows (time_s, thrust_N, torque_Nmm, frame_ms, depth_mm), oldest first, and the
+  /// session time of the next row to keep.
+  std::deque<std::array<double, 5>> History;
+  double NextHistoryS = 0;
+  std::vector<bm::FrameRecord> Records; ///< drained from the session, reused
+  vtkNew<vtkTable> HistoryTable;
+  vtkNew<vtkImageData> BoneImage;
+
+  /// Depth (mm) of the foremost cutting point of a tool at (pos, rot) below the entry point.
+  double Depth(const Eigen::Vector3d& pos, const Eigen::Matrix3d& rot) const {
+    const bm::TrialSpec& t = this->Setup->GetScene().trial;
+    const Eigen::Vector3d tip =
+        pos + rot * Eigen::Vector3d(0, 0, bm::ForemostCuttingZ(this->Setup->Tool()));
+    return (t.entry - tip).dot(t.axis.normalized());
+  }
+
+  /// Moves the session's new frame records into History (one row per stepS of session time)
+  /// and drops rows older than keepS before the newest. GUI thread only (the ring's consumer).
+  void DrainHistory(const Eigen::Matrix3d& rot, double stepS, double keepS) {
+    this->Records.clear();
+    this->Session->DrainRecords(this->Records);
+    for (const bm::FrameRecord& r : this->Records) {
+      if (r.timeS + 1e-9 < this->NextHistoryS)
+        continue;
+      const Eigen::Vector3d proxy(r.proxyPos[0], r.proxyPos[1], r.proxyPos[2]);
+      this->History.push_back(
+          {r.timeS, r.thrustN, r.torqueNmm, r.frameMs, this->Depth(proxy, rot)});
+      this->NextHistoryS = r.timeS + stepS;
+    }
+    while (!this->History.empty() && this->History.front()[0] < this->History.back()[0] - keepS)
+      this->History.pop_front();
+    static const char* const names[5] = {"time_s", "thrust_N", "torque_Nmm", "frame_ms",
+                                         "depth_mm"};
+    vtkNew<vtkTable> table;
+    for (int c = 0; c < 5; ++c) {
+      vtkNew<vtkDoubleArray> column;
+      column->SetName(names[c]);
+      column->SetNumberOfTuples(vtkIdType(this->History.size()));
+      for (size_t i = 0; i < this->History.size(); ++i)
+        column->SetValue(vtkIdType(i), this->History[i][c]);
+      table->AddColumn(column);
+    }
+    this->HistoryTable->ShallowCopy(table);
+  }
+
+  /// The bone's fill fractions (0..1) as an image at the voxel centres, read while the haptic
+  /// thread cuts (atomic loads; a brick being cut shows that frame half done).
+  void FillBoneImage() {
+    const bm::Voxmap& v = this->Setup->Bone();
+    const std::array<int, 3>& d = v.Dims();
+    vtkNew<vtkImageData> image;
+    image->SetDimensions(d[0], d[1], d[2]);
+    image->SetSpacing(v.Spacing(), v.Spacing(), v.Spacing());
+    image->SetOrigin(v.Origin()[0], v.Origin()[1], v.Origin()[2]);
+    vtkNew<vtkFloatArray> fraction;
+    fraction->SetName("BoneFraction");
+    fraction->SetNumberOfTuples(v.NumVoxels());
+    float* out = fraction->GetPointer(0);
+    constexpr double scale = 1.0 / bm::Voxmap::kFull;
+    for (int64_t i = 0; i < v.NumVoxels(); ++i) {
+      const bm::Voxmap::Fill f = v.LoadFill(i);
+      out[i] = f <= 0 ? 0.0f : float(f * scale);
+    }
+    image->GetPointData()->SetScalars(fraction);
+    this->BoneImage->ShallowCopy(image);
+  }
 
   /// World box (mm) around the tool's cutting part at a pose, one voxel wider.
   bm::Box3 CuttingBox(const Eigen::Vector3d& pos, const Eigen::Matrix3d& rot) const {
@@ -102,13 +179,51 @@ vtkStandardNewMacro(vtkBMSessionSource);
 
 vtkBMSessionSource::vtkBMSessionSource() : Internals(new vtkInternals) {
   this->SetNumberOfInputPorts(0);
-  this->SetNumberOfOutputPorts(2);
+  this->SetNumberOfOutputPorts(4);
   this->SetScene("glenoid");
+}
+
+int vtkBMSessionSource::FillOutputPortInformation(int port, vtkInformation* info) {
+  if (port == 2) {
+    info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkTable");
+    return 1;
+  }
+  if (port == 3) {
+    info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkImageData");
+    return 1;
+  }
+  return this->Superclass::FillOutputPortInformation(port, info);
+}
+
+vtkTable* vtkBMSessionSource::GetHistory() {
+  return vtkTable::SafeDownCast(this->GetOutputDataObject(2));
+}
+
+vtkImageData* vtkBMSessionSource::GetBoneImage() {
+  return vtkImageData::SafeDownCast(this->GetOutputDataObject(3));
+}
+
+std::string vtkBMSessionSource::ProbeTouch() {
+  try {
+    bm::TouchDevice touch;
+    touch.Start();
+    touch.Stop();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return std::string();
+}
+
+const char* vtkBMSessionSource::GetTouchStatus() {
+  this->Internals->TouchStatus = ProbeTouch();
+  return this->Internals->TouchStatus.c_str();
 }
 
 vtkBMSessionSource::~vtkBMSessionSource() {
   this->Stop();
   this->SetScene(nullptr);
+  this->SetTool(nullptr);
+  this->SetBoneFile(nullptr);
   delete this->Internals;
 }
 
@@ -132,13 +247,34 @@ bool vtkBMSessionSource::Start() {
       j["voxmap_resolution"] = this->VoxmapResolution;
     if (this->ShellResolution > 0)
       j["shell_resolution"] = this->ShellResolution;
+    if (this->Tool && *this->Tool) {
+      nlohmann::json tool;
+      try {
+        tool = nlohmann::json::parse(this->Tool);
+      } catch (const std::exception& e) {
+        throw std::invalid_argument(std::string("the tool specification is not JSON: ") + e.what());
+      }
+      if (!tool.is_object())
+        throw std::invalid_argument("the tool specification must be a JSON object");
+      j["tool"] = tool;
+    }
+    if (this->Method != SCENE_METHOD)
+      j["method"] = this->Method == ZHENG ? "zheng" : "lazar";
+    const bool fromFile = this->BoneFile && *this->BoneFile;
+    if (fromFile) {
+      const std::filesystem::path file = std::filesystem::absolute(this->BoneFile);
+      if (!std::filesystem::is_regular_file(file))
+        throw std::runtime_error("the bone file '" + file.string() + "' does not exist");
+      j["bone"] = {{"type", "ct"}, {"ct", {{"voxmap", file.string()}}}};
+    }
     const std::string baseDir = scene.baseDir;
     scene = bm::Scene::FromJson(j);
     scene.baseDir = baseDir;
 #ifdef BM_WITH_IO
-    bm::Voxmap bone = scene.bone.type == "block"
-                          ? bm::MakeSceneBlock(scene)
-                          : bm::MakeCTVoxmap(scene.bone.ct, scene.baseDir, scene.voxmapResolution);
+    bm::Voxmap bone =
+        scene.bone.type == "block"
+            ? bm::MakeSceneBlock(scene)
+            : bm::MakeCTVoxmap(scene.bone.ct, scene.baseDir, fromFile ? 0 : scene.voxmapResolution);
 #else
     if (scene.bone.type != "block")
       throw std::runtime_error("scene '" + scene.name +
@@ -158,6 +294,12 @@ bool vtkBMSessionSource::Start() {
       in.Mouse = std::make_shared<bm::ProgrammableDevice>(PositionSourceLimits());
       in.Mouse->SetPose(in.MousePose(this->ToolDepth));
       device = in.Mouse;
+      options.maxFrames = this->MaxFrames;
+    } else if (this->DeviceType == TOUCH) {
+      in.Mouse.reset();
+      device = std::make_shared<bm::TouchDevice>();
+      // The stylus at the workspace centre holds the tool 10 mm above the entry point.
+      options.deviceOffsetMm = t.entry + axis * 10.0;
       options.maxFrames = this->MaxFrames;
     } else {
       in.Mouse.reset();
@@ -189,6 +331,8 @@ bool vtkBMSessionSource::Start() {
     in.Surface.MarkAllDirty();
     in.HavePreviousBox = false;
     in.LastFrame = -1;
+    in.History.clear();
+    in.NextHistoryS = 0;
     in.Session->Start();
   } catch (const std::exception& e) {
     in.Error = e.what();
@@ -228,14 +372,20 @@ void vtkBMSessionSource::SetToolDepth(double depthMm) {
 
 bool vtkBMSessionSource::SaveBone(const char* path) {
   vtkInternals& in = *this->Internals;
-  if (!in.Setup || !path) {
-    in.Error = "no session bone to save";
+  if (!path || !*path)
+    return true; // clearing the property
+  if (!in.Setup) {
+    in.Error = "no session bone to save: start a session first";
+    vtkErrorMacro(<< "cannot save the bone: " << in.Error);
     return false;
   }
+  const bool wasRunning = in.Session && in.Session->Snapshot().state == bm::SessionState::Running;
+  bool ok = true;
   try {
-    if (in.Session) {
+    if (wasRunning) {
       in.Session->Pause();
-      in.Session->WaitUntilPaused(1.0);
+      if (!in.Session->WaitUntilPaused(1.0))
+        throw std::runtime_error("the session did not pause within 1 s");
     }
     in.Setup->GetEngine().SyncBone();
 #ifdef BM_WITH_IO
@@ -243,12 +393,15 @@ bool vtkBMSessionSource::SaveBone(const char* path) {
 #else
     throw std::runtime_error("saving voxmaps needs the IO library, which this build leaves out");
 #endif
+    in.Error.clear();
   } catch (const std::exception& e) {
     in.Error = e.what();
     vtkErrorMacro(<< "cannot save the bone: " << in.Error);
-    return false;
+    ok = false;
   }
-  return true;
+  if (wasRunning)
+    in.Session->Resume();
+  return ok;
 }
 
 bool vtkBMSessionSource::GetNeedsUpdate() {
@@ -310,6 +463,12 @@ int vtkBMSessionSource::RequestData(vtkInformation*, vtkInformationVector**,
   this->TorqueNmm = s.torqueNmm;
   this->RemovedVolumeMm3 = s.removedVolumeMm3;
   this->DepthMm = (t.entry - tip).dot(t.axis.normalized());
+  in.DrainHistory(s.toolRotation, this->HistoryStepS, this->HistorySeconds);
+  vtkTable::GetData(outputVector, 2)->ShallowCopy(in.HistoryTable);
+  if (this->VolumeOutput) {
+    in.FillBoneImage();
+    vtkImageData::GetData(outputVector, 3)->ShallowCopy(in.BoneImage);
+  }
   this->FrameMsP50 = s.timing.p50Ms;
   this->FrameMsP99 = s.timing.p99Ms;
   this->ExtractMs =
@@ -322,7 +481,12 @@ void vtkBMSessionSource::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "Scene: " << (this->Scene ? this->Scene : "(none)") << "\n";
   os << indent << "VoxmapResolution: " << this->VoxmapResolution << "\n";
   os << indent << "ShellResolution: " << this->ShellResolution << "\n";
+  os << indent << "Tool: " << (this->Tool ? this->Tool : "(the scene's)") << "\n";
+  os << indent << "Method: " << this->Method << "\n";
+  os << indent << "BoneFile: " << (this->BoneFile ? this->BoneFile : "(the scene's bone)") << "\n";
   os << indent << "DeviceType: " << this->DeviceType << "\n";
+  os << indent << "VolumeOutput: " << this->VolumeOutput << "\n";
+  os << indent << "History: " << this->HistorySeconds << " s by " << this->HistoryStepS << " s\n";
   os << indent << "RealTime: " << this->RealTime << "\n";
   os << indent << "MaxFrames: " << this->MaxFrames << "\n";
   os << indent << "ToolDepth: " << this->ToolDepth << " mm\n";

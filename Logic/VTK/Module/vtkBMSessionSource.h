@@ -4,7 +4,12 @@
 // thread cuts the voxmap; this source only reads. Output port 0: the cut bone's surface (world
 // mm; the 0.5 fill-fraction iso-surface, re-extracted per brick only where the tool has been
 // since the last update, bm::BoneSurface). Output port 1: the tool's surface at the proxy pose
-// (world mm; cell data EdgeKind as vtkBMToolSource).
+// (world mm; cell data EdgeKind as vtkBMToolSource). Output port 2: the session's recent history
+// as a vtkTable (columns time_s, thrust_N, torque_Nmm, frame_ms, depth_mm; one row per
+// HistoryStepS of session time over the last HistorySeconds), drained from the session's record
+// ring when this source executes, for live charts. Output port 3: with VolumeOutput on, the cut
+// bone as vtkImageData (point data BoneFraction, 0..1, at the voxel centres, world mm) for volume
+// rendering; empty otherwise.
 //
 // Live source: GetNeedsUpdate() is true when the session ran frames since the last execution, so
 // ParaView re-executes it (server-manager hint LiveSource); pvpython polls it through the
@@ -16,7 +21,13 @@
 // Devices: SCRIPTED feeds the tool along the scene's axis at its feed and speed (a robot-driven
 // trial, to its depth); MOUSE is a programmable device whose pose follows SetToolDepth() (mm of
 // the foremost cutting point below the scene's entry point along its axis), the mouse proxy of the
-// panel for users without a Touch.
+// panel for users without a Touch; TOUCH is a 3D Systems Touch through OpenHaptics
+// (bm::TouchDevice, libHD loaded at Start(); ProbeTouch() says whether it can be opened and why
+// not), its workspace centre placed 10 mm above the entry point along the axis.
+//
+// The scene's tool, force model and bone can be overridden: SetTool() (a tool specification, as
+// vtkBMToolSource::GetToolSpecification() gives it), SetMethod() and SetBoneFile() (a voxmap
+// saved by SaveBone(), to go on machining a saved bone).
 //
 // Units: mm, N, N mm, s, ms, mm^3.
 #pragma once
@@ -24,13 +35,22 @@
 #include "BMVTKLogicModule.h" // for the export macro
 #include "vtkPolyDataAlgorithm.h"
 
+#ifndef __VTK_WRAP__
+#include <string>
+#endif
+
+class vtkImageData;
+class vtkTable;
+
 class BMVTKLOGIC_EXPORT vtkBMSessionSource : public vtkPolyDataAlgorithm {
 public:
   static vtkBMSessionSource* New();
   vtkTypeMacro(vtkBMSessionSource, vtkPolyDataAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
-  enum DeviceTypes { SCRIPTED = 0, MOUSE = 1 };
+  enum DeviceTypes { SCRIPTED = 0, MOUSE = 1, TOUCH = 2 };
+  /// Force model: the scene's (default), Lazar's oblique cutting (Faieghi et al.) or Zheng's.
+  enum MethodTypes { SCENE_METHOD = 0, LAZAR = 1, ZHENG = 2 };
 
   ///@{
   /// The scene: a built-in name ("glenoid", "drilling") or a scene file (.json). Default
@@ -46,9 +66,44 @@ public:
   vtkGetMacro(ShellResolution, int);
   ///@}
   ///@{
-  /// SCRIPTED (default) or MOUSE.
-  vtkSetClampMacro(DeviceType, int, SCRIPTED, MOUSE);
+  /// The tool: a JSON tool specification {"type": "drill" | "reamer" | "burr", parameters...}
+  /// (bm::MakeTool's keys, units in the key names, e.g. "radius_mm"), replacing the scene's.
+  /// Empty (default): the scene's tool. Takes effect at the next Start(), which fails naming the
+  /// bad field when the specification is invalid.
+  vtkSetStringMacro(Tool);
+  vtkGetStringMacro(Tool);
+  ///@}
+  ///@{
+  /// Force model: SCENE_METHOD (default), LAZAR or ZHENG. Takes effect at the next Start().
+  vtkSetClampMacro(Method, int, SCENE_METHOD, ZHENG);
+  vtkGetMacro(Method, int);
+  ///@}
+  ///@{
+  /// A voxmap file (.nrrd or .mha, as SaveBone() writes) to machine instead of the scene's bone,
+  /// e.g. a bone cut and saved earlier. Empty (default): the scene's bone. The file's own
+  /// resolution is kept (VoxmapResolution does not resample it). Takes effect at the next Start().
+  vtkSetStringMacro(BoneFile);
+  vtkGetStringMacro(BoneFile);
+  ///@}
+  ///@{
+  /// SCRIPTED (default), MOUSE or TOUCH.
+  vtkSetClampMacro(DeviceType, int, SCRIPTED, TOUCH);
   vtkGetMacro(DeviceType, int);
+  ///@}
+  ///@{
+  /// Output port 3 (the cut bone as an image for volume rendering) on or off (default off: the
+  /// copy costs one float per voxel at every update).
+  vtkSetMacro(VolumeOutput, bool);
+  vtkGetMacro(VolumeOutput, bool);
+  vtkBooleanMacro(VolumeOutput, bool);
+  ///@}
+  ///@{
+  /// History kept on output port 2: the last HistorySeconds of session time (default 10 s,
+  /// clamped to [0.1, 600]), one row per HistoryStepS (default 0.01 s, clamped to [0.001, 1]).
+  vtkSetClampMacro(HistorySeconds, double, 0.1, 600.0);
+  vtkGetMacro(HistorySeconds, double);
+  vtkSetClampMacro(HistoryStepS, double, 0.001, 1.0);
+  vtkGetMacro(HistoryStepS, double);
   ///@}
   ///@{
   /// Real time (default on: frames at the session rate, 1 kHz) or frames back to back (tests).
@@ -75,8 +130,21 @@ public:
   void Resume();
   /// Stops the session; the cut bone stays for display and saving.
   void Stop();
-  /// Saves the cut bone as a voxmap file (.nrrd or .mha). Returns false (GetLastError()) on error.
+  /// Saves the cut bone as a voxmap file (.nrrd or .mha; atomic: a temporary file renamed over
+  /// the target when complete, so a failure leaves no partial file). A running session is paused
+  /// while the bone is written and resumed after. Returns false (GetLastError()) on error: no
+  /// session bone, a refused extension or folder, a write failure. An empty path does nothing
+  /// (returns true), so the server-manager property can be cleared.
   bool SaveBone(const char* path);
+
+#ifndef __VTK_WRAP__
+  /// Whether a Touch can be opened now: starts and stops a bm::TouchDevice (libHD from
+  /// $BM_LIBHD or "libHD.so"). Returns "" when it can, else why not (the library, a missing
+  /// symbol, no device), as the device's own error says.
+  static std::string ProbeTouch();
+#endif
+  /// ProbeTouch()'s answer, probed at this call; "" when a Touch can be opened.
+  const char* GetTouchStatus();
 
   /// True when the session ran frames since the last execution (ParaView's live-source poll);
   /// then also marks this source modified, so the update that follows re-executes it.
@@ -99,14 +167,25 @@ public:
   vtkGetMacro(ExtractMs, double);
   const char* GetLastError();
   ///@}
+  /// The history table (output port 2) and the bone image (output port 3) of the last
+  /// execution.
+  vtkTable* GetHistory();
+  vtkImageData* GetBoneImage();
 
 protected:
   vtkBMSessionSource();
   ~vtkBMSessionSource() override;
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
                   vtkInformationVector* outputVector) override;
 
   char* Scene = nullptr;
+  char* Tool = nullptr;
+  char* BoneFile = nullptr;
+  int Method = SCENE_METHOD;
+  bool VolumeOutput = false;
+  double HistorySeconds = 10.0;
+  double HistoryStepS = 0.01;
   int VoxmapResolution = 0;
   int ShellResolution = 0;
   int DeviceType = SCRIPTED;

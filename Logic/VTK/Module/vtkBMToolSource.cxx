@@ -65,6 +65,7 @@ public:
   std::string Params;
   std::unique_ptr<bm::ToolModel> Tool;
   std::string Error;
+  std::string Specification; ///< GetToolSpecification()'s last answer
 };
 
 vtkStandardNewMacro(vtkBMToolSource);
@@ -109,6 +110,12 @@ void vtkBMToolSource::GetAxialRange(double range[2]) {
     range[0] = r[0];
     range[1] = r[1];
   }
+}
+
+const char* vtkBMToolSource::GetToolSpecification() {
+  const bm::ToolModel* tool = this->Internals->Get(this->ToolType, this->Parameters);
+  this->Internals->Specification = tool ? tool->Parameters().dump() : std::string();
+  return this->Internals->Specification.c_str();
 }
 
 double* vtkBMToolSource::GetAxialRange() {

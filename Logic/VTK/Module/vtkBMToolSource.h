@@ -69,6 +69,11 @@ public:
   void GetAxialRange(double range[2]);
   /// The same, in an array owned by this object and overwritten by the next call.
   double* GetAxialRange() VTK_SIZEHINT(2);
+  /// The configured tool's whole specification as a JSON object: "type" and every parameter
+  /// with its value (defaults included; units in the key names, e.g. "radius_mm",
+  /// "point_angle_deg"), as bm::MakeTool reads it. Empty when the parameters are invalid. The
+  /// string is owned by this object and valid until the next call.
+  const char* GetToolSpecification();
   ///@}
 
 protected:

@@ -1,0 +1,54 @@
+// bmBenchmarkTable.h - the measured cost and accuracy of the engine per resolution, as `bmsim
+// bench` wrote them (Resources/Benchmark/bench.csv), for showing the expected frame time and force
+// error of a chosen resolution before running it.
+//
+// The CSV has a header row naming its columns; the ones read are method, backend, shell, voxmap,
+// status, median_ms, p99_ms and force_error (other columns are ignored, rows whose status is not
+// "ok" are skipped). The figures are those of the benchmark's case (the reference drill in a
+// cortical block), measured on the machine named in Resources/Benchmark/table1.md: they scale with
+// the number of shell elements in contact, so they are a guide for other tools and scenes.
+//
+// Units: ms; force error as a fraction (0.01 = 1 %) of the quadrature reference.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace bm {
+
+/// One measured cell of the benchmark grid.
+struct BenchmarkCell {
+  std::string method;    ///< "lazar" or "zheng"
+  std::string backend;   ///< "cpu" or "opencl"
+  int shell = 0;         ///< point-shell resolution (cells along the tool's longest side)
+  int voxmap = 0;        ///< voxmap resolution (cells along the bone's longest side)
+  double medianMs = 0;   ///< median haptic frame time, ms
+  double p99Ms = 0;      ///< 99th percentile frame time, ms
+  double forceError = 0; ///< relative force error against the quadrature, fraction
+};
+
+class BenchmarkTable {
+public:
+  /// Reads a bench.csv. Throws std::runtime_error naming the file and the problem (unreadable,
+  /// a missing column, a malformed number with its line), and when no row has status "ok".
+  static BenchmarkTable Load(const std::string& path);
+  /// The installed table: Resources/Benchmark/bench.csv of the source tree (compile definition
+  /// BM_BENCHMARK_CSV), as the built-in scenes are found.
+  static std::string DefaultPath();
+
+  /// The measured cells (status "ok" only), in file order.
+  const std::vector<BenchmarkCell>& Cells() const { return Cells_; }
+
+  /// The measured cell of `method` and `backend` nearest to (shell, voxmap): the smallest
+  /// Euclidean distance in (log2 shell, log2 voxmap) (a doubling of either counts 1), ties to
+  /// the finer cell.
+  /// Returns nullptr when the table has no cell of that method and backend or a resolution is not
+  /// positive.
+  const BenchmarkCell* Nearest(const std::string& method, const std::string& backend, int shell,
+                               int voxmap) const;
+
+private:
+  std::vector<BenchmarkCell> Cells_;
+};
+
+} // namespace bm

@@ -1,0 +1,175 @@
+// vtkBMSessionSource: the panel's overrides (tool, force model, bone file, Touch), saving the cut
+// bone and going on from it, the history and volume outputs, and bad input refused with a clear
+// error before anything is written.
+#include "vtkBMSessionSource.h"
+
+#include "vtkDataArray.h"
+#include "vtkImageData.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkPolyData.h"
+#include "vtkTable.h"
+
+#ifdef BM_WITH_IO
+#include "bmVoxmapFile.h"
+#endif
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <thread>
+
+namespace fs = std::filesystem;
+
+namespace {
+/// A short drilling session (64 / 128: coarse and fast), frames back to back.
+void Configure(vtkBMSessionSource* s, vtkIdType frames) {
+  s->SetScene("drilling");
+  s->SetVoxmapResolution(64);
+  s->SetShellResolution(128);
+  s->RealTimeOff();
+  s->SetMaxFrames(frames);
+}
+
+/// Polls the source as ParaView's live-source behaviour does until the session pauses.
+bool RunToPause(vtkBMSessionSource* s, double timeoutS) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeoutS);
+  while (std::chrono::steady_clock::now() < end) {
+    if (s->GetNeedsUpdate())
+      s->Update();
+    else if (s->GetState() == 2 || s->GetState() == 3)
+      return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return false;
+}
+
+/// Bone volume of the source's Volume output, mm^3.
+double ImageBoneVolume(vtkBMSessionSource* s) {
+  vtkImageData* image = s->GetBoneImage();
+  vtkDataArray* fraction = image->GetPointData()->GetArray("BoneFraction");
+  if (!fraction)
+    return -1;
+  double sum = 0;
+  for (vtkIdType i = 0; i < fraction->GetNumberOfTuples(); ++i)
+    sum += fraction->GetTuple1(i);
+  const double h = image->GetSpacing()[0];
+  return sum * h * h * h;
+}
+
+fs::path Scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("bm-session-source-" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+} // namespace
+
+#ifdef BM_WITH_IO
+TEST(SessionSource, SavedBoneRoundTripsAndSessionsGoOnFromIt) {
+  const fs::path dir = Scratch("roundtrip");
+  const std::string file = (dir / "cut.nrrd").string();
+  vtkNew<vtkBMSessionSource> s;
+  Configure(s, 1500);
+  s->VolumeOutputOn();
+  ASSERT_TRUE(s->Start()) << s->GetLastError();
+  ASSERT_TRUE(RunToPause(s, 120));
+  const double removed = s->GetRemovedVolumeMm3();
+  EXPECT_GT(removed, 0.05) << "the drill cut no bone in 1.5 s";
+
+  // History: one row per 10 ms of the 1.5 s ran, in time order.
+  vtkTable* history = s->GetHistory();
+  ASSERT_EQ(history->GetNumberOfColumns(), 5);
+  EXPECT_NEAR(double(history->GetNumberOfRows()), 150.0, 2.0);
+  vtkDataArray* time = vtkDataArray::SafeDownCast(history->GetColumnByName("time_s"));
+  ASSERT_NE(time, nullptr);
+  for (vtkIdType i = 1; i < time->GetNumberOfTuples(); ++i)
+    ASSERT_GT(time->GetTuple1(i), time->GetTuple1(i - 1));
+  ASSERT_NE(history->GetColumnByName("thrust_N"), nullptr);
+
+  // Saving refuses a bad extension before writing anything.
+  EXPECT_FALSE(s->SaveBone((dir / "cut.txt").string().c_str()));
+  EXPECT_NE(std::string(s->GetLastError()).find(".nrrd or .mha"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir / "cut.txt"));
+
+  ASSERT_TRUE(s->SaveBone(file.c_str())) << s->GetLastError();
+  EXPECT_STREQ(s->GetLastError(), "");
+  const double cut = ImageBoneVolume(s);
+  const bm::Voxmap saved = bm::LoadVoxmap(file);
+  EXPECT_NEAR(saved.BoneVolume(), cut, 1e-6 * cut);
+  s->Stop();
+  // Only the file remains in the folder (no temporary left over).
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
+
+  // A fresh drilling bone holds the removed volume more than the saved one.
+  vtkNew<vtkBMSessionSource> fresh;
+  Configure(fresh, 1);
+  fresh->VolumeOutputOn();
+  ASSERT_TRUE(fresh->Start()) << fresh->GetLastError();
+  ASSERT_TRUE(RunToPause(fresh, 60));
+  EXPECT_NEAR(ImageBoneVolume(fresh) - cut, removed, 0.05 * removed + 1e-3);
+
+  // Going on from the saved bone: the session starts on it, not on the scene's block.
+  vtkNew<vtkBMSessionSource> again;
+  Configure(again, 1);
+  again->VolumeOutputOn();
+  again->SetBoneFile(file.c_str());
+  ASSERT_TRUE(again->Start()) << again->GetLastError();
+  ASSERT_TRUE(RunToPause(again, 60));
+  EXPECT_NEAR(ImageBoneVolume(again), cut, 1e-6 * cut);
+  fs::remove_all(dir);
+}
+
+TEST(SessionSource, MissingBoneFileIsRefused) {
+  vtkNew<vtkBMSessionSource> s;
+  Configure(s, 1);
+  s->SetBoneFile("/nonexistent/cut.nrrd");
+  EXPECT_FALSE(s->Start());
+  EXPECT_NE(std::string(s->GetLastError()).find("/nonexistent/cut.nrrd"), std::string::npos);
+}
+#endif
+
+TEST(SessionSource, SaveBoneNeedsASession) {
+  const fs::path dir = Scratch("nosession");
+  vtkNew<vtkBMSessionSource> s;
+  EXPECT_TRUE(s->SaveBone("")); // clearing the property does nothing
+  EXPECT_FALSE(s->SaveBone((dir / "cut.nrrd").string().c_str()));
+  EXPECT_NE(std::string(s->GetLastError()).find("start a session first"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir / "cut.nrrd"));
+  fs::remove_all(dir);
+}
+
+TEST(SessionSource, ToolAndMethodOverrideTheScene) {
+  vtkNew<vtkBMSessionSource> s;
+  Configure(s, 1);
+  s->SetTool(R"({"type": "drill", "radius_mm": 2.0})");
+  s->SetMethod(vtkBMSessionSource::ZHENG);
+  ASSERT_TRUE(s->Start()) << s->GetLastError();
+  ASSERT_TRUE(RunToPause(s, 60));
+  double b[6];
+  vtkPolyData::SafeDownCast(s->GetOutputDataObject(1))->GetBounds(b);
+  EXPECT_NEAR(b[1] - b[0], 4.0, 1e-6); // the 4 mm drill, not the scene's 2.5 mm one
+  s->Stop();
+
+  s->SetTool(R"({"type": "drill", "point_angle_deg": 5})");
+  EXPECT_FALSE(s->Start());
+  EXPECT_NE(std::string(s->GetLastError()).find("point_angle_deg"), std::string::npos);
+  s->SetTool("{not json");
+  EXPECT_FALSE(s->Start());
+  EXPECT_NE(std::string(s->GetLastError()).find("not JSON"), std::string::npos);
+}
+
+TEST(SessionSource, UnavailableTouchSaysWhy) {
+  setenv("BM_LIBHD", "/nonexistent/libHD.so", 1);
+  const std::string why = vtkBMSessionSource::ProbeTouch();
+  EXPECT_NE(why.find("cannot load '/nonexistent/libHD.so'"), std::string::npos) << why;
+  vtkNew<vtkBMSessionSource> s;
+  Configure(s, 1);
+  s->SetDeviceType(vtkBMSessionSource::TOUCH);
+  EXPECT_FALSE(s->Start());
+  EXPECT_NE(std::string(s->GetLastError()).find("/nonexistent/libHD.so"), std::string::npos);
+  unsetenv("BM_LIBHD");
+}
