@@ -3,8 +3,43 @@
 
 #include "ui_qBMPanel.h"
 
+#include "bmBenchmarkTable.h"
+#include "bmScene.h"
+#include "vtkBMSessionSource.h"
 #include "vtkBMToolSource.h"
+
+#include "QVTKOpenGLNativeWidget.h"
+#include "vtkAxis.h"
+#include "vtkChartXY.h"
+#include "vtkContextScene.h"
+#include "vtkContextView.h"
+#include "vtkDoubleArray.h"
+#include "vtkGenericOpenGLRenderWindow.h"
 #include "vtkNew.h"
+#include "vtkPlot.h"
+#include "vtkTable.h"
+
+#include <QCheckBox>
+#include <QDoubleSpinBox>
+#include <QFileDialog>
+#include <QFormLayout>
+#include <QJsonDocument>
+#include <QJsonObject>
+#include <QLabel>
+#include <QLineEdit>
+#include <QSpinBox>
+#include <QStandardItemModel>
+
+#include <algorithm>
+#include <exception>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace {
+/// Columns of the history table the charts read (vtkBMSessionSource's output port 2).
+const char* const kHistoryColumns[] = {"time_s", "thrust_N", "torque_Nmm", "frame_ms"};
+} // namespace
 
 class qBMPanelPrivate : public Ui_qBMPanel {
   Q_DECLARE_PUBLIC(qBMPanel);
@@ -12,12 +47,35 @@ class qBMPanelPrivate : public Ui_qBMPanel {
 public:
   explicit qBMPanelPrivate(qBMPanel& object) : q_ptr(&object) {}
   void init();
+  void initCharts();
   /// Shows the logic's description of the chosen tool.
   void updateSummary();
+  /// One editor per parameter of the chosen tool type, at the logic's (default) values.
+  void rebuildParameterEditors();
+  /// Hands the editors' values to the logic as the tool's parameters.
+  void applyParameters();
+  /// Shows the benchmark's nearest measured cell for the chosen scene, resolutions and method.
+  void updateExpectedCost();
+  /// A chart of `columns` (after time_s) against time in a new widget under the session group.
+  QVTKOpenGLNativeWidget* addChart(vtkChartXY* chart, vtkContextView* view, const char* title,
+                                   const char* leftColumn, const char* rightColumn);
+  void renderCharts();
 
   qBMPanel* const q_ptr;
-  /// The logic the panel is bound to: holds the chosen tool and describes it.
+  /// The logic the panel is bound to: holds the chosen tool, describes and validates it.
   vtkNew<vtkBMToolSource> Logic;
+  /// Parameter editors by key (QDoubleSpinBox or QSpinBox).
+  QList<QPair<QString, QWidget*>> ParameterEditors;
+  /// The measured costs, or why they could not be read.
+  std::optional<bm::BenchmarkTable> Bench;
+  QString BenchError;
+  QString TouchStatus;
+  /// The charts' copy of the session history.
+  vtkNew<vtkTable> History;
+  vtkNew<vtkContextView> ForceView, FrameView;
+  vtkNew<vtkChartXY> ForceChart, FrameChart;
+  QVTKOpenGLNativeWidget* ForceChartWidget = nullptr;
+  QVTKOpenGLNativeWidget* FrameChartWidget = nullptr;
 };
 
 void qBMPanelPrivate::init() {
@@ -38,20 +96,49 @@ void qBMPanelPrivate::init() {
                    &qBMPanel::setResolution);
   QObject::connect(this->AddToolButton, &QPushButton::clicked, q,
                    [q]() { Q_EMIT q->addToolRequested(q->toolType(), q->resolution()); });
+  this->rebuildParameterEditors();
   this->updateSummary();
 
   // Session controls.
-  this->SceneComboBox->addItems({QStringLiteral("glenoid"), QStringLiteral("drilling")});
+  for (const std::string& name : bm::Scene::BuiltinNames())
+    this->SceneComboBox->addItem(QString::fromStdString(name));
+  this->SceneComboBox->setCurrentText(QStringLiteral("glenoid"));
   this->VoxmapResolutionSpinBox->setRange(0, 4096);
   this->VoxmapResolutionSpinBox->setSpecialValueText(qBMPanel::tr("scene's"));
   this->ShellResolutionSpinBox->setRange(0, 4096);
   this->ShellResolutionSpinBox->setSpecialValueText(qBMPanel::tr("scene's"));
-  this->ResolutionCostLabel->setText(qBMPanel::tr(
-      "Reamer frame time measured on 2 cores (p50): voxmap 96 / shell 170 about 1.3 ms, "
-      "192 / 340 (the glenoid scene's) about 6 ms; keep the shell about twice the voxmap's "
-      "resolution relative to their sizes (grids 2:1) for an accurate removal."));
-  this->DeviceComboBox->addItem(qBMPanel::tr("Scripted"), 0);
-  this->DeviceComboBox->addItem(qBMPanel::tr("Mouse proxy"), 1);
+  this->MethodComboBox->addItem(qBMPanel::tr("Scene's"), int(vtkBMSessionSource::SCENE_METHOD));
+  this->MethodComboBox->addItem(qBMPanel::tr("Lazar (Faieghi et al.)"),
+                                int(vtkBMSessionSource::LAZAR));
+  this->MethodComboBox->addItem(qBMPanel::tr("Zheng et al."), int(vtkBMSessionSource::ZHENG));
+  try {
+    this->Bench = bm::BenchmarkTable::Load(bm::BenchmarkTable::DefaultPath());
+  } catch (const std::exception& e) {
+    this->BenchError = QString::fromUtf8(e.what());
+  }
+  QObject::connect(this->SceneComboBox, &QComboBox::currentTextChanged, q,
+                   [this]() { this->updateExpectedCost(); });
+  QObject::connect(this->VoxmapResolutionSpinBox, QOverload<int>::of(&QSpinBox::valueChanged), q,
+                   [this]() { this->updateExpectedCost(); });
+  QObject::connect(this->ShellResolutionSpinBox, QOverload<int>::of(&QSpinBox::valueChanged), q,
+                   [this]() { this->updateExpectedCost(); });
+  QObject::connect(this->MethodComboBox, QOverload<int>::of(&QComboBox::currentIndexChanged), q,
+                   [this]() { this->updateExpectedCost(); });
+  this->updateExpectedCost();
+
+  this->DeviceComboBox->addItem(qBMPanel::tr("Scripted"), int(vtkBMSessionSource::SCRIPTED));
+  this->DeviceComboBox->addItem(qBMPanel::tr("Mouse proxy"), int(vtkBMSessionSource::MOUSE));
+  this->DeviceComboBox->addItem(qBMPanel::tr("Touch (OpenHaptics)"),
+                                int(vtkBMSessionSource::TOUCH));
+  this->TouchStatus = QString::fromStdString(vtkBMSessionSource::ProbeTouch());
+  if (auto* model = qobject_cast<QStandardItemModel*>(this->DeviceComboBox->model()))
+    if (QStandardItem* touch = model->item(2)) {
+      touch->setEnabled(this->TouchStatus.isEmpty());
+      touch->setToolTip(this->TouchStatus);
+    }
+  this->TouchStatusLabel->setText(
+      this->TouchStatus.isEmpty() ? qBMPanel::tr("Touch: ready.")
+                                  : qBMPanel::tr("Touch unavailable: %1").arg(this->TouchStatus));
   this->ToolDepthSpinBox->setRange(-20.0, 20.0);
   this->ToolDepthSpinBox->setSingleStep(0.1);
   this->ToolDepthSpinBox->setDecimals(2);
@@ -66,12 +153,172 @@ void qBMPanelPrivate::init() {
                    [q]() { Q_EMIT q->stopSessionRequested(); });
   QObject::connect(this->ToolDepthSpinBox, QOverload<double>::of(&QDoubleSpinBox::valueChanged), q,
                    [q](double depth) { Q_EMIT q->toolDepthChanged(depth); });
+  QObject::connect(this->SaveBoneButton, &QPushButton::clicked, q,
+                   [q]() { Q_EMIT q->saveBoneRequested(q->boneFile()); });
+  QObject::connect(this->BrowseBoneButton, &QPushButton::clicked, q, [this, q]() {
+    const QString path = QFileDialog::getSaveFileName(
+        q, qBMPanel::tr("Bone file"), this->BoneFileLineEdit->text(),
+        qBMPanel::tr("Voxmaps (*.nrrd *.mha)"), nullptr, QFileDialog::DontConfirmOverwrite);
+    if (!path.isEmpty())
+      this->BoneFileLineEdit->setText(path);
+  });
+  QObject::connect(this->VolumeCheckBox, &QCheckBox::toggled, q,
+                   [q](bool on) { Q_EMIT q->volumeRenderingToggled(on); });
+  this->initCharts();
   q->setSessionStatus(QString(), false);
+}
+
+QVTKOpenGLNativeWidget* qBMPanelPrivate::addChart(vtkChartXY* chart, vtkContextView* view,
+                                                  const char* title, const char* leftColumn,
+                                                  const char* rightColumn) {
+  auto* widget = new QVTKOpenGLNativeWidget(this->ChartsWidget);
+  widget->setMinimumHeight(140);
+  vtkNew<vtkGenericOpenGLRenderWindow> window;
+  widget->setRenderWindow(window);
+  view->SetRenderWindow(window);
+  view->GetScene()->AddItem(chart);
+  chart->SetTitle(title);
+  chart->SetShowLegend(true);
+  chart->GetAxis(vtkAxis::BOTTOM)->SetTitle("time (s)");
+  vtkPlot* left = chart->AddPlot(vtkChart::LINE);
+  left->SetInputData(this->History, "time_s", leftColumn);
+  chart->GetAxis(vtkAxis::LEFT)->SetTitle(leftColumn);
+  if (rightColumn) {
+    vtkPlot* right = chart->AddPlot(vtkChart::LINE);
+    right->SetInputData(this->History, "time_s", rightColumn);
+    right->SetColor(200, 60, 40, 255);
+    chart->SetPlotCorner(right, 1); // right axis: N mm beside N
+    chart->GetAxis(vtkAxis::RIGHT)->SetTitle(rightColumn);
+  }
+  this->ChartsLayout->addWidget(widget);
+  return widget;
+}
+
+void qBMPanelPrivate::initCharts() {
+  for (const char* name : kHistoryColumns) {
+    vtkNew<vtkDoubleArray> column;
+    column->SetName(name);
+    this->History->AddColumn(column);
+  }
+  this->ForceChartWidget = this->addChart(this->ForceChart, this->ForceView,
+                                          "Thrust (N) and torque (N mm)", "thrust_N", "torque_Nmm");
+  this->ForceChartWidget->setObjectName("ForceChartWidget");
+  this->FrameChartWidget = this->addChart(this->FrameChart, this->FrameView,
+                                          "Haptic frame time (ms)", "frame_ms", nullptr);
+  this->FrameChartWidget->setObjectName("FrameChartWidget");
+  this->renderCharts();
+}
+
+void qBMPanelPrivate::renderCharts() {
+  // A line needs two points: the plots stay hidden until the history has them.
+  const bool drawable = this->History->GetNumberOfRows() >= 2;
+  for (vtkChartXY* chart : {this->ForceChart.GetPointer(), this->FrameChart.GetPointer()}) {
+    for (vtkIdType i = 0; i < chart->GetNumberOfPlots(); ++i)
+      chart->GetPlot(i)->SetVisible(drawable);
+    if (drawable)
+      chart->RecalculateBounds();
+  }
+  for (QVTKOpenGLNativeWidget* widget : {this->ForceChartWidget, this->FrameChartWidget})
+    if (widget->isVisible())
+      widget->renderWindow()->Render();
 }
 
 void qBMPanelPrivate::updateSummary() {
   Q_Q(qBMPanel);
   this->ToolSummaryLabel->setText(q->toolSummary());
+}
+
+void qBMPanelPrivate::rebuildParameterEditors() {
+  Q_Q(qBMPanel);
+  for (const auto& editor : this->ParameterEditors) {
+    this->ToolParametersLayout->removeRow(editor.second);
+  }
+  this->ParameterEditors.clear();
+  this->Logic->SetParameters(nullptr); // the type's defaults
+  const QJsonObject spec =
+      QJsonDocument::fromJson(QByteArray(this->Logic->GetToolSpecification())).object();
+  for (auto it = spec.begin(); it != spec.end(); ++it) {
+    if (it.key() == QLatin1String("type") || !it.value().isDouble())
+      continue;
+    QWidget* editor = nullptr;
+    if (it.key() == QLatin1String("lips")) {
+      auto* box = new QSpinBox(this->ToolParametersWidget);
+      box->setRange(0, 64);
+      box->setValue(it.value().toInt());
+      QObject::connect(box, QOverload<int>::of(&QSpinBox::valueChanged), q,
+                       [this]() { this->applyParameters(); });
+      editor = box;
+    } else {
+      auto* box = new QDoubleSpinBox(this->ToolParametersWidget);
+      box->setRange(-1000.0, 1000.0);
+      box->setDecimals(3);
+      box->setSingleStep(0.1);
+      box->setValue(it.value().toDouble());
+      QObject::connect(box, QOverload<double>::of(&QDoubleSpinBox::valueChanged), q,
+                       [this]() { this->applyParameters(); });
+      editor = box;
+    }
+    editor->setObjectName(it.key());
+    editor->setToolTip(qBMPanel::tr("Tool parameter %1 (unit in its name)").arg(it.key()));
+    this->ToolParametersLayout->addRow(it.key() + QLatin1Char(':'), editor);
+    this->ParameterEditors.append({it.key(), editor});
+  }
+}
+
+void qBMPanelPrivate::applyParameters() {
+  QJsonObject params;
+  for (const auto& editor : this->ParameterEditors) {
+    if (auto* box = qobject_cast<QSpinBox*>(editor.second))
+      params.insert(editor.first, box->value());
+    else if (auto* dbox = qobject_cast<QDoubleSpinBox*>(editor.second))
+      params.insert(editor.first, dbox->value());
+  }
+  this->Logic->SetParameters(QJsonDocument(params).toJson(QJsonDocument::Compact).constData());
+  this->updateSummary();
+}
+
+void qBMPanelPrivate::updateExpectedCost() {
+  Q_Q(qBMPanel);
+  if (!this->Bench) {
+    this->ResolutionCostLabel->setText(qBMPanel::tr("No measured costs: %1").arg(this->BenchError));
+    return;
+  }
+  bm::Scene scene;
+  try {
+    const std::string name = q->sceneName().toStdString();
+    const auto builtin = bm::Scene::BuiltinNames();
+    scene = std::find(builtin.begin(), builtin.end(), name) != builtin.end()
+                ? bm::Scene::Builtin(name)
+                : bm::Scene::Load(name);
+  } catch (const std::exception& e) {
+    this->ResolutionCostLabel->setText(
+        qBMPanel::tr("Expected cost unknown: %1").arg(QString::fromUtf8(e.what())));
+    return;
+  }
+  const int voxmap = q->voxmapResolution() > 0 ? q->voxmapResolution() : scene.voxmapResolution;
+  const int shell = q->shellResolution() > 0 ? q->shellResolution() : scene.shellResolution;
+  const int m = q->method();
+  const std::string method = m == vtkBMSessionSource::LAZAR   ? "lazar"
+                             : m == vtkBMSessionSource::ZHENG ? "zheng"
+                                                              : bm::ToString(scene.method);
+  const bm::BenchmarkCell* cell = this->Bench->Nearest(method, scene.backend, shell, voxmap);
+  if (!cell) {
+    this->ResolutionCostLabel->setText(
+        qBMPanel::tr("Expected cost unknown: no %1 / %2 cell was measured")
+            .arg(QString::fromStdString(method), QString::fromStdString(scene.backend)));
+    return;
+  }
+  this->ResolutionCostLabel->setText(
+      qBMPanel::tr("Expected (%1, shell %2 / voxmap %3, nearest measured: %4 / %5): frame "
+                   "%6 ms median, %7 ms p99; force error %8 %")
+          .arg(QString::fromStdString(method))
+          .arg(shell)
+          .arg(voxmap)
+          .arg(cell->shell)
+          .arg(cell->voxmap)
+          .arg(cell->medianMs, 0, 'g', 3)
+          .arg(cell->p99Ms, 0, 'g', 3)
+          .arg(cell->forceError * 100.0, 0, 'g', 2));
 }
 
 qBMPanel::qBMPanel(QWidget* parent) : Superclass(parent), d_ptr(new qBMPanelPrivate(*this)) {
@@ -104,6 +351,11 @@ QString qBMPanel::toolSummary() const {
       .arg(range[1] - range[0], 0, 'f', 2);
 }
 
+QString qBMPanel::toolSpecification() const {
+  Q_D(const qBMPanel);
+  return QString::fromUtf8(d->Logic->GetToolSpecification());
+}
+
 void qBMPanel::setToolType(int type) {
   Q_D(qBMPanel);
   if (type < vtkBMToolSource::DRILL || type > vtkBMToolSource::BURR || type == toolType())
@@ -111,8 +363,22 @@ void qBMPanel::setToolType(int type) {
   d->Logic->SetToolType(type);
   const QSignalBlocker blocker(d->ToolTypeComboBox);
   d->ToolTypeComboBox->setCurrentIndex(type);
+  d->rebuildParameterEditors();
   d->updateSummary();
   Q_EMIT toolTypeChanged(type);
+}
+
+bool qBMPanel::setToolParameter(const QString& key, double value) {
+  Q_D(qBMPanel);
+  for (const auto& editor : d->ParameterEditors)
+    if (editor.first == key) {
+      if (auto* box = qobject_cast<QSpinBox*>(editor.second))
+        box->setValue(int(value));
+      else if (auto* dbox = qobject_cast<QDoubleSpinBox*>(editor.second))
+        dbox->setValue(value);
+      return true;
+    }
+  return false;
 }
 
 QString qBMPanel::statusMessage() const {
@@ -157,6 +423,41 @@ double qBMPanel::toolDepth() const {
   return d->ToolDepthSpinBox->value();
 }
 
+bool qBMPanel::useChosenTool() const {
+  Q_D(const qBMPanel);
+  return d->UseToolCheckBox->isChecked();
+}
+
+int qBMPanel::method() const {
+  Q_D(const qBMPanel);
+  return d->MethodComboBox->currentData().toInt();
+}
+
+QString qBMPanel::boneFile() const {
+  Q_D(const qBMPanel);
+  return d->BoneFileLineEdit->text();
+}
+
+bool qBMPanel::startFromBoneFile() const {
+  Q_D(const qBMPanel);
+  return d->StartFromFileCheckBox->isChecked();
+}
+
+bool qBMPanel::volumeRendering() const {
+  Q_D(const qBMPanel);
+  return d->VolumeCheckBox->isChecked();
+}
+
+QString qBMPanel::expectedCost() const {
+  Q_D(const qBMPanel);
+  return d->ResolutionCostLabel->text();
+}
+
+QString qBMPanel::touchStatus() const {
+  Q_D(const qBMPanel);
+  return d->TouchStatus;
+}
+
 void qBMPanel::setVoxmapResolution(int cells) {
   Q_D(qBMPanel);
   d->VoxmapResolutionSpinBox->setValue(cells);
@@ -174,11 +475,56 @@ void qBMPanel::setDeviceType(int type) {
     d->DeviceComboBox->setCurrentIndex(index);
 }
 
+void qBMPanel::setMethod(int method) {
+  Q_D(qBMPanel);
+  const int index = d->MethodComboBox->findData(method);
+  if (index >= 0)
+    d->MethodComboBox->setCurrentIndex(index);
+}
+
+void qBMPanel::setUseChosenTool(bool use) {
+  Q_D(qBMPanel);
+  d->UseToolCheckBox->setChecked(use);
+}
+
+void qBMPanel::setBoneFile(const QString& path) {
+  Q_D(qBMPanel);
+  d->BoneFileLineEdit->setText(path);
+}
+
+void qBMPanel::setStartFromBoneFile(bool start) {
+  Q_D(qBMPanel);
+  d->StartFromFileCheckBox->setChecked(start);
+}
+
+void qBMPanel::setVolumeRendering(bool on) {
+  Q_D(qBMPanel);
+  d->VolumeCheckBox->setChecked(on);
+}
+
+void qBMPanel::setHistory(vtkTable* history) {
+  Q_D(qBMPanel);
+  vtkTable* table = d->History;
+  for (const char* name : kHistoryColumns) {
+    auto* mine = vtkDoubleArray::SafeDownCast(table->GetColumnByName(name));
+    vtkDataArray* theirs =
+        history ? vtkDataArray::SafeDownCast(history->GetColumnByName(name)) : nullptr;
+    if (theirs)
+      mine->DeepCopy(theirs);
+    else
+      mine->SetNumberOfTuples(0);
+    mine->SetName(name);
+  }
+  table->Modified();
+  d->renderCharts();
+}
+
 void qBMPanel::setSessionNumbers(double timeS, double depthMm, double removedMm3, double thrustN,
                                  double torqueNmm, double frameP99Ms) {
   Q_D(qBMPanel);
   d->SessionNumbersLabel->setText(
-      tr("t %1 s, depth %2 mm, removed %3 mm^3\nthrust %4 N, torque %5 N mm, frame p99 %6 ms")
+      tr("t %1 s, depth %2 mm, removed %3 mm^3\nthrust %4 N, torque %5 N mm, haptic frame p99 "
+         "%6 ms")
           .arg(timeS, 0, 'f', 2)
           .arg(depthMm, 0, 'f', 2)
           .arg(removedMm3, 0, 'f', 1)

@@ -1,11 +1,17 @@
-// qBMPanel.h - the BoneMachining module panel: choose a tool and add it to the scene; run a
-// machining session (scene, resolutions, device, start / pause / stop) and read its numbers.
+// qBMPanel.h - the BoneMachining module panel: choose a tool and its parameters and add it to the
+// scene; run a machining session (scene, resolutions with their expected cost, force model,
+// tool, device, start / pause / stop, save and reload the cut bone, volume rendering) and follow
+// its numbers and live charts.
 //
-// Shows the tool choice (type, display resolution) and what the logic says about the chosen
-// tool (lips, outer radius, axial length). It computes nothing: the description comes from the
-// logic (vtkBMToolSource); adding the tool to a scene and running sessions are left to whoever
-// listens to the requests (the ParaView dock creates pipeline sources, vtkBMSessionSource for a
-// session, and feeds the session's numbers back through setSessionNumbers()).
+// Shows the tool choice (type, display resolution, every parameter of the tool model) and what
+// the logic says about the chosen tool (lips, outer radius, axial length, or why its parameters
+// are invalid). It computes nothing: the tool's parameters and their validation come from
+// vtkBMToolSource, the expected frame time and force error of a resolution from
+// bm::BenchmarkTable (the measured Resources/Benchmark/bench.csv), the scene's own resolutions
+// and method from bm::Scene, whether a Touch can be used from vtkBMSessionSource::ProbeTouch().
+// Adding the tool and running sessions are left to whoever listens to the requests (the ParaView
+// dock creates pipeline sources, vtkBMSessionSource for a session, and feeds the session's numbers
+// and history back through setSessionNumbers() and setHistory()).
 #pragma once
 
 #include <QScopedPointer>
@@ -13,6 +19,7 @@
 #include <QWidget>
 
 class qBMPanelPrivate;
+class vtkTable;
 
 class qBMPanel : public QWidget {
   Q_OBJECT
@@ -39,8 +46,28 @@ public:
   /// Voxmap and shell resolutions for the session (cells along the longest side; 0 = the scene's).
   int voxmapResolution() const;
   int shellResolution() const;
-  /// Session device, a vtkBMSessionSource::DeviceTypes value (0 scripted, 1 mouse proxy).
+  /// Session device, a vtkBMSessionSource::DeviceTypes value (0 scripted, 1 mouse proxy,
+  /// 2 Touch). Default 0.
   int deviceType() const;
+  /// The chosen tool's whole specification as JSON (type and every parameter; units in the key
+  /// names), as vtkBMToolSource::GetToolSpecification() gives it; "" when the parameters are
+  /// invalid.
+  QString toolSpecification() const;
+  /// Whether the session machines with the tool chosen here (true) or the scene's (default).
+  bool useChosenTool() const;
+  /// Session force model, a vtkBMSessionSource::MethodTypes value (0 the scene's, 1 Lazar,
+  /// 2 Zheng). Default 0.
+  int method() const;
+  /// The bone file (.nrrd or .mha) to save the cut bone to and to start from. Default "".
+  QString boneFile() const;
+  /// Whether a session starts on the bone file's bone instead of the scene's. Default false.
+  bool startFromBoneFile() const;
+  /// Whether the cut bone is shown with volume rendering. Default false.
+  bool volumeRendering() const;
+  /// The expected cost line (frame time in ms, force error in %) of the chosen resolutions.
+  QString expectedCost() const;
+  /// Why a Touch cannot be used ("" when it can), as probed when the panel was made.
+  QString touchStatus() const;
   /// Mouse proxy depth below the entry point, mm. Default -2.
   double toolDepth() const;
 
@@ -55,6 +82,22 @@ public Q_SLOTS:
   void setVoxmapResolution(int cells);
   void setShellResolution(int cells);
   void setDeviceType(int type);
+  /// Choose the session's force model (vtkBMSessionSource::MethodTypes); others are ignored.
+  void setMethod(int method);
+  /// Use the tool chosen here for the session (true) or the scene's (false).
+  void setUseChosenTool(bool use);
+  /// Set one parameter of the chosen tool (a key of its specification, e.g. "radius_mm"; the
+  /// unit is in the name). Returns false when the tool has no such parameter. The logic validates
+  /// the value; toolSummary() then says what is wrong.
+  bool setToolParameter(const QString& key, double value);
+  /// Set the bone file path (.nrrd or .mha).
+  void setBoneFile(const QString& path);
+  void setStartFromBoneFile(bool start);
+  void setVolumeRendering(bool on);
+  /// Show the session's recent history in the charts: a table with the columns time_s, thrust_N,
+  /// torque_Nmm and frame_ms (vtkBMSessionSource's output port 2). The panel keeps a copy; null
+  /// clears the charts.
+  void setHistory(vtkTable* history);
   /// Show the running session's numbers: time (s), depth (mm), removed volume (mm^3), thrust (N),
   /// torque (N mm), frame time p99 (ms).
   void setSessionNumbers(double timeS, double depthMm, double removedMm3, double thrustN,
@@ -76,6 +119,10 @@ Q_SIGNALS:
   void stopSessionRequested();
   /// The mouse proxy's depth changed, mm.
   void toolDepthChanged(double depthMm);
+  /// The user asked to save the session's cut bone to `path` (.nrrd or .mha).
+  void saveBoneRequested(const QString& path);
+  /// The user switched the volume rendering of the cut bone on or off.
+  void volumeRenderingToggled(bool on);
 
 protected:
   QScopedPointer<qBMPanelPrivate> d_ptr;

@@ -2,6 +2,7 @@
 #include "pqBMDockWindow.h"
 
 #include "qBMPanel.h"
+#include "vtkBMSessionSource.h"
 
 #include "pqActiveObjects.h"
 #include "pqApplicationCore.h"
@@ -10,8 +11,10 @@
 #include "pqServer.h"
 #include "pqUndoStack.h"
 #include "pqView.h"
+#include "vtkDataObject.h"
 #include "vtkNew.h"
 #include "vtkSMParaViewPipelineControllerWithRendering.h"
+#include "vtkSMPVRepresentationProxy.h"
 #include "vtkSMPropertyHelper.h"
 #include "vtkSMSourceProxy.h"
 #include "vtkSMViewProxy.h"
@@ -38,6 +41,9 @@ pqBMDockWindow::pqBMDockWindow(QWidget* parent)
   QObject::connect(this->Panel, &qBMPanel::stopSessionRequested, this,
                    &pqBMDockWindow::stopSession);
   QObject::connect(this->Panel, &qBMPanel::toolDepthChanged, this, &pqBMDockWindow::setToolDepth);
+  QObject::connect(this->Panel, &qBMPanel::saveBoneRequested, this, &pqBMDockWindow::saveBone);
+  QObject::connect(this->Panel, &qBMPanel::volumeRenderingToggled, this,
+                   &pqBMDockWindow::setVolumeRendering);
   this->Poll->setInterval(33);
   QObject::connect(this->Poll, &QTimer::timeout, this, &pqBMDockWindow::pollSession);
 }
@@ -90,6 +96,13 @@ void pqBMDockWindow::startSession(const QString& scene, int voxmapResolution, in
   vtkSMPropertyHelper(proxy, "ShellResolution").Set(shellResolution);
   vtkSMPropertyHelper(proxy, "DeviceType").Set(deviceType);
   vtkSMPropertyHelper(proxy, "ToolDepth").Set(this->Panel->toolDepth());
+  vtkSMPropertyHelper(proxy, "Method").Set(this->Panel->method());
+  vtkSMPropertyHelper(proxy, "Tool")
+      .Set(this->Panel->useChosenTool() ? this->Panel->toolSpecification().toUtf8().constData()
+                                        : "");
+  vtkSMPropertyHelper(proxy, "BoneFile")
+      .Set(this->Panel->startFromBoneFile() ? this->Panel->boneFile().toUtf8().constData() : "");
+  vtkSMPropertyHelper(proxy, "VolumeOutput").Set(this->Panel->volumeRendering() ? 1 : 0);
   proxy->UpdateVTKObjects();
   proxy->InvokeCommand("Start");
   proxy->UpdatePropertyInformation();
@@ -106,6 +119,9 @@ void pqBMDockWindow::startSession(const QString& scene, int voxmapResolution, in
     vtkNew<vtkSMParaViewPipelineControllerWithRendering> controller;
     controller->Show(proxy, 0, view->getViewProxy());
     controller->Show(proxy, 1, view->getViewProxy());
+    this->Session = source;
+    if (this->Panel->volumeRendering())
+      this->setVolumeRendering(true);
     view->resetDisplay();
     view->render();
   }
@@ -139,11 +155,61 @@ void pqBMDockWindow::setToolDepth(double depthMm) {
   proxy->UpdateVTKObjects();
 }
 
+void pqBMDockWindow::saveBone(const QString& path) {
+  if (!this->Session) {
+    this->Panel->setSessionStatus(tr("No session bone to save: start a session first."), false);
+    return;
+  }
+  if (path.isEmpty()) {
+    this->Panel->setSessionStatus(tr("Choose a bone file (.nrrd or .mha) to save to."),
+                                  this->Poll->isActive());
+    return;
+  }
+  vtkSMProxy* proxy = this->Session->getProxy();
+  vtkSMPropertyHelper(proxy, "SaveBone").Set(path.toUtf8().constData());
+  proxy->UpdateVTKObjects(); // SaveBone(path) runs here
+  proxy->UpdatePropertyInformation();
+  const std::string error = vtkSMPropertyHelper(proxy, "LastErrorInfo").GetAsString();
+  vtkSMPropertyHelper(proxy, "SaveBone").Set(""); // so that the same path can be saved again
+  proxy->UpdateVTKObjects();
+  this->Panel->setSessionStatus(
+      error.empty() ? tr("Saved the bone of %1 to %2.").arg(this->Session->getSMName(), path)
+                    : tr("Could not save the bone: %1").arg(QString::fromStdString(error)),
+      this->Poll->isActive());
+}
+
+void pqBMDockWindow::setVolumeRendering(bool on) {
+  if (!this->Session)
+    return; // the next session starts with the panel's choice
+  vtkSMSourceProxy* proxy = vtkSMSourceProxy::SafeDownCast(this->Session->getProxy());
+  vtkSMPropertyHelper(proxy, "VolumeOutput").Set(on ? 1 : 0);
+  proxy->UpdateVTKObjects();
+  pqView* view = pqActiveObjects::instance().activeView();
+  if (!view)
+    return;
+  vtkNew<vtkSMParaViewPipelineControllerWithRendering> controller;
+  if (on) {
+    this->Session->updatePipeline();
+    vtkSMProxy* repr = controller->Show(proxy, 3, view->getViewProxy());
+    if (repr) {
+      vtkSMPVRepresentationProxy::SetScalarColoring(repr, "BoneFraction", vtkDataObject::POINT);
+      vtkSMPropertyHelper(repr, "Representation").Set("Volume");
+      repr->UpdateVTKObjects();
+    }
+  } else {
+    controller->Hide(proxy, 3, view->getViewProxy());
+  }
+  view->render();
+}
+
 void pqBMDockWindow::pollSession() {
   if (!this->Session)
     return;
   vtkSMProxy* proxy = this->Session->getProxy();
   proxy->UpdatePropertyInformation();
+  // The history table lives where the source runs: with the built-in server that is here.
+  if (auto* logic = vtkBMSessionSource::SafeDownCast(proxy->GetClientSideObject()))
+    this->Panel->setHistory(logic->GetHistory());
   this->Panel->setSessionNumbers(vtkSMPropertyHelper(proxy, "TimeInfo").GetAsDouble(),
                                  vtkSMPropertyHelper(proxy, "DepthInfo").GetAsDouble(),
                                  vtkSMPropertyHelper(proxy, "RemovedVolumeInfo").GetAsDouble(),

@@ -25,15 +25,22 @@ private Q_SLOTS:
   /// Creates a "BM Tool" source (vtkBMToolSource) with the given ToolType and Resolution on the
   /// active server, applies it and shows it in the active view, if there is one.
   void addTool(int toolType, int resolution);
-  /// Creates a "BM Session" source (vtkBMSessionSource) with the panel's choices, starts it and
-  /// shows the cut bone and the tool in the active view. ParaView's live-source behaviour
-  /// re-executes it as it cuts; pollSession() reads its numbers into the panel (~30 Hz).
+  /// Creates a "BM Session" source (vtkBMSessionSource) with the panel's choices (scene,
+  /// resolutions, device, force model, tool, bone file, volume), starts it and shows the cut bone
+  /// and the tool in the active view. ParaView's live-source behaviour re-executes it as it cuts;
+  /// pollSession() reads its numbers and, with the built-in server, its history into the panel
+  /// (~30 Hz).
   void startSession(const QString& scene, int voxmapResolution, int shellResolution,
                     int deviceType);
   void pauseSession(bool paused);
   void stopSession();
   void setToolDepth(double depthMm);
   void pollSession();
+  /// Saves the session's cut bone to `path` through the SaveBone property (atomic in the logic)
+  /// and reports the result in the panel.
+  void saveBone(const QString& path);
+  /// Turns the session's Volume output on or off and shows it with volume rendering.
+  void setVolumeRendering(bool on);
 
 private:
   Q_DISABLE_COPY(pqBMDockWindow);
