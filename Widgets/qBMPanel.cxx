@@ -182,6 +182,7 @@ QVTKOpenGLNativeWidget* qBMPanelPrivate::addChart(vtkChartXY* chart, vtkContextV
   chart->GetAxis(vtkAxis::BOTTOM)->SetTitle("time (s)");
   vtkPlot* left = chart->AddPlot(vtkChart::LINE);
   left->SetInputData(this->History, "time_s", leftColumn);
+  left->SetColor(30, 90, 200, 255);
   chart->GetAxis(vtkAxis::LEFT)->SetTitle(leftColumn);
   if (rightColumn) {
     vtkPlot* right = chart->AddPlot(vtkChart::LINE);
