@@ -224,6 +224,7 @@ vtkBMSessionSource::~vtkBMSessionSource() {
   this->SetScene(nullptr);
   this->SetTool(nullptr);
   this->SetBoneFile(nullptr);
+  this->SetBoneCT(nullptr);
   delete this->Internals;
 }
 
@@ -266,6 +267,28 @@ bool vtkBMSessionSource::Start() {
       if (!std::filesystem::is_regular_file(file))
         throw std::runtime_error("the bone file '" + file.string() + "' does not exist");
       j["bone"] = {{"type", "ct"}, {"ct", {{"voxmap", file.string()}}}};
+    }
+    if (this->BoneCT && *this->BoneCT) {
+      if (fromFile)
+        throw std::invalid_argument("set either a bone file or a CT bone, not both");
+      nlohmann::json ct;
+      try {
+        ct = nlohmann::json::parse(this->BoneCT);
+      } catch (const std::exception& e) {
+        throw std::invalid_argument(std::string("the CT bone description is not JSON: ") +
+                                    e.what());
+      }
+      if (!ct.is_object() || !ct.contains("ct"))
+        throw std::invalid_argument("the CT bone description must be a JSON object with \"ct\"");
+      j["bone"] = {{"type", "ct"}, {"ct", ct}};
+    }
+    if (this->OverrideTrial) {
+      const Eigen::Vector3d axis(this->Axis[0], this->Axis[1], this->Axis[2]);
+      if (!(axis.norm() > 0))
+        throw std::invalid_argument("the trial axis is zero");
+      j["trial"]["entry_mm"] = {this->Entry[0], this->Entry[1], this->Entry[2]};
+      const Eigen::Vector3d unit = axis.normalized();
+      j["trial"]["axis"] = {unit[0], unit[1], unit[2]};
     }
     const std::string baseDir = scene.baseDir;
     scene = bm::Scene::FromJson(j);
@@ -484,6 +507,10 @@ void vtkBMSessionSource::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "Tool: " << (this->Tool ? this->Tool : "(the scene's)") << "\n";
   os << indent << "Method: " << this->Method << "\n";
   os << indent << "BoneFile: " << (this->BoneFile ? this->BoneFile : "(the scene's bone)") << "\n";
+  os << indent << "BoneCT: " << (this->BoneCT ? this->BoneCT : "(none)") << "\n";
+  os << indent << "OverrideTrial: " << this->OverrideTrial << ", entry " << this->Entry[0] << " "
+     << this->Entry[1] << " " << this->Entry[2] << " mm, axis " << this->Axis[0] << " "
+     << this->Axis[1] << " " << this->Axis[2] << "\n";
   os << indent << "DeviceType: " << this->DeviceType << "\n";
   os << indent << "VolumeOutput: " << this->VolumeOutput << "\n";
   os << indent << "History: " << this->HistorySeconds << " s by " << this->HistoryStepS << " s\n";

@@ -86,6 +86,26 @@ public:
   vtkGetStringMacro(BoneFile);
   ///@}
   ///@{
+  /// A CT bone to machine instead of the scene's: the "ct" description of a scene's bone as JSON
+  /// ({"ct": folder-or-file, "threshold": HU, "roi": [x0, y0, z0, x1, y1, z1] mm}, as
+  /// vtkBMCTBoneSource::GetBoneSpecification() gives it), imported at VoxmapResolution (or the
+  /// scene's). Empty (default): the scene's bone. Start() refuses both BoneFile and BoneCT set.
+  vtkSetStringMacro(BoneCT);
+  vtkGetStringMacro(BoneCT);
+  ///@}
+  ///@{
+  /// With OverrideTrial on (default off), the trial's entry point (world mm, where the axis enters
+  /// the bone) and axis (world, from the bone out toward the shank; normalized) replace the
+  /// scene's; the feed, speed, clearance and depth stay the scene's. Takes effect at Start().
+  vtkSetMacro(OverrideTrial, bool);
+  vtkGetMacro(OverrideTrial, bool);
+  vtkBooleanMacro(OverrideTrial, bool);
+  vtkSetVector3Macro(Entry, double);
+  vtkGetVector3Macro(Entry, double);
+  vtkSetVector3Macro(Axis, double);
+  vtkGetVector3Macro(Axis, double);
+  ///@}
+  ///@{
   /// SCRIPTED (default), MOUSE or TOUCH.
   vtkSetClampMacro(DeviceType, int, SCRIPTED, TOUCH);
   vtkGetMacro(DeviceType, int);
@@ -182,6 +202,10 @@ protected:
   char* Scene = nullptr;
   char* Tool = nullptr;
   char* BoneFile = nullptr;
+  char* BoneCT = nullptr;
+  bool OverrideTrial = false;
+  double Entry[3] = {0, 0, 0};
+  double Axis[3] = {0, 0, 1};
   int Method = SCENE_METHOD;
   bool VolumeOutput = false;
   double HistorySeconds = 10.0;

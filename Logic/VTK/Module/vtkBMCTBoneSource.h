@@ -1,0 +1,98 @@
+// vtkBMCTBoneSource.h - preview of a CT's bone as the machining voxmap sees it: a CT (DICOM
+// folder, or a .nrrd / .mha / .nii / .nii.gz / .dcm file, as Logic/IO reads them) segmented at a
+// threshold (HU) inside a region of interest (mm), resampled to a voxmap.
+//
+// The same import `bmsim import` and CT scenes run (bm::MakeCTVoxmap -> bm::VoxmapFromScene:
+// read, crop to the ROI, segment, resample), so what the preview shows is what a session on
+// this bone machines. Output: vtkImageData with point data BoneFraction (0..1, the voxmap's fill
+// fraction at the voxel centres, world mm), for an outline, a slice or volume rendering in
+// ParaView. Information: the bone's voxel count and volume, its bounds, an entry point suggested
+// on the bone's surface along an axis, and the bone specification (JSON) a vtkBMSessionSource
+// machines (SetBoneCT()).
+//
+// Bad input (missing file, no bone above the threshold, an empty ROI) fails the execution with
+// the importer's message in GetLastError(); the output is then empty.
+//
+// Units: mm, HU, mm^3.
+#pragma once
+
+#include "BMVTKLogicModule.h" // for the export macro
+#include "vtkImageAlgorithm.h"
+
+class BMVTKLOGIC_EXPORT vtkBMCTBoneSource : public vtkImageAlgorithm {
+public:
+  static vtkBMCTBoneSource* New();
+  vtkTypeMacro(vtkBMCTBoneSource, vtkImageAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// The CT: a DICOM folder or a volume file (.nrrd, .mha, .nii, .nii.gz, .dcm). Default none.
+  vtkSetStringMacro(FileName);
+  vtkGetStringMacro(FileName);
+  ///@}
+  ///@{
+  /// Bone threshold, HU: voxels at or above are bone. Default 200 HU.
+  vtkSetMacro(ThresholdHU, double);
+  vtkGetMacro(ThresholdHU, double);
+  ///@}
+  ///@{
+  /// Region of interest (x0, x1, y0, y1, z0, z1), world mm. An empty box (any x1 <= x0, the
+  /// default all zeros) means none: the bounding box of the segmented bone.
+  vtkSetVector6Macro(ROI, double);
+  vtkGetVector6Macro(ROI, double);
+  ///@}
+  ///@{
+  /// Voxmap cells along the region's longest side. Default 96 (a preview; a session resamples at
+  /// its own resolution), clamped to [8, 1024].
+  vtkSetClampMacro(Resolution, int, 8, 1024);
+  vtkGetMacro(Resolution, int);
+  ///@}
+  ///@{
+  /// Axis the tool comes in along (world, from the bone out toward the shank; normalized when
+  /// used). Default (0, 0, 1). Used by GetSuggestedEntry().
+  vtkSetVector3Macro(Axis, double);
+  vtkGetVector3Macro(Axis, double);
+  ///@}
+
+  ///@{
+  /// Results of the last execution: voxels holding bone, bone volume (mm^3), the voxmap's
+  /// bounds (x0, x1, y0, y1, z0, z1, mm), and the entry point suggested for Axis (mm): where the
+  /// line along Axis through the bone's bounds centre first meets a voxel at least half bone,
+  /// coming from outside (the bounds centre itself when the line misses the bone).
+  vtkGetMacro(BoneVoxels, vtkIdType);
+  vtkGetMacro(BoneVolumeMm3, double);
+  vtkGetVector6Macro(BoneBounds, double);
+  vtkGetVector3Macro(SuggestedEntry, double);
+  /// Why the last execution failed ("" when it succeeded).
+  const char* GetLastError();
+  /// The bone as a session machines it: {"ct": FileName (absolute), "threshold": HU, "roi":
+  /// [x0, y0, z0, x1, y1, z1]} (roi only when set), the "ct" description of a scene's bone
+  /// (bmImport.h ImportOptionsFromJson). "" without a FileName.
+  const char* GetBoneSpecification();
+  ///@}
+
+protected:
+  vtkBMCTBoneSource();
+  ~vtkBMCTBoneSource() override;
+  int RequestInformation(vtkInformation* request, vtkInformationVector** inputVector,
+                         vtkInformationVector* outputVector) override;
+  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
+                  vtkInformationVector* outputVector) override;
+
+  char* FileName = nullptr;
+  double ThresholdHU = 200.0;
+  double ROI[6] = {0, 0, 0, 0, 0, 0};
+  int Resolution = 96;
+  double Axis[3] = {0, 0, 1};
+  vtkIdType BoneVoxels = 0;
+  double BoneVolumeMm3 = 0;
+  double BoneBounds[6] = {0, 0, 0, 0, 0, 0};
+  double SuggestedEntry[3] = {0, 0, 0};
+
+private:
+  vtkBMCTBoneSource(const vtkBMCTBoneSource&) = delete;
+  void operator=(const vtkBMCTBoneSource&) = delete;
+
+  class vtkInternals;
+  vtkInternals* Internals;
+};
