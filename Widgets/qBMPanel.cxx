@@ -76,7 +76,59 @@ public:
   vtkNew<vtkChartXY> ForceChart, FrameChart;
   QVTKOpenGLNativeWidget* ForceChartWidget = nullptr;
   QVTKOpenGLNativeWidget* FrameChartWidget = nullptr;
+  /// The last CT preview's suggested entry point, mm (empty: none yet).
+  QVector<double> SuggestedEntry;
+
+  void initCT();
+  QVector<QDoubleSpinBox*> roiBoxes() const {
+    return {this->RoiX0SpinBox, this->RoiX1SpinBox, this->RoiY0SpinBox,
+            this->RoiY1SpinBox, this->RoiZ0SpinBox, this->RoiZ1SpinBox};
+  }
+  QVector<QDoubleSpinBox*> axisBoxes() const {
+    return {this->AxisXSpinBox, this->AxisYSpinBox, this->AxisZSpinBox};
+  }
+  QVector<QDoubleSpinBox*> entryBoxes() const {
+    return {this->EntryXSpinBox, this->EntryYSpinBox, this->EntryZSpinBox};
+  }
 };
+
+void qBMPanelPrivate::initCT() {
+  Q_Q(qBMPanel);
+  this->ThresholdSpinBox->setRange(-2000.0, 10000.0);
+  this->ThresholdSpinBox->setDecimals(0);
+  this->ThresholdSpinBox->setSingleStep(50.0);
+  this->ThresholdSpinBox->setValue(200.0);
+  for (QDoubleSpinBox* box : this->roiBoxes() + this->entryBoxes()) {
+    box->setRange(-10000.0, 10000.0);
+    box->setDecimals(2);
+  }
+  for (QDoubleSpinBox* box : this->axisBoxes()) {
+    box->setRange(-1.0, 1.0);
+    box->setDecimals(3);
+    box->setSingleStep(0.1);
+  }
+  this->AxisZSpinBox->setValue(1.0);
+  this->CTResolutionSpinBox->setRange(8, 1024);
+  this->CTResolutionSpinBox->setValue(96);
+  this->UseSuggestedEntryButton->setEnabled(false);
+  QObject::connect(this->PreviewCTButton, &QPushButton::clicked, q,
+                   [q]() { Q_EMIT q->previewCTRequested(); });
+  QObject::connect(this->UseSuggestedEntryButton, &QPushButton::clicked, q,
+                   [this, q]() { q->setEntry(this->SuggestedEntry); });
+  QObject::connect(this->BrowseCTFileButton, &QPushButton::clicked, q, [this, q]() {
+    const QString path = QFileDialog::getOpenFileName(
+        q, qBMPanel::tr("CT file"), this->CTFileLineEdit->text(),
+        qBMPanel::tr("CT volumes (*.nrrd *.nhdr *.mha *.mhd *.nii *.nii.gz *.dcm);;All files (*)"));
+    if (!path.isEmpty())
+      this->CTFileLineEdit->setText(path);
+  });
+  QObject::connect(this->BrowseCTFolderButton, &QPushButton::clicked, q, [this, q]() {
+    const QString path = QFileDialog::getExistingDirectory(q, qBMPanel::tr("DICOM folder"),
+                                                           this->CTFileLineEdit->text());
+    if (!path.isEmpty())
+      this->CTFileLineEdit->setText(path);
+  });
+}
 
 void qBMPanelPrivate::init() {
   Q_Q(qBMPanel);
@@ -164,6 +216,7 @@ void qBMPanelPrivate::init() {
   });
   QObject::connect(this->VolumeCheckBox, &QCheckBox::toggled, q,
                    [q](bool on) { Q_EMIT q->volumeRenderingToggled(on); });
+  this->initCT();
   this->initCharts();
   q->setSessionStatus(QString(), false);
 }
@@ -544,4 +597,111 @@ void qBMPanel::setSessionStatus(const QString& message, bool running) {
     const QSignalBlocker blocker(d->PauseButton);
     d->PauseButton->setChecked(false);
   }
+}
+
+QString qBMPanel::ctFileName() const {
+  Q_D(const qBMPanel);
+  return d->CTFileLineEdit->text();
+}
+
+double qBMPanel::thresholdHU() const {
+  Q_D(const qBMPanel);
+  return d->ThresholdSpinBox->value();
+}
+
+QVector<double> qBMPanel::roi() const {
+  Q_D(const qBMPanel);
+  QVector<double> box;
+  for (QDoubleSpinBox* spin : d->roiBoxes())
+    box.append(spin->value());
+  return box;
+}
+
+int qBMPanel::ctResolution() const {
+  Q_D(const qBMPanel);
+  return d->CTResolutionSpinBox->value();
+}
+
+QVector<double> qBMPanel::axis() const {
+  Q_D(const qBMPanel);
+  QVector<double> v;
+  for (QDoubleSpinBox* spin : d->axisBoxes())
+    v.append(spin->value());
+  return v;
+}
+
+QVector<double> qBMPanel::entry() const {
+  Q_D(const qBMPanel);
+  QVector<double> v;
+  for (QDoubleSpinBox* spin : d->entryBoxes())
+    v.append(spin->value());
+  return v;
+}
+
+bool qBMPanel::useCTBone() const {
+  Q_D(const qBMPanel);
+  return d->UseCTCheckBox->isChecked();
+}
+
+void qBMPanel::setCTFileName(const QString& path) {
+  Q_D(qBMPanel);
+  d->CTFileLineEdit->setText(path);
+}
+
+void qBMPanel::setThresholdHU(double hu) {
+  Q_D(qBMPanel);
+  d->ThresholdSpinBox->setValue(hu);
+}
+
+void qBMPanel::setRoi(const QVector<double>& box) {
+  Q_D(qBMPanel);
+  const auto spins = d->roiBoxes();
+  for (int i = 0; i < spins.size() && i < box.size(); ++i)
+    spins[i]->setValue(box[i]);
+}
+
+void qBMPanel::setAxis(const QVector<double>& axis) {
+  Q_D(qBMPanel);
+  const auto spins = d->axisBoxes();
+  for (int i = 0; i < spins.size() && i < axis.size(); ++i)
+    spins[i]->setValue(axis[i]);
+}
+
+void qBMPanel::setEntry(const QVector<double>& entry) {
+  Q_D(qBMPanel);
+  const auto spins = d->entryBoxes();
+  for (int i = 0; i < spins.size() && i < entry.size(); ++i)
+    spins[i]->setValue(entry[i]);
+}
+
+void qBMPanel::setUseCTBone(bool use) {
+  Q_D(qBMPanel);
+  d->UseCTCheckBox->setChecked(use);
+}
+
+void qBMPanel::setCTPreview(qint64 boneVoxels, double boneVolumeMm3, const QVector<double>& bounds,
+                            const QVector<double>& suggestedEntry, const QString& error) {
+  Q_D(qBMPanel);
+  if (!error.isEmpty() || bounds.size() < 6 || suggestedEntry.size() < 3) {
+    d->SuggestedEntry.clear();
+    d->UseSuggestedEntryButton->setEnabled(false);
+    d->CTSummaryLabel->setText(tr("No CT bone: %1").arg(error));
+    return;
+  }
+  d->SuggestedEntry = suggestedEntry;
+  d->UseSuggestedEntryButton->setEnabled(true);
+  d->CTSummaryLabel->setText(
+      tr("Bone: %1 voxels, %2 mm^3 in [%3, %4] x [%5, %6] x [%7, %8] mm; suggested entry "
+         "(%9, %10, %11) mm")
+          .arg(boneVoxels)
+          .arg(boneVolumeMm3, 0, 'f', 1)
+          .arg(bounds[0], 0, 'f', 1)
+          .arg(bounds[1], 0, 'f', 1)
+          .arg(bounds[2], 0, 'f', 1)
+          .arg(bounds[3], 0, 'f', 1)
+          .arg(bounds[4], 0, 'f', 1)
+          .arg(bounds[5], 0, 'f', 1)
+          .arg(suggestedEntry[0], 0, 'f', 2)
+          .arg(suggestedEntry[1], 0, 'f', 2)
+          .arg(suggestedEntry[2], 0, 'f', 2));
 }

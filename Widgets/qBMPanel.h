@@ -16,6 +16,7 @@
 
 #include <QScopedPointer>
 #include <QString>
+#include <QVector>
 #include <QWidget>
 
 class qBMPanelPrivate;
@@ -68,6 +69,19 @@ public:
   QString expectedCost() const;
   /// Why a Touch cannot be used ("" when it can), as probed when the panel was made.
   QString touchStatus() const;
+  /// CT bone: the DICOM folder or CT file (""), the bone threshold (HU, default 200), the region
+  /// of interest (x0, x1, y0, y1, z0, z1 mm; all zero, the default: none), the preview's voxmap
+  /// cells along the region's longest side (default 96).
+  QString ctFileName() const;
+  double thresholdHU() const;
+  QVector<double> roi() const;
+  int ctResolution() const;
+  /// Tool axis (world, from the bone out; default 0, 0, 1) and entry point (mm, default 0, 0, 0)
+  /// for a session on the CT bone.
+  QVector<double> axis() const;
+  QVector<double> entry() const;
+  /// Whether a session machines the CT bone (at entry() along axis()). Default false.
+  bool useCTBone() const;
   /// Mouse proxy depth below the entry point, mm. Default -2.
   double toolDepth() const;
 
@@ -98,6 +112,18 @@ public Q_SLOTS:
   /// torque_Nmm and frame_ms (vtkBMSessionSource's output port 2). The panel keeps a copy; null
   /// clears the charts.
   void setHistory(vtkTable* history);
+  /// CT settings (see ctFileName() and the others).
+  void setCTFileName(const QString& path);
+  void setThresholdHU(double hu);
+  void setRoi(const QVector<double>& box);
+  void setAxis(const QVector<double>& axis);
+  void setEntry(const QVector<double>& entry);
+  void setUseCTBone(bool use);
+  /// Show the CT preview's result: voxels holding bone, bone volume (mm^3), the voxmap's bounds
+  /// (x0, x1, y0, y1, z0, z1 mm) and the suggested entry point (mm), or why it failed (error
+  /// not empty: the other values are ignored).
+  void setCTPreview(qint64 boneVoxels, double boneVolumeMm3, const QVector<double>& bounds,
+                    const QVector<double>& suggestedEntry, const QString& error);
   /// Show the running session's numbers: time (s), depth (mm), removed volume (mm^3), thrust (N),
   /// torque (N mm), frame time p99 (ms).
   void setSessionNumbers(double timeS, double depthMm, double removedMm3, double thrustN,
@@ -123,6 +149,8 @@ Q_SIGNALS:
   void saveBoneRequested(const QString& path);
   /// The user switched the volume rendering of the cut bone on or off.
   void volumeRenderingToggled(bool on);
+  /// The user asked to import and show the CT bone with the panel's CT settings.
+  void previewCTRequested();
 
 protected:
   QScopedPointer<qBMPanelPrivate> d_ptr;

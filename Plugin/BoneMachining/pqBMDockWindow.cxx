@@ -44,6 +44,7 @@ pqBMDockWindow::pqBMDockWindow(QWidget* parent)
   QObject::connect(this->Panel, &qBMPanel::saveBoneRequested, this, &pqBMDockWindow::saveBone);
   QObject::connect(this->Panel, &qBMPanel::volumeRenderingToggled, this,
                    &pqBMDockWindow::setVolumeRendering);
+  QObject::connect(this->Panel, &qBMPanel::previewCTRequested, this, &pqBMDockWindow::previewCT);
   this->Poll->setInterval(33);
   QObject::connect(this->Poll, &QTimer::timeout, this, &pqBMDockWindow::pollSession);
 }
@@ -84,6 +85,16 @@ void pqBMDockWindow::startSession(const QString& scene, int voxmapResolution, in
   pqServer* server = pqActiveObjects::instance().activeServer();
   if (!server)
     return;
+  std::string boneCT;
+  if (this->Panel->useCTBone()) {
+    if (!this->CTBone) {
+      this->Panel->setSessionStatus(tr("Preview the CT bone first."), false);
+      return;
+    }
+    vtkSMProxy* ct = this->CTBone->getProxy();
+    ct->UpdatePropertyInformation();
+    boneCT = vtkSMPropertyHelper(ct, "BoneSpecificationInfo").GetAsString();
+  }
   pqPipelineSource* source = pqApplicationCore::instance()->getObjectBuilder()->createSource(
       "sources", "BMSessionSource", server);
   if (!source) {
@@ -103,6 +114,10 @@ void pqBMDockWindow::startSession(const QString& scene, int voxmapResolution, in
   vtkSMPropertyHelper(proxy, "BoneFile")
       .Set(this->Panel->startFromBoneFile() ? this->Panel->boneFile().toUtf8().constData() : "");
   vtkSMPropertyHelper(proxy, "VolumeOutput").Set(this->Panel->volumeRendering() ? 1 : 0);
+  vtkSMPropertyHelper(proxy, "BoneCT").Set(boneCT.c_str());
+  vtkSMPropertyHelper(proxy, "OverrideTrial").Set(this->Panel->useCTBone() ? 1 : 0);
+  vtkSMPropertyHelper(proxy, "Entry").Set(this->Panel->entry().constData(), 3);
+  vtkSMPropertyHelper(proxy, "Axis").Set(this->Panel->axis().constData(), 3);
   proxy->UpdateVTKObjects();
   proxy->InvokeCommand("Start");
   proxy->UpdatePropertyInformation();
@@ -199,6 +214,49 @@ void pqBMDockWindow::setVolumeRendering(bool on) {
   } else {
     controller->Hide(proxy, 3, view->getViewProxy());
   }
+  view->render();
+}
+
+void pqBMDockWindow::previewCT() {
+  pqServer* server = pqActiveObjects::instance().activeServer();
+  if (!server)
+    return;
+  if (!this->CTBone) {
+    this->CTBone = pqApplicationCore::instance()->getObjectBuilder()->createSource(
+        "sources", "BMCTBoneSource", server);
+    if (!this->CTBone) {
+      this->Panel->setCTPreview(0, 0, {}, {}, tr("could not create a BM CT Bone source"));
+      return;
+    }
+  }
+  vtkSMSourceProxy* proxy = vtkSMSourceProxy::SafeDownCast(this->CTBone->getProxy());
+  vtkSMPropertyHelper(proxy, "FileName").Set(this->Panel->ctFileName().toUtf8().constData());
+  vtkSMPropertyHelper(proxy, "ThresholdHU").Set(this->Panel->thresholdHU());
+  vtkSMPropertyHelper(proxy, "ROI").Set(this->Panel->roi().constData(), 6);
+  vtkSMPropertyHelper(proxy, "Resolution").Set(this->Panel->ctResolution());
+  vtkSMPropertyHelper(proxy, "Axis").Set(this->Panel->axis().constData(), 3);
+  proxy->UpdateVTKObjects();
+  this->CTBone->updatePipeline();
+  this->CTBone->setModifiedState(pqProxy::UNMODIFIED);
+  proxy->UpdatePropertyInformation();
+  const QString error =
+      QString::fromStdString(vtkSMPropertyHelper(proxy, "LastErrorInfo").GetAsString());
+  QVector<double> bounds(6), entry(3);
+  vtkSMPropertyHelper(proxy, "BoneBoundsInfo").Get(bounds.data(), 6);
+  vtkSMPropertyHelper(proxy, "SuggestedEntryInfo").Get(entry.data(), 3);
+  this->Panel->setCTPreview(vtkSMPropertyHelper(proxy, "BoneVoxelsInfo").GetAsIdType(),
+                            vtkSMPropertyHelper(proxy, "BoneVolumeInfo").GetAsDouble(), bounds,
+                            entry, error);
+  pqView* view = pqActiveObjects::instance().activeView();
+  if (!view || !error.isEmpty())
+    return;
+  vtkNew<vtkSMParaViewPipelineControllerWithRendering> controller;
+  if (vtkSMProxy* repr = controller->Show(proxy, 0, view->getViewProxy())) {
+    vtkSMPVRepresentationProxy::SetScalarColoring(repr, "BoneFraction", vtkDataObject::POINT);
+    vtkSMPropertyHelper(repr, "Representation").Set("Slice");
+    repr->UpdateVTKObjects();
+  }
+  view->resetDisplay();
   view->render();
 }
 

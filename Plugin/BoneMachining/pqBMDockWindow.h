@@ -41,10 +41,15 @@ private Q_SLOTS:
   void saveBone(const QString& path);
   /// Turns the session's Volume output on or off and shows it with volume rendering.
   void setVolumeRendering(bool on);
+  /// Creates (once) or updates a "BM CT Bone" source (vtkBMCTBoneSource) with the panel's CT
+  /// settings, shows its bone as a slice coloured by BoneFraction and reports the preview (bone
+  /// voxels, volume, bounds, suggested entry, or the import error) in the panel.
+  void previewCT();
 
 private:
   Q_DISABLE_COPY(pqBMDockWindow);
   qBMPanel* Panel;
   QPointer<pqPipelineSource> Session;
+  QPointer<pqPipelineSource> CTBone;
   QTimer* Poll;
 };
