@@ -56,6 +56,9 @@ bm::DeviceLimits PositionSourceLimits() {
   l.workspaceRadiusMm = 1000;
   return l;
 }
+
+/// Most time one update spends re-extracting the bone's surface, ms (ParaView polls every 33).
+constexpr double kSurfaceBudgetMs = 20.0;
 } // namespace
 
 class vtkBMSessionSource::vtkInternals {
@@ -63,13 +66,14 @@ public:
   std::unique_ptr<bm::MachiningSetup> Setup;
   std::shared_ptr<bm::ProgrammableDevice> Mouse;
   std::unique_ptr<bm::HapticSession> Session;
-  bm::BoneSurface Surface{32, 0.5};
+  /// The cut bone's surface, in bricks of 16 voxels: at voxmap 512 a brick is a cheap unit
+  /// (4913 samples), and the bricks a reamer's face crosses hold little more than the face.
+  bm::BoneSurface Surface{16, 0.5};
   vtkNew<vtkBMToolSource> Tool;
   int64_t LastFrame = -1;
-  bool HavePreviousBox = false;
-  bm::Box3 PreviousBox;
   std::string Error;
   std::string TouchStatus;
+  std::string PauseReason = "none";
   /// History rows (time_s, thrust_N, torque_Nmm, frame_ms, depth_mm), oldest first, and the
   /// session time of the next row to keep.
   std::deque<std::array<double, 5>> History;
@@ -137,32 +141,6 @@ public:
     this->BoneImage->ShallowCopy(image);
   }
 
-  /// World box (mm) around the tool's cutting part at a pose, one voxel wider.
-  bm::Box3 CuttingBox(const Eigen::Vector3d& pos, const Eigen::Matrix3d& rot) const {
-    const bm::ToolModel& tool = this->Setup->Tool();
-    double zHi = bm::ForemostCuttingZ(tool);
-    for (bm::EdgeKind kind : {bm::EdgeKind::Lip, bm::EdgeKind::Chisel}) {
-      const auto r = tool.EdgeRange(kind);
-      if (r[1] > r[0])
-        for (int i = 0; i <= 16; ++i)
-          zHi = std::max(zHi, tool.EdgeZ(kind, r[0] + (r[1] - r[0]) * i / 16.0));
-    }
-    const double R = tool.OuterRadius(), zLo = tool.AxialRange()[0];
-    const double pad = this->Setup->Bone().Spacing();
-    bm::Box3 box;
-    box.lo = {1e300, 1e300, 1e300};
-    box.hi = {-1e300, -1e300, -1e300};
-    for (int c = 0; c < 8; ++c) {
-      const Eigen::Vector3d local((c & 1) ? R : -R, (c & 2) ? R : -R, (c & 4) ? zHi : zLo);
-      const Eigen::Vector3d w = pos + rot * local;
-      for (int a = 0; a < 3; ++a) {
-        box.lo[a] = std::min(box.lo[a], w[a] - pad);
-        box.hi[a] = std::max(box.hi[a], w[a] + pad);
-      }
-    }
-    return box;
-  }
-
   /// The mouse device's pose for a depth (mm) of the foremost cutting point below the entry.
   bm::DevicePose MousePose(double depthMm) const {
     const bm::TrialSpec& t = this->Setup->GetScene().trial;
@@ -226,6 +204,10 @@ vtkBMSessionSource::~vtkBMSessionSource() {
   this->SetBoneFile(nullptr);
   this->SetBoneCT(nullptr);
   delete this->Internals;
+}
+
+const char* vtkBMSessionSource::GetPauseReason() {
+  return this->Internals->PauseReason.c_str();
 }
 
 const char* vtkBMSessionSource::GetLastError() {
@@ -352,7 +334,6 @@ bool vtkBMSessionSource::Start() {
     params.erase("type");
     in.Tool->SetParameters(params.dump().c_str());
     in.Surface.MarkAllDirty();
-    in.HavePreviousBox = false;
     in.LastFrame = -1;
     in.History.clear();
     in.NextHistoryS = 0;
@@ -446,18 +427,13 @@ int vtkBMSessionSource::RequestData(vtkInformation*, vtkInformationVector**,
   const bm::SessionSnapshot s = in.Session->Snapshot();
   in.LastFrame = s.frame;
 
-  // Re-extract where the tool's cutting part was since the last update.
-  const bm::Box3 box = in.CuttingBox(s.proxyPositionMm, s.toolRotation);
-  bm::Box3 dirty = box;
-  if (in.HavePreviousBox)
-    for (int a = 0; a < 3; ++a) {
-      dirty.lo[a] = std::min(dirty.lo[a], in.PreviousBox.lo[a]);
-      dirty.hi[a] = std::max(dirty.hi[a], in.PreviousBox.hi[a]);
-    }
-  in.PreviousBox = box;
-  in.HavePreviousBox = true;
-  in.Surface.MarkDirty(dirty);
+  // Re-extract the bricks the haptic thread changed since the last update (the voxmap's change
+  // generations say which), reading the live voxmap without stopping it. At most
+  // kSurfaceBudgetMs of extraction per update: what is left goes first next time, so the view
+  // keeps ParaView's 33 ms poll while a large cut catches up over a few refreshes.
+  in.Surface.SetTimeBudgetMs(kSurfaceBudgetMs);
   this->BricksUpdated = in.Surface.Update(in.Setup->Bone());
+  this->BricksPending = in.Surface.LastUpdate().pending;
   bone->ShallowCopy(in.Surface.GetOutput());
 
   vtkNew<vtkTransform> pose;
@@ -480,6 +456,7 @@ int vtkBMSessionSource::RequestData(vtkInformation*, vtkInformationVector**,
       s.proxyPositionMm +
       s.toolRotation * Eigen::Vector3d(0, 0, bm::ForemostCuttingZ(in.Setup->Tool()));
   this->State = int(s.state);
+  in.PauseReason = bm::ToString(s.pauseReason);
   this->Frame = s.frame;
   this->TimeS = s.timeS;
   this->ThrustN = s.thrustN;

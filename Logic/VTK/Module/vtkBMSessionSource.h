@@ -2,7 +2,7 @@
 //
 // Owns a bm::HapticSession (Logic/Session) on a scene (built-in name or scene file): the haptic
 // thread cuts the voxmap; this source only reads. Output port 0: the cut bone's surface (world
-// mm; the 0.5 fill-fraction iso-surface, re-extracted per brick only where the tool has been
+// mm; the 0.5 fill-fraction iso-surface, re-extracted per brick only where the voxmap changed
 // since the last update, bm::BoneSurface). Output port 1: the tool's surface at the proxy pose
 // (world mm; cell data EdgeKind as vtkBMToolSource). Output port 2: the session's recent history
 // as a vtkTable (columns time_s, thrust_N, torque_Nmm, frame_ms, depth_mm; one row per
@@ -14,9 +14,9 @@
 // Live source: GetNeedsUpdate() is true when the session ran frames since the last execution, so
 // ParaView re-executes it (server-manager hint LiveSource); pvpython polls it through the
 // NeedsUpdateInfo property. The haptic thread never waits for this source: it reads the
-// session's snapshot (double-buffered, try-lock on the writer side) and the voxmap's fill values
-// as they are (a brick read while a frame cuts it shows that frame half done; the next update
-// redraws it).
+// session's snapshot (double-buffered, try-lock on the writer side) and the voxmap's fills through
+// atomic loads, after marking their bricks seen (bm::Voxmap::SeenBrickGeneration): a brick read
+// while a frame cuts it shows that frame half done and is re-extracted at the next update.
 //
 // Devices: SCRIPTED feeds the tool along the scene's axis at its feed and speed (a robot-driven
 // trial, to its depth); MOUSE is a programmable device whose pose follows SetToolDepth() (mm of
@@ -173,6 +173,10 @@ public:
   /// The session as of the last execution.
   /// State: 0 idle, 1 running, 2 paused, 3 stopped.
   vtkGetMacro(State, int);
+  /// Why the session paused: "none", "user", "finished" (frame limit or the scripted trial's
+  /// end), "overrun" (too many frames over the period), "device error", "device not answering"
+  /// or "frame error" (bm::PauseReason).
+  const char* GetPauseReason();
   vtkGetMacro(Frame, vtkIdType);
   vtkGetMacro(TimeS, double);
   vtkGetMacro(ThrustN, double);
@@ -184,6 +188,8 @@ public:
   vtkGetMacro(FrameMsP99, double);
   /// Bricks re-extracted by the last execution, and its time, ms.
   vtkGetMacro(BricksUpdated, int);
+  /// Changed bricks the last execution left for the next (its extraction time budget, 20 ms).
+  vtkGetMacro(BricksPending, int);
   vtkGetMacro(ExtractMs, double);
   const char* GetLastError();
   ///@}
@@ -220,7 +226,7 @@ protected:
   vtkIdType Frame = 0;
   double TimeS = 0, ThrustN = 0, TorqueNmm = 0, RemovedVolumeMm3 = 0, DepthMm = 0;
   double FrameMsP50 = 0, FrameMsP99 = 0, ExtractMs = 0;
-  int BricksUpdated = 0;
+  int BricksUpdated = 0, BricksPending = 0;
 
 private:
   vtkBMSessionSource(const vtkBMSessionSource&) = delete;
