@@ -587,6 +587,11 @@ void qBMPanel::setSessionNumbers(double timeS, double depthMm, double removedMm3
           .arg(frameP99Ms, 0, 'f', 2));
 }
 
+void qBMPanel::setSessionState(const QString& state) {
+  Q_D(qBMPanel);
+  d->SessionStateLabel->setText(state.isEmpty() ? QString() : tr("Session %1").arg(state));
+}
+
 void qBMPanel::setSessionStatus(const QString& message, bool running) {
   Q_D(qBMPanel);
   d->SessionStatusLabel->setText(message);

@@ -128,6 +128,9 @@ public Q_SLOTS:
   /// torque (N mm), frame time p99 (ms).
   void setSessionNumbers(double timeS, double depthMm, double removedMm3, double thrustN,
                          double torqueNmm, double frameP99Ms);
+  /// Show the session's state as the logic names it, e.g. "running" or "paused: overrun" (""
+  /// clears it).
+  void setSessionState(const QString& state);
   /// Show a one-line session status, and whether a session is running (enables the buttons).
   void setSessionStatus(const QString& message, bool running);
 

@@ -158,6 +158,7 @@ void pqBMDockWindow::stopSession() {
   if (!this->Session)
     return;
   this->Session->getProxy()->InvokeCommand("Stop");
+  this->Session->updatePipeline(); // the final cut, numbers and state
   this->pollSession();
   this->Panel->setSessionStatus(tr("Stopped %1.").arg(this->Session->getSMName()), false);
 }
@@ -268,6 +269,14 @@ void pqBMDockWindow::pollSession() {
   // The history table lives where the source runs: with the built-in server that is here.
   if (auto* logic = vtkBMSessionSource::SafeDownCast(proxy->GetClientSideObject()))
     this->Panel->setHistory(logic->GetHistory());
+  // The state, and why it paused (the trial's end, overruns, a device fault, the user).
+  const int state = vtkSMPropertyHelper(proxy, "StateInfo").GetAsInt();
+  const QString reason =
+      QString::fromStdString(vtkSMPropertyHelper(proxy, "PauseReasonInfo").GetAsString());
+  this->Panel->setSessionState(state == 1   ? tr("running")
+                               : state == 2 ? tr("paused: %1").arg(reason)
+                               : state == 3 ? tr("stopped")
+                                            : QString());
   this->Panel->setSessionNumbers(vtkSMPropertyHelper(proxy, "TimeInfo").GetAsDouble(),
                                  vtkSMPropertyHelper(proxy, "DepthInfo").GetAsDouble(),
                                  vtkSMPropertyHelper(proxy, "RemovedVolumeInfo").GetAsDouble(),
