@@ -127,7 +127,7 @@ FrameResult CpuEngine::Step(const FrameInput& in) {
           if (!State_[e].Visit(frameNo, idx, idx >= 0 ? fill[idx] : 0))
             continue;
           ++P.engaged;
-          if (remove) {
+          if (remove && (in.envelopeRemoves || ElementIsCutting(codes[e]))) {
             if (const int32_t units = G.RemovalUnits(an[e]); units > 0) {
               // Consecutive elements often share a voxel: one request per run (same result,
               // since the clamped decrement telescopes).

@@ -29,6 +29,11 @@ struct FrameInput {
   double speedRpm = 1000;     ///< spindle speed n, rpm (0: spindle stopped, no cutting force)
   double spindleAngle = 0;    ///< rad; turns the shell with instantaneous lips
   bool removeMaterial = true; ///< false: query forces only, leave the voxmap unchanged
+  /// true (default): every engaged element removes what its surface sweeps, the whole tool
+  /// envelope (MODEL_NOTES section 8: margins and shank never drag on what the lips left);
+  /// false: only cutting elements remove (the haptic session, where non-cutting surfaces are a
+  /// rigid contact, section 4).
+  bool envelopeRemoves = true;
 };
 
 struct FrameResult {

@@ -62,7 +62,7 @@ FrameResult ZhengEngine::Step(const FrameInput& in) {
       if (!st.Visit(frameNo, vidx, Tree_.Value(leaf)))
         continue;
       ++Engaged_[size_t(thread)];
-      if (remove)
+      if (remove && (in.envelopeRemoves || ElementIsCutting(codes[size_t(e)])))
         if (const int32_t units = G.RemovalUnits(an[size_t(e)]); units > 0)
           Requests_[size_t(thread)].push_back({uint32_t(e), units, v});
       if (cutting && ElementIsCutting(codes[size_t(e)])) {

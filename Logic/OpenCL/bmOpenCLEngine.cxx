@@ -163,7 +163,8 @@ FrameResult OpenCLEngine::Step(const FrameInput& in) {
         q.enqueueFillBuffer(RemovalSums_, cl_long(0), 0, kRemovalSums * 8);
       }
       q.enqueueFillBuffer(VoidedCount_, cl_uint(0), 0, 4);
-      const cl_int flags = (remove ? 1 : 0) | (cutting ? 2 : 0) | (Bone_.HasMaterial() ? 4 : 0);
+      const cl_int flags = (remove ? 1 : 0) | (cutting ? 2 : 0) | (Bone_.HasMaterial() ? 4 : 0) |
+                           (in.envelopeRemoves ? 8 : 0);
       auto f4 = [&](int row) {
         const size_t w = size_t(row);
         return cl_float4{{geo.A[3 * w], geo.A[3 * w + 1], geo.A[3 * w + 2], geo.b[w]}};

@@ -223,7 +223,8 @@ FrameResult OpenCLZhengEngine::Launch(const FrameInput& in, uint32_t frameNo) {
   const cl_uint global = (items + L - 1) / L * L;
   const cl_uint G = global / L;
   const cl_uint nChunks = cl_uint(ChunkHost_.size());
-  const cl_int flags = (remove ? 1 : 0) | (cutting ? 2 : 0) | (Bone_.HasMaterial() ? 4 : 0);
+  const cl_int flags = (remove ? 1 : 0) | (cutting ? 2 : 0) | (Bone_.HasMaterial() ? 4 : 0) |
+                       (in.envelopeRemoves ? 8 : 0);
   auto f4 = [&](int row) {
     const size_t w = size_t(row);
     return cl_float4{{geo.A[3 * w], geo.A[3 * w + 1], geo.A[3 * w + 2], geo.b[w]}};

@@ -18,7 +18,7 @@ void KimParkContact::ToolBox(const Eigen::Matrix3d& R, const Eigen::Vector3d& p,
 }
 
 ContactResult KimParkContact::Query(const Eigen::Matrix3d& R, const Eigen::Vector3d& p,
-                                    double deadBandMm) const {
+                                    double deadBandMm, ToolPart part) const {
   ContactResult out;
   Eigen::Vector3d lo, hi;
   ToolBox(R, p, lo, hi);
@@ -34,7 +34,7 @@ ContactResult KimParkContact::Query(const Eigen::Matrix3d& R, const Eigen::Vecto
     Eigen::Vector3d g;
     const double d = Sdf_.Sample(q, g);
     const double pen = -d - deadBandMm;
-    if (pen <= 0)
+    if (pen <= 0 || !Sdf_.InPart(q, part))
       return;
     const double k = kPoint * sp.material;
     out.force += k * pen * sp.normal;

@@ -41,9 +41,10 @@ public:
   /// World box (mm) covering the tool's field at pose (R, p).
   void ToolBox(const Eigen::Matrix3d& R, const Eigen::Vector3d& p, Eigen::Vector3d& lo,
                Eigen::Vector3d& hi) const;
-  /// Contact of the tool at pose (R, p) with dead band deadBandMm (mm, >= 0).
-  ContactResult Query(const Eigen::Matrix3d& R, const Eigen::Vector3d& p,
-                      double deadBandMm = 0) const;
+  /// Contact of the tool at pose (R, p) with dead band deadBandMm (mm, >= 0, default 0), counting
+  /// only the bone points nearest to `part` of the tool's surface (default: the whole tool).
+  ContactResult Query(const Eigen::Matrix3d& R, const Eigen::Vector3d& p, double deadBandMm = 0,
+                      ToolPart part = ToolPart::Whole) const;
   /// Kim et al.'s Boolean removal: bone voxels whose centre is deeper than depthMm inside the tool
   /// at (R, p) are removed and the shell regenerated. Returns voxels removed; fill units in
   /// removedFill.

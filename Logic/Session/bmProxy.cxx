@@ -56,21 +56,23 @@ void Proxy::Prepare(double speedRpm) {
 }
 
 Eigen::Vector3d Proxy::Sweep(const Eigen::Vector3d& from, const Eigen::Vector3d& to,
-                             const Eigen::Matrix3d& R, double band) const {
+                             const Eigen::Matrix3d& R, double band, ToolPart part) const {
   const Eigen::Vector3d d = to - from;
   const double L = d.norm();
-  if (L <= 0)
+  if (L <= 0 || !Sdf_->Has(part))
     return to;
   Eigen::Vector3d lo0, hi0, lo1, hi1;
   Contact_->ToolBox(R, from, lo0, hi0);
   Contact_->ToolBox(R, to, lo1, hi1);
   if (Shell_->EmptyIn(lo0.cwiseMin(lo1), hi0.cwiseMax(hi1)))
     return to; // no bone anywhere near the path
+  if (part != ToolPart::Whole && Contact_->Query(R, from, band, part).points > 0)
+    return from; // a rigid part on bone goes no deeper
   const double step = O_.maxStepVoxels * Setup_.Bone().Spacing();
   const int n = std::max(1, int(std::ceil(L / step)));
   for (int i = 1; i <= n; ++i) {
     const Eigen::Vector3d q = from + d * (double(i) / n);
-    if (Contact_->Query(R, q, band).points > 0)
+    if (Contact_->Query(R, q, band, part).points > 0)
       return q; // first contact: at most one step deep
   }
   return to;
@@ -140,13 +142,15 @@ void Proxy::CuttingStep(const Eigen::Vector3d& xd, const Eigen::Vector3d& vd,
   if (f0 <= 0) {
     u = f0 / Kc; // pulled out: follow the coupling's zero (the hole behind is open)
     p = P_ - u * a;
-  } else if (Fraction_ > 0) {
-    u = Balance_.SolveAdvance(Fraction_, f0, Kc, n, T_, maxStep);
-    p = P_ - u * a;
-    cutting = u > 0;
   } else {
-    p = Sweep(P_, P_ - (f0 / Kc) * a, R, 0.0);
+    if (Fraction_ > 0)
+      p = P_ - Balance_.SolveAdvance(Fraction_, f0, Kc, n, T_, maxStep) * a;
+    else
+      p = Sweep(P_, P_ - (f0 / Kc) * a, R, 0.0);
+    // Leading non-cutting surfaces are a rigid contact: the advance stops where they meet bone.
+    p = Sweep(P_, p, R, 0.0, ToolPart::NonCuttingLeading);
     u = (P_ - p).dot(a);
+    cutting = Fraction_ > 0 && u > 0;
   }
   // The engine cuts along the advance at the balancing feed. When not cutting (retracting, or
   // approaching until first contact) it runs at a tiny feed without removal, so that it still
@@ -162,6 +166,7 @@ void Proxy::CuttingStep(const Eigen::Vector3d& xd, const Eigen::Vector3d& vd,
                             2 * 3.14159265358979323846);
   in.spindleAngle = SpindleAngle_;
   in.removeMaterial = cutting;
+  in.envelopeRemoves = false; // only the lips cut; non-cutting parts are rigid (above)
   const FrameResult r = Setup_.GetEngine().Step(in);
   const double full = Balance_.FullThrust(in.feedMmPerRev, n);
   Fraction_ = full > 0 ? std::clamp(r.thrustN / full, 0.0, 2.0) : 0.0;

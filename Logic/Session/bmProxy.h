@@ -10,6 +10,11 @@
 //    distance field, with a dead band of ~1 voxel for the wall the engine is still thinning),
 //    solved with the axis held. Before any cutting element touches bone, the proxy moves freely
 //    toward the device but stops at first contact (swept in steps of at most half a voxel).
+//    Non-cutting surfaces that lead the feed (a reamer's guide nipple; ToolPart::NonCuttingLeading)
+//    are a rigid contact along the axis too: the advance, cutting or free, stops at their first
+//    contact with bone and does not go deeper while they touch it, so the device's push is
+//    rendered through the coupling. The engine runs with FrameInput::envelopeRemoves off: only
+//    cutting elements remove bone, non-cutting parts never wear their way in.
 //    Spindle stopped: every surface is a rigid contact (same solve, all three axes).
 //    Direct: the penalty force k_dev * (deepest penetration) along the contact normal at the
 //    device pose, plus the engine's force at the device's own feed (a damper with a wall).
@@ -105,8 +110,12 @@ public:
   const Eigen::Vector3d& Position() const { return P_; }
 
 private:
+  /// Moves from `from` toward `to` (world mm) in steps of at most maxStepVoxels and returns the
+  /// first position where `part` of the tool touches bone beyond `band` (mm), or `to`. A part
+  /// other than the whole tool that already touches bone at `from` stays there (rigid).
   Eigen::Vector3d Sweep(const Eigen::Vector3d& from, const Eigen::Vector3d& to,
-                        const Eigen::Matrix3d& R, double band) const;
+                        const Eigen::Matrix3d& R, double band,
+                        ToolPart part = ToolPart::Whole) const;
   Eigen::Vector3d Relax(Eigen::Vector3d p, const Eigen::Vector3d& xd, const Eigen::Vector3d& vd,
                         const Eigen::Matrix3d& R, double band, const Eigen::Vector3d* lockAxis,
                         const Eigen::Vector3d& extra, ContactResult& last) const;

@@ -24,6 +24,9 @@ ToolDistanceField::ToolDistanceField(const ToolModel& tool, int resolution, int 
     if (a.rho < 1e-12 && b.rho < 1e-12)
       continue;
     Segments_.push_back({a.rho, a.z, b.rho, b.z});
+    // The outline runs from the tip around to the back, so the outward normal is (dz, -drho) / L:
+    // it faces the feed (-z_t) where rho grows along the segment.
+    Leading_.push_back(a.kind == EdgeKind::None && b.rho - a.rho > 1e-9 * H_);
   }
   // 2D table over (rho, z) at half the 3D spacing.
   const double h2 = H_ / 2;
@@ -32,9 +35,17 @@ ToolDistanceField::ToolDistanceField(const ToolModel& tool, int resolution, int 
   const double z0 = zr[0] - Far_ - H_;
   const int nz = int(std::ceil((zr[1] - zr[0] + 2 * Far_ + 2 * H_) / h2)) + 2;
   std::vector<double> t(size_t(nr) * nz);
+  LeadingTable_.resize(t.size());
   for (int k = 0; k < nz; ++k)
-    for (int i = 0; i < nr; ++i)
-      t[size_t(k) * nr + i] = Exact(i * h2, z0 + k * h2);
+    for (int i = 0; i < nr; ++i) {
+      size_t seg = 0;
+      t[size_t(k) * nr + i] = Signed(i * h2, z0 + k * h2, seg);
+      LeadingTable_[size_t(k) * nr + i] = Leading_[seg];
+    }
+  TableStep_ = h2;
+  TableZ0_ = z0;
+  TableNr_ = nr;
+  TableNz_ = nz;
   auto table = [&](double rho, double z) {
     const double u = rho / h2, w = (z - z0) / h2;
     const int i = std::clamp(int(u), 0, nr - 2), k = std::clamp(int(w), 0, nz - 2);
@@ -58,16 +69,45 @@ ToolDistanceField::ToolDistanceField(const ToolModel& tool, int resolution, int 
       }
 }
 
-double ToolDistanceField::Exact(double rho, double z) const {
-  double best = 1e300;
-  for (const auto& s : Segments_) {
+size_t ToolDistanceField::Nearest(double rho, double z, double& dist2) const {
+  size_t best = 0;
+  dist2 = 1e300;
+  for (size_t i = 0; i < Segments_.size(); ++i) {
+    const auto& s = Segments_[i];
     const double dx = s[2] - s[0], dz = s[3] - s[1];
     const double L2 = dx * dx + dz * dz;
     double u = L2 > 0 ? ((rho - s[0]) * dx + (z - s[1]) * dz) / L2 : 0.0;
     u = std::clamp(u, 0.0, 1.0);
     const double ex = s[0] + u * dx - rho, ez = s[1] + u * dz - z;
-    best = std::min(best, ex * ex + ez * ez);
+    if (const double d2 = ex * ex + ez * ez; d2 < dist2) {
+      dist2 = d2;
+      best = i;
+    }
   }
+  return best;
+}
+
+bool ToolDistanceField::InPart(const Eigen::Vector3d& q, ToolPart part) const {
+  if (part == ToolPart::Whole)
+    return true;
+  const int i = std::clamp(int(std::lround(std::hypot(q(0), q(1)) / TableStep_)), 0, TableNr_ - 1);
+  const int k = std::clamp(int(std::lround((q(2) - TableZ0_) / TableStep_)), 0, TableNz_ - 1);
+  return LeadingTable_[size_t(k) * TableNr_ + i] != 0;
+}
+
+bool ToolDistanceField::Has(ToolPart part) const {
+  return part == ToolPart::Whole ||
+         std::find(Leading_.begin(), Leading_.end(), 1) != Leading_.end();
+}
+
+double ToolDistanceField::Exact(double rho, double z) const {
+  size_t seg = 0;
+  return Signed(rho, z, seg);
+}
+
+double ToolDistanceField::Signed(double rho, double z, size_t& segment) const {
+  double best = 1e300;
+  segment = Nearest(rho, z, best);
   double zLo = 0, zHi = 0;
   const bool inside = Tool_->ZRange(rho, zLo, zHi) && z >= zLo && z <= zHi;
   const double d = std::sqrt(best);

@@ -7,6 +7,10 @@
 // who model only the tip as a cone that includes the drill's flutes, the whole modelled tool is
 // covered (the time-averaged envelope), so the shank meets the hole wall too.
 //
+// It also tells which part of the tool a point is nearest to: the non-cutting surfaces that face
+// the feed (outward normal with a -z_t component, e.g. a reamer's guide nipple) are the ones that
+// must stop, as a rigid contact, when they meet bone along the axis (MODEL_NOTES section 4).
+//
 // Units: mm, tool frame T (origin at the foremost cutting point, z_t toward the shank).
 #pragma once
 
@@ -18,6 +22,12 @@
 #include "bmToolModel.h"
 
 namespace bm {
+
+/// Which surface points of the tool a contact query counts.
+enum class ToolPart {
+  Whole,             ///< every surface (default)
+  NonCuttingLeading, ///< non-cutting surfaces facing the feed (outward normal . z_t < 0)
+};
 
 class ToolDistanceField {
 public:
@@ -37,9 +47,24 @@ public:
   double Far() const { return Far_; }
   /// Exact signed distance from the outline (mm) at radius rho and height z (for tests).
   double Exact(double rho, double z) const;
+  /// Whether the outline nearest to tool-frame point q (mm) belongs to `part` (nearest node of a
+  /// table at half the grid spacing; outside the table: the nearest edge of it).
+  bool InPart(const Eigen::Vector3d& q, ToolPart part) const;
+  /// Whether any of the outline belongs to `part` (a drill or a burr has no leading non-cutting
+  /// surface).
+  bool Has(ToolPart part) const;
 
 private:
+  /// Index of the outline segment nearest to (rho, z) and its squared distance (mm^2).
+  size_t Nearest(double rho, double z, double& dist2) const;
+  /// Exact(rho, z), with the nearest segment's index in `segment`.
+  double Signed(double rho, double z, size_t& segment) const;
+
   std::vector<std::array<double, 4>> Segments_; // (rho0, z0, rho1, z1)
+  std::vector<unsigned char> Leading_;          // per segment: non-cutting, facing the feed
+  std::vector<unsigned char> LeadingTable_;     // Leading_ of the nearest segment, (rho, z) grid
+  double TableStep_ = 0, TableZ0_ = 0;
+  int TableNr_ = 0, TableNz_ = 0;
   const ToolModel* Tool_ = nullptr;
   double H_ = 0, Far_ = 0;
   Eigen::Vector3d Lo_ = Eigen::Vector3d::Zero(), Hi_ = Eigen::Vector3d::Zero();

@@ -14,7 +14,8 @@
 
 // Phase 1: collision, residency, removal requests (units per element, 0 for none) and forces,
 // all against the fills at the frame's start. A rows: A0, A1, A2 (xyz) with b in w.
-// flags: bit 0 remove, bit 1 cutting, bit 2 material present.
+// flags: bit 0 remove, bit 1 cutting, bit 2 material present, bit 3 non-cutting elements remove
+// too (FrameInput::envelopeRemoves).
 __kernel void vps_collide(__global const uint* visible, const uint nVisible,
                           __global const uint2* blockRange, __global const ulong* codes,
                           __global const float* areaNormals, __global const ushort* bins,
@@ -27,7 +28,7 @@ __kernel void vps_collide(__global const uint* visible, const uint nVisible,
                           const double dz, const double unitsPerMm3, const double maxUnits,
                           const double scale) {
   const uint G = get_num_groups(0), L = get_local_size(0), l = get_local_id(0);
-  const bool remove = flags & 1, cutting = flags & 2, hasMaterial = flags & 4;
+  const bool remove = flags & 1, cutting = flags & 2, hasMaterial = flags & 4, envelope = flags & 8;
   long P[BM_SUMS] = {0, 0, 0, 0, 0, 0, 0, 0};
   for (uint v = get_group_id(0); v < nVisible; v += G) {
     const uint2 range = blockRange[visible[v]];
@@ -50,7 +51,7 @@ __kernel void vps_collide(__global const uint* visible, const uint nVisible,
       if (!Visit(st, frameNo, idx, fill[idx]))
         continue;
       ++P[5];
-      if (remove) {
+      if (remove && (envelope || (code & 1))) {
         const double vol =
             areaNormals[3 * e] * dx + areaNormals[3 * e + 1] * dy + areaNormals[3 * e + 2] * dz;
         if (vol > 0) {

@@ -41,7 +41,7 @@ __kernel void zheng_collide(const uint n, const uint per, __global const ulong* 
                             const float4 A1, const float4 A2, const int4 dims, const uint frameNo,
                             const int flags, const double dx, const double dy, const double dz,
                             const double unitsPerMm3, const double maxUnits) {
-  const bool remove = flags & 1, cutting = flags & 2, hasMaterial = flags & 4;
+  const bool remove = flags & 1, cutting = flags & 2, hasMaterial = flags & 4, envelope = flags & 8;
   long P[BM_ZHENG_SUMS] = {0, 0, 0, 0};
   const uint begin = get_global_id(0) * per;
   const uint end = min(n, begin + per);
@@ -66,7 +66,7 @@ __kernel void zheng_collide(const uint n, const uint per, __global const ulong* 
     if (!Visit(st, frameNo, idx, nodes[leaf].y))
       continue;
     ++P[1];
-    if (remove) {
+    if (remove && (envelope || (code & 1))) {
       const double vol =
           areaNormals[3 * e] * dx + areaNormals[3 * e + 1] * dy + areaNormals[3 * e + 2] * dz;
       if (vol > 0) {

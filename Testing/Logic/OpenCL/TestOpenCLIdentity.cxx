@@ -23,6 +23,7 @@ struct Case {
   bm::LipMode lips = bm::LipMode::TimeAveraged;
   Eigen::Vector3d axis{0, 0, 1};  // tool axis (world), out of the bone
   Eigen::Vector3d drift{0, 0, 0}; // lateral motion per frame, mm
+  bool envelope = true;           // FrameInput::envelopeRemoves
   bm::OpenCLOptions options;
 };
 
@@ -32,8 +33,9 @@ bool HaveDevice() {
 
 // Feeds the drill along -axis in 0.01 mm steps from above the block to 0.8 mm deep (partial then
 // full engagement of the lips), then retracts it a little (elements entering cut voxels), with
-// both engines on copies of one block; compares every frame and the voxmaps at the end.
-template <class CpuT, class OclT> void ExpectIdentical(const Case& c, bm::Method method) {
+// both engines on copies of one block; compares every frame and the voxmaps at the end. Returns
+// the fill units removed (CPU engine).
+template <class CpuT, class OclT> int64_t ExpectIdentical(const Case& c, bm::Method method) {
   const auto tool = bm::MakeTool(nlohmann::json{{"type", "drill"}});
   const bm::PointShell shell = bm::PointShell::Build(*tool, c.shell, c.lips);
   const bm::ForceModel model = bm::ForceModel::Default(method, *tool);
@@ -47,8 +49,10 @@ template <class CpuT, class OclT> void ExpectIdentical(const Case& c, bm::Method
   const Eigen::Vector3d axis = c.axis.normalized();
   Eigen::Vector3d pos = 0.05 * axis;
   int engagedFrames = 0;
+  int64_t removed = 0;
   for (int frame = 0; frame < 100; ++frame) {
     bm::FrameInput in;
+    in.envelopeRemoves = c.envelope;
     in.rotation = rot;
     in.motion = (frame < 85 ? -0.01 : 0.004) * axis + c.drift;
     pos += in.motion;
@@ -70,14 +74,16 @@ template <class CpuT, class OclT> void ExpectIdentical(const Case& c, bm::Method
     EXPECT_EQ(a.sweptVolumeMm3, b.sweptVolumeMm3);
     if (a.engagedCutting > 0)
       ++engagedFrames;
+    removed += a.removedFill;
     if (::testing::Test::HasFailure())
-      return;
+      return removed;
   }
   EXPECT_GT(engagedFrames, 40); // the comparison covered real cutting
   cpu.SyncBone();
   ocl.SyncBone();
   EXPECT_LT(boneOcl.CountBone(), bm::MakeBoneBlock({5, 5, 1.5}, c.voxmap, c.material).CountBone());
   EXPECT_TRUE(boneCpu == boneOcl);
+  return removed;
 }
 
 TEST(OpenCLIdentity, LazarMatchesCpuEngine) {
@@ -143,6 +149,23 @@ TEST(OpenCLDevices, ChoosingADevice) {
   EXPECT_EQ(info.name, devices[0].name);
   EXPECT_THROW(bm::ChooseOpenCLDevice(std::to_string(devices.size())), std::runtime_error);
   EXPECT_THROW(bm::ChooseOpenCLDevice("no such device name"), std::runtime_error);
+}
+
+// Only cutting elements remove (the haptic session's rule, FrameInput::envelopeRemoves off): the
+// same on both backends, for both methods, and it removes less than the envelope when the tool
+// drifts sideways (the margins then face the motion).
+TEST(OpenCLIdentity, OnlyCuttingElementsRemoveWithoutTheEnvelope) {
+  if (!HaveDevice())
+    GTEST_SKIP() << "no OpenCL device";
+  Case c;
+  c.axis = {0.2, -0.1, 1};
+  c.drift = {0.002, 0.001, 0};
+  const int64_t envelope = ExpectIdentical<bm::CpuEngine, bm::OpenCLEngine>(c, bm::Method::Lazar);
+  c.envelope = false;
+  const int64_t lips = ExpectIdentical<bm::CpuEngine, bm::OpenCLEngine>(c, bm::Method::Lazar);
+  EXPECT_LT(lips, envelope);
+  EXPECT_GT(lips, 0);
+  ExpectIdentical<bm::ZhengEngine, bm::OpenCLZhengEngine>(c, bm::Method::Zheng);
 }
 
 } // namespace

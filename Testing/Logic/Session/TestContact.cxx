@@ -1,12 +1,15 @@
 // Kim et al.'s pieces: the tool's signed distance field, the bone surface point shell and its
-// flood-fill regeneration, the contact force; and the feed balance of the cutting model.
+// flood-fill regeneration, the contact force; the feed balance of the cutting model; and the rigid
+// contact of the tool's non-cutting parts along the axis (MODEL_NOTES section 4).
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 
 #include "bmBoneSurfaceShell.h"
 #include "bmFeedBalance.h"
 #include "bmKimParkContact.h"
+#include "bmProxy.h"
 #include "bmSessionTestUtil.h"
 #include "bmToolDistanceField.h"
 
@@ -107,6 +110,133 @@ TEST(FeedBalance, TheAdvanceBalancesThrustAndCouplingForce) {
   EXPECT_EQ(fb.SolveAdvance(1.0, -1.0, C, n, T, 1.0), 0.0);        // pulled back: no cut
   EXPECT_EQ(fb.SolveAdvance(0.0, f0, C, n, T, 1.0), 0.0);          // not engaged: no cut
   EXPECT_DOUBLE_EQ(fb.SolveAdvance(1.0, f0, C, n, T, 1e-6), 1e-6); // the step limit holds
+}
+
+// A small reamer (hemispherical head of radius 1 mm, 5 lips) whose non-cutting guide nipple
+// (radius 0.25 mm, 0.3 mm ahead of the face) runs in a pilot hole (radius 0.35 mm, 0.6 mm deep) of
+// a bone block. A robot-stiff device holds the tool 1 mm below the face, so the spindle-running
+// proxy cuts the face's annulus at the balancing feed until the nipple meets the hole's bottom
+// (tool origin at -0.3 mm). There the nipple is a rigid contact: the proxy stops, the bone under
+// the nipple keeps every unit of its fill, the cut stops, and the whole of the device's push is
+// rendered through the coupling. The same reamer without a nipple (all lips) keeps cutting.
+struct NippleRun {
+  double finalZ = 0, minZ = 1e9; // proxy's tool origin, mm
+  double lastFeed = 0, lastThrust = 0, lastForceZ = 0, pushN = 0;
+  double removedMm3 = 0;                             // the whole run
+  int64_t underNippleFill = 0, underNippleFill0 = 0; // fill below the hole's bottom, r < 0.25 mm
+  double motionLast100 = 0; // |proxy z change| over the last 100 frames, mm
+  double bottomCentreZ = 0; // centre of the highest bone voxel under the hole, mm
+  double voxelMm = 0;
+  int stopFrame = -1; // first frame of the rest at the end
+};
+
+NippleRun RunNippleIntoPilotHole(double nippleRadiusMm) {
+  nlohmann::json j = bm::Scene::Builtin("drilling").ToJson();
+  j["tool"] = {{"type", "reamer"},
+               {"arc_radius_mm", 1.0},
+               {"arc_centre_offset_mm", 0.0},
+               {"alpha_deg", 0.0},
+               {"outer_radius_mm", 1.0},
+               {"lips", 5},
+               {"nipple_radius_mm", nippleRadiusMm},
+               {"nipple_length_mm", 0.3},
+               {"head_thickness_mm", 0.2},
+               {"shaft_radius_mm", 0.4},
+               {"shaft_length_mm", 1.0}};
+  j["bone"]["size_mm"] = {2.4, 2.4, 1.2};
+  j["voxmap_resolution"] = 64;
+  j["shell_resolution"] = 64;
+  j["threads"] = 1;
+  j.erase("force_model");
+  const bm::Scene scene = bm::Scene::FromJson(j);
+  bm::MachiningSetup setup(scene, bm::MakeSceneBlock(scene));
+  bm::Voxmap& bone = setup.Bone();
+  const double holeR = 0.35, holeDepth = 0.6;
+  const auto d = bone.Dims();
+  NippleRun out;
+  out.bottomCentreZ = -1e9;
+  auto underNipple = [&](int64_t& sum) {
+    sum = 0;
+    for (int k = 0; k < d[2]; ++k)
+      for (int jj = 0; jj < d[1]; ++jj)
+        for (int i = 0; i < d[0]; ++i) {
+          const auto w = bone.GridToWorld({double(i), double(jj), double(k)});
+          if (std::hypot(w[0], w[1]) < 0.25 && w[2] < -holeDepth)
+            sum += bone.GetFill(bone.Index(i, jj, k));
+        }
+  };
+  for (int k = 0; k < d[2]; ++k)
+    for (int jj = 0; jj < d[1]; ++jj)
+      for (int i = 0; i < d[0]; ++i) {
+        const auto w = bone.GridToWorld({double(i), double(jj), double(k)});
+        if (std::hypot(w[0], w[1]) <= holeR) {
+          if (w[2] >= -holeDepth)
+            bone.SetFill(bone.Index(i, jj, k), 0);
+          else
+            out.bottomCentreZ = std::max(out.bottomCentreZ, w[2]);
+        }
+      }
+  bone.RebuildOccupancy();
+  underNipple(out.underNippleFill0);
+
+  bm::DeviceLimits robot;
+  robot.maxForceN = 100;
+  robot.maxStiffnessNPerMm = 20;
+  robot.maxDampingNsPerMm = 0.1;
+  bm::Proxy proxy(setup, robot, 0.001);
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const double speed = 1000, start = 0.1, hold = -1.0;
+  proxy.Step({0, 0, start}, I, speed); // placed clear of the bone, the nipple in the hole
+  std::vector<double> z;
+  for (int k = 0; k < 250; ++k) {
+    const bm::ProxyFrame f = proxy.Step({0, 0, hold}, I, speed);
+    z.push_back(f.proxyPositionMm(2));
+    out.minZ = std::min(out.minZ, f.proxyPositionMm(2));
+    out.removedMm3 += f.removedVolumeMm3;
+    out.lastFeed = f.feedMmPerRev;
+    out.lastThrust = f.thrustN;
+    out.lastForceZ = f.deviceForceN(2);
+    out.pushN = proxy.Coupling().Stiffness() * (f.proxyPositionMm(2) - hold);
+  }
+  out.finalZ = z.back();
+  out.voxelMm = bone.Spacing();
+  for (size_t k = z.size() - 1; k > 0 && z[k - 1] == z.back(); --k)
+    out.stopFrame = int(k - 1);
+  out.motionLast100 = std::abs(z.back() - z[z.size() - 101]);
+  underNipple(out.underNippleFill);
+  return out;
+}
+
+TEST(Proxy, NonCuttingPartsAreARigidContactAlongTheAxisWhileCutting) {
+  const NippleRun guided = RunNippleIntoPilotHole(0.25);
+  const NippleRun plain = RunNippleIntoPilotHole(0.0);
+  const double h = guided.voxelMm,
+               stopZ = guided.bottomCentreZ + 0.3; // nipple tip on the bottom voxel
+  std::cout << "[nipple] guided reamer: proxy stops at z " << guided.finalZ << " mm (contact at "
+            << stopZ << ", lowest " << guided.minZ << ", at rest from frame " << guided.stopFrame
+            << "), removed " << guided.removedMm3 << " mm^3, fill under the nipple "
+            << guided.underNippleFill << " of " << guided.underNippleFill0 << ", last feed "
+            << guided.lastFeed << " mm/rev, thrust " << guided.lastThrust << " N, device force "
+            << guided.lastForceZ << " N (push " << guided.pushN
+            << " N)\n[nipple] reamer without nipple: z " << plain.finalZ << " mm, removed "
+            << plain.removedMm3 << " mm^3\n";
+  // The lips cut the annulus before the nipple met the bottom.
+  EXPECT_GT(guided.removedMm3, 0.05);
+  // The nipple stopped at first contact (one half-voxel sub-step at most) and stays there.
+  EXPECT_GT(guided.minZ, stopZ - 0.5 * h - 1e-3);
+  EXPECT_LT(guided.finalZ, stopZ + h);
+  EXPECT_LT(guided.motionLast100, 1e-9);
+  // No bone was removed where only the non-cutting nipple was.
+  EXPECT_EQ(guided.underNippleFill, guided.underNippleFill0);
+  // Rigid contact: no cut, and the device feels the whole push (K times the device's depth below
+  // the proxy), sent back up.
+  EXPECT_EQ(guided.lastFeed, 0.0);
+  EXPECT_EQ(guided.lastThrust, 0.0);
+  EXPECT_GT(guided.pushN, 10.0);
+  EXPECT_NEAR(guided.lastForceZ, guided.pushN, 1e-6 * guided.pushN);
+  // The same tool, all lips, in the same setup cuts on past the nipple's stop.
+  EXPECT_LT(plain.finalZ, stopZ - 0.05);
+  EXPECT_GT(plain.removedMm3, guided.removedMm3);
 }
 
 } // namespace
