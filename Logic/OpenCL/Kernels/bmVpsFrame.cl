@@ -14,8 +14,7 @@
 
 // Phase 1: collision, residency, removal requests (units per element, 0 for none) and forces,
 // all against the fills at the frame's start. A rows: A0, A1, A2 (xyz) with b in w.
-// flags: bit 0 remove, bit 1 cutting, bit 2 material present, bit 3 non-cutting elements remove
-// too (FrameInput::envelopeRemoves).
+// flags: BM_FLAG_* (bmCommon.cl).
 __kernel void vps_collide(__global const uint* visible, const uint nVisible,
                           __global const uint2* blockRange, __global const ulong* codes,
                           __global const float* areaNormals, __global const ushort* bins,
@@ -28,40 +27,23 @@ __kernel void vps_collide(__global const uint* visible, const uint nVisible,
                           const double dz, const double unitsPerMm3, const double maxUnits,
                           const double scale) {
   const uint G = get_num_groups(0), L = get_local_size(0), l = get_local_id(0);
-  const bool remove = flags & 1, cutting = flags & 2, hasMaterial = flags & 4, envelope = flags & 8;
+  const bool cutting = flags & BM_FLAG_CUTTING, hasMaterial = flags & BM_FLAG_MATERIAL;
   long P[BM_SUMS] = {0, 0, 0, 0, 0, 0, 0, 0};
   for (uint v = get_group_id(0); v < nVisible; v += G) {
     const uint2 range = blockRange[visible[v]];
     for (uint e = range.x + l; e < range.y; e += L) {
       const ulong code = codes[e];
-      const float x = (float)MortonCompact(code >> 1), y = (float)MortonCompact(code >> 2),
-                  z = (float)MortonCompact(code >> 3);
-      const float gx = A0.x * x + A0.y * y + A0.z * z + A0.w;
-      const float gy = A1.x * x + A1.y * y + A1.z * z + A1.w;
-      const float gz = A2.x * x + A2.y * y + A2.z * z + A2.w;
-      const int vi = (int)floor(gx + 0.5f), vj = (int)floor(gy + 0.5f), vk = (int)floor(gz + 0.5f);
+      int ijk[3];
+      const long idx = ElementVoxel(code, A0, A1, A2, dims, ijk);
       ++P[4];
       units[e] = 0;
-      __global Residency* st = state + e;
-      if (vi < 0 || vj < 0 || vk < 0 || vi >= dims.x || vj >= dims.y || vk >= dims.z) {
-        Visit(st, frameNo, -1, 0);
-        continue;
-      }
-      const long idx = vi + (long)dims.x * (vj + (long)dims.y * vk);
-      if (!Visit(st, frameNo, idx, fill[idx]))
+      if (!Visit(state + e, frameNo, idx, idx >= 0 ? fill[idx] : 0))
         continue;
       ++P[5];
-      if (remove && (envelope || (code & 1))) {
-        const double vol =
-            areaNormals[3 * e] * dx + areaNormals[3 * e + 1] * dy + areaNormals[3 * e + 2] * dz;
-        if (vol > 0) {
-          const double want = vol * unitsPerMm3;
-          const int u = (int)((maxUnits < want ? maxUnits : want) + 0.5);
-          if (u > 0) {
-            units[e] = u;
-            P[7] += u;
-          }
-        }
+      const int u = RemovalUnits(areaNormals, e, code, flags, dx, dy, dz, unitsPerMm3, maxUnits);
+      if (u > 0) {
+        units[e] = u;
+        P[7] += u;
       }
       if (cutting && (code & 1)) {
         ++P[6];
@@ -122,11 +104,5 @@ __kernel void vps_remove(__global const uint* visible, const uint nVisible,
     if (amount > 0)
       Flush(fill, cur, amount, R, voidedCount, voided);
   }
-#ifdef BM_INT64_ATOMICS
-  atom_add(sums, R[0]);
-  atom_add(sums + 1, R[1]);
-#else
-  sums[get_global_id(0) * BM_REMOVAL_SUMS] = R[0];
-  sums[get_global_id(0) * BM_REMOVAL_SUMS + 1] = R[1];
-#endif
+  RemovalSumsOut(R, sums);
 }

@@ -41,7 +41,7 @@ __kernel void zheng_collide(const uint n, const uint per, __global const ulong* 
                             const float4 A1, const float4 A2, const int4 dims, const uint frameNo,
                             const int flags, const double dx, const double dy, const double dz,
                             const double unitsPerMm3, const double maxUnits) {
-  const bool remove = flags & 1, cutting = flags & 2, hasMaterial = flags & 4, envelope = flags & 8;
+  const bool cutting = flags & BM_FLAG_CUTTING, hasMaterial = flags & BM_FLAG_MATERIAL;
   long P[BM_ZHENG_SUMS] = {0, 0, 0, 0};
   const uint begin = get_global_id(0) * per;
   const uint end = min(n, begin + per);
@@ -49,36 +49,25 @@ __kernel void zheng_collide(const uint n, const uint per, __global const ulong* 
     buffer[e] = (double4)(0.0, 0.0, 0.0, 0.0);
     units[e] = 0;
     const ulong code = codes[e];
-    const float x = (float)MortonCompact(code >> 1), y = (float)MortonCompact(code >> 2),
-                z = (float)MortonCompact(code >> 3);
-    const int vi = (int)floor(A0.x * x + A0.y * y + A0.z * z + A0.w + 0.5f);
-    const int vj = (int)floor(A1.x * x + A1.y * y + A1.z * z + A1.w + 0.5f);
-    const int vk = (int)floor(A2.x * x + A2.y * y + A2.z * z + A2.w + 0.5f);
+    int v[3];
+    const long idx = ElementVoxel(code, A0, A1, A2, dims, v);
     ++P[0];
     __global Residency* st = state + e;
-    if (vi < 0 || vj < 0 || vk < 0 || vi >= dims.x || vj >= dims.y || vk >= dims.z) {
+    if (idx < 0) {
       Visit(st, frameNo, -1, 0);
       continue;
     }
     int level = 0;
-    const int leaf = FindLeaf(nodes, levels, vi, vj, vk, &level);
-    const long idx = vi + (long)dims.x * (vj + (long)dims.y * vk);
+    const int leaf = FindLeaf(nodes, levels, v[0], v[1], v[2], &level);
     if (!Visit(st, frameNo, idx, nodes[leaf].y))
       continue;
     ++P[1];
-    if (remove && (envelope || (code & 1))) {
-      const double vol =
-          areaNormals[3 * e] * dx + areaNormals[3 * e + 1] * dy + areaNormals[3 * e + 2] * dz;
-      if (vol > 0) {
-        const double want = vol * unitsPerMm3;
-        const int u = (int)((maxUnits < want ? maxUnits : want) + 0.5);
-        if (u > 0) {
-          units[e] = u;
-          P[3] += u;
-          if (level > 0)
-            refine[atomic_inc(refineCount)] = (int4)(vi, vj, vk, 0);
-        }
-      }
+    const int u = RemovalUnits(areaNormals, e, code, flags, dx, dy, dz, unitsPerMm3, maxUnits);
+    if (u > 0) {
+      units[e] = u;
+      P[3] += u;
+      if (level > 0)
+        refine[atomic_inc(refineCount)] = (int4)(v[0], v[1], v[2], 0);
     }
     if (cutting && (code & 1)) {
       ++P[2];
@@ -146,11 +135,5 @@ __kernel void zheng_remove(const uint n, const uint per, __global const Residenc
   }
   if (amount > 0)
     ZhengFlush(nodes, levels, dims, cur, amount, R);
-#ifdef BM_INT64_ATOMICS
-  atom_add(sums, R[0]);
-  atom_add(sums + 1, R[1]);
-#else
-  sums[get_global_id(0) * BM_REMOVAL_SUMS] = R[0];
-  sums[get_global_id(0) * BM_REMOVAL_SUMS + 1] = R[1];
-#endif
+  RemovalSumsOut(R, sums);
 }
