@@ -20,19 +20,10 @@ namespace {
 constexpr int kSums = 8, kRemovalSums = 2;
 } // namespace
 
-cl::Buffer OpenCLEngine::Upload(const void* data, size_t bytes, cl_mem_flags flags) {
-  bytes = std::max<size_t>(bytes, 8);
-  cl::Buffer b(Rt_.context, flags, bytes);
-  if (data)
-    Rt_.queue.enqueueWriteBuffer(b, CL_TRUE, 0, bytes, data);
-  DeviceBytes_ += bytes;
-  return b;
-}
-
 OpenCLEngine::OpenCLEngine(Voxmap& bone, const ToolModel& tool, const PointShell& shell,
                            const ForceModel& model, const OpenCLOptions& options)
     : Bone_(bone), Tool_(tool), Shell_(shell), Model_(model), Rt_(options) {
-  try {
+  Rt_.BuildEngine([&] {
     Program_ = BuildOpenCLProgram(Rt_.context, Rt_.device, kernels::bmVpsFrame, Rt_.BuildOptions());
     Collide_ = cl::Kernel(Program_, "vps_collide");
     Remove_ = cl::Kernel(Program_, "vps_remove");
@@ -41,45 +32,39 @@ OpenCLEngine::OpenCLEngine(Voxmap& bone, const ToolModel& tool, const PointShell
     std::vector<cl_uint2> ranges(blocks.size());
     for (size_t b = 0; b < blocks.size(); ++b)
       ranges[b] = {{blocks[b].begin, blocks[b].end}};
-    Codes_ = Upload(shell.Codes().data(), n * 8);
-    Normals_ = Upload(shell.AreaNormals().data(), n * 12);
-    Bins_ = Upload(shell.Bins().data(), n * 2);
-    Deltas_ = Upload(shell.Deltas().data(), n * 4);
-    Ranges_ = Upload(ranges.data(), ranges.size() * sizeof(cl_uint2));
+    Codes_ = Rt_.Upload(shell.Codes().data(), n * 8);
+    Normals_ = Rt_.Upload(shell.AreaNormals().data(), n * 12);
+    Bins_ = Rt_.Upload(shell.Bins().data(), n * 2);
+    Deltas_ = Rt_.Upload(shell.Deltas().data(), n * 4);
+    Ranges_ = Rt_.Upload(ranges.data(), ranges.size() * sizeof(cl_uint2));
     static_assert(sizeof(shell.RadialDirs()[0]) == 16, "double2 per element");
-    Radial_ = Upload(shell.RadialDirs().data(), n * 16);
-    Table_ = Upload(nullptr, shell.ForceBins().size() * sizeof(BinForce));
-    Fill_ = Upload(bone.FillData(), size_t(bone.NumVoxels()) * 4, CL_MEM_READ_WRITE);
-    Material_ = Upload(bone.MaterialData(), bone.HasMaterial() ? size_t(bone.NumVoxels()) * 4 : 0);
+    Radial_ = Rt_.Upload(shell.RadialDirs().data(), n * 16);
+    Table_ = Rt_.Upload(nullptr, shell.ForceBins().size() * sizeof(BinForce));
+    Fill_ = Rt_.Upload(bone.FillData(), size_t(bone.NumVoxels()) * 4, CL_MEM_READ_WRITE);
+    Material_ =
+        Rt_.Upload(bone.MaterialData(), bone.HasMaterial() ? size_t(bone.NumVoxels()) * 4 : 0);
     const std::vector<ElementResidency> state(n);
-    State_ = Upload(state.data(), n * sizeof(ElementResidency), CL_MEM_READ_WRITE);
-    Units_ = Upload(nullptr, n * 4, CL_MEM_READ_WRITE);
-    Visible_ = Upload(nullptr, blocks.size() * 4);
+    State_ = Rt_.Upload(state.data(), n * sizeof(ElementResidency), CL_MEM_READ_WRITE);
+    Units_ = Rt_.Upload(nullptr, n * 4, CL_MEM_READ_WRITE);
+    Visible_ = Rt_.Upload(nullptr, blocks.size() * 4);
     SumsHost_.assign(size_t(Rt_.groups) * kSums, 0);
     RemovalSumsHost_.assign(size_t(Rt_.groups * Rt_.lanes) * kRemovalSums, 0);
-    Sums_ = Upload(nullptr, SumsHost_.size() * 8, CL_MEM_READ_WRITE);
-    RemovalSums_ = Upload(nullptr, RemovalSumsHost_.size() * 8, CL_MEM_READ_WRITE);
-    VoidedCount_ = Upload(nullptr, 4, CL_MEM_READ_WRITE);
-    Voided_ = Upload(nullptr, std::min<size_t>(n, size_t(bone.NumVoxels())) * 8, CL_MEM_READ_WRITE);
+    Sums_ = Rt_.Upload(nullptr, SumsHost_.size() * 8, CL_MEM_READ_WRITE);
+    RemovalSums_ = Rt_.Upload(nullptr, RemovalSumsHost_.size() * 8, CL_MEM_READ_WRITE);
+    VoidedCount_ = Rt_.Upload(nullptr, 4, CL_MEM_READ_WRITE);
+    Voided_ =
+        Rt_.Upload(nullptr, std::min<size_t>(n, size_t(bone.NumVoxels())) * 8, CL_MEM_READ_WRITE);
     Bricks_.resize(size_t(bone.BrickDims()[0]) * bone.BrickDims()[1] * bone.BrickDims()[2]);
     for (size_t b = 0; b < Bricks_.size(); ++b)
       Bricks_[b] = bone.BrickCount(int64_t(b));
     Visible_Host_.reserve(blocks.size());
-    // Warm-up: the first launch of each kernel compiles lazily on some platforms (PoCL:
-    // 40-170 ms); run both on an empty block list now.
-    // The idle frame is far from the bone (no block visible) but launches both kernels.
-    FrameInput idle;
-    idle.position = Eigen::Vector3d(1e9, 1e9, 1e9);
-    idle.motion = Eigen::Vector3d(0, 0, -1e-6);
+    // Warm-up on an empty block list (Warming_ launches the kernels with no block visible).
     Warming_ = true;
-    Step(idle);
+    Step(OpenCLRuntime::WarmUpFrame());
     Warming_ = false;
     Frame_ = 0;
     TableFeed_ = TableSpeed_ = -1;
-  } catch (const cl::Error& e) {
-    throw std::runtime_error("OpenCL backend on '" + Rt_.info.name +
-                             "': " + DescribeOpenCLError(e));
-  }
+  });
 }
 
 void OpenCLEngine::UpdateForceTable(double f, double n) {

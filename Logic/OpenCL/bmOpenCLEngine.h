@@ -43,12 +43,11 @@ public:
   void SyncBone() override;
   const OpenCLRuntime& Runtime() const { return Rt_; }
   /// Bytes held on the device.
-  size_t DeviceBytes() const { return DeviceBytes_; }
+  size_t DeviceBytes() const { return Rt_.deviceBytes; }
 
 private:
   void UpdateForceTable(double f, double n);
   bool AnyBoneIn(std::array<int, 3> lo, std::array<int, 3> hi) const;
-  cl::Buffer Upload(const void* data, size_t bytes, cl_mem_flags flags = CL_MEM_READ_ONLY);
 
   Voxmap& Bone_;
   const ToolModel& Tool_;
@@ -64,7 +63,6 @@ private:
   std::vector<int64_t> SumsHost_, RemovalSumsHost_;
   std::vector<int64_t> VoidedHost_;
   std::vector<BinForce> TableHost_;
-  size_t DeviceBytes_ = 0;
   uint32_t Frame_ = 0;
   bool Warming_ = false; // constructor's warm-up: launch the kernels even with no block visible
   double TableFeed_ = -1, TableSpeed_ = -1;

@@ -1,5 +1,6 @@
 #include "bmOpenCLRuntime.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace bm {
@@ -25,6 +26,22 @@ OpenCLRuntime::OpenCLRuntime(const OpenCLOptions& o) {
 
 std::string OpenCLRuntime::BuildOptions() const {
   return int64Atomics ? "-DBM_INT64_ATOMICS" : "";
+}
+
+cl::Buffer OpenCLRuntime::Upload(const void* data, size_t bytes, cl_mem_flags flags) {
+  bytes = std::max<size_t>(bytes, 8);
+  cl::Buffer b(context, flags, bytes);
+  if (data)
+    queue.enqueueWriteBuffer(b, CL_TRUE, 0, bytes, data);
+  deviceBytes += bytes;
+  return b;
+}
+
+FrameInput OpenCLRuntime::WarmUpFrame() {
+  FrameInput idle;
+  idle.position = Eigen::Vector3d(1e9, 1e9, 1e9);
+  idle.motion = Eigen::Vector3d(0, 0, -1e-6);
+  return idle;
 }
 
 } // namespace bm

@@ -11,8 +11,10 @@
 //    sums are exact in any order, so both ways give the same totals.
 #pragma once
 
+#include <stdexcept>
 #include <string>
 
+#include "bmEngine.h"
 #include "bmOpenCLDevice.h"
 
 namespace bm {
@@ -39,6 +41,24 @@ struct OpenCLRuntime {
   std::string BuildOptions() const;
   /// "opencl(<device name>)".
   std::string Label() const { return "opencl(" + info.name + ")"; }
+
+  /// Bytes the engine holds on the device: Upload adds to it, an engine growing a buffer too.
+  size_t deviceBytes = 0;
+  /// A device buffer of `bytes` (at least 8) with `flags` (default read-only for the kernels),
+  /// filled from `data` when not null (blocking write). Throws cl::Error.
+  cl::Buffer Upload(const void* data, size_t bytes, cl_mem_flags flags = CL_MEM_READ_ONLY);
+  /// Runs an engine's set-up `build` (uploads, program, warm-up frame), turning an OpenCL error
+  /// into std::runtime_error("OpenCL backend on '<device>': <error>").
+  template <class F> void BuildEngine(F&& build) const {
+    try {
+      build();
+    } catch (const cl::Error& e) {
+      throw std::runtime_error("OpenCL backend on '" + info.name + "': " + DescribeOpenCLError(e));
+    }
+  }
+  /// The constructors' warm-up frame: moving, far from any bone, so that every kernel is launched
+  /// once (PoCL compiles a kernel at its first launch, 40-170 ms) while nothing engages.
+  static FrameInput WarmUpFrame();
 };
 
 } // namespace bm

@@ -17,15 +17,6 @@ namespace {
 constexpr int kSums = 4, kRemovalSums = 2, kTerms = 10, kChunk = 4096;
 } // namespace
 
-cl::Buffer OpenCLZhengEngine::Upload(const void* data, size_t bytes, cl_mem_flags flags) {
-  bytes = std::max<size_t>(bytes, 8);
-  cl::Buffer b(Rt_.context, flags, bytes);
-  if (data)
-    Rt_.queue.enqueueWriteBuffer(b, CL_TRUE, 0, bytes, data);
-  DeviceBytes_ += bytes;
-  return b;
-}
-
 // As OctreeVoxmap::Build: uniform cubes collapse into one leaf, children stored as runs of 8.
 int32_t OpenCLZhengEngine::Build(int level, int i0, int j0, int k0) {
   const auto& dims = Bone_.Dims();
@@ -89,7 +80,7 @@ void OpenCLZhengEngine::UploadTree() {
     cl::Buffer bigger(Rt_.context, CL_MEM_READ_WRITE, cap * sizeof(cl_int2));
     if (Uploaded_ > 0)
       q.enqueueCopyBuffer(NodesDev_, bigger, 0, 0, Uploaded_ * sizeof(cl_int2));
-    DeviceBytes_ += (cap - Capacity_) * sizeof(cl_int2);
+    Rt_.deviceBytes += (cap - Capacity_) * sizeof(cl_int2);
     NodesDev_ = bigger;
     Capacity_ = cap;
   }
@@ -114,7 +105,7 @@ void OpenCLZhengEngine::UploadTree() {
 OpenCLZhengEngine::OpenCLZhengEngine(Voxmap& bone, const ToolModel& tool, const PointShell& shell,
                                      const ForceModel& model, const OpenCLOptions& options)
     : Bone_(bone), Tool_(tool), Shell_(shell), Model_(model), Rt_(options) {
-  try {
+  Rt_.BuildEngine([&] {
     Program_ =
         BuildOpenCLProgram(Rt_.context, Rt_.device, kernels::bmZhengFrame, Rt_.BuildOptions());
     Collide_ = cl::Kernel(Program_, "zheng_collide");
@@ -130,37 +121,32 @@ OpenCLZhengEngine::OpenCLZhengEngine(Voxmap& bone, const ToolModel& tool, const 
     Nodes_[0] = Nodes_[size_t(root)];
     UploadTree();
     const size_t n = shell.Size();
-    Codes_ = Upload(shell.Codes().data(), n * 8);
-    Normals_ = Upload(shell.AreaNormals().data(), n * 12);
-    Bins_ = Upload(shell.Bins().data(), n * 2);
-    Deltas_ = Upload(shell.Deltas().data(), n * 4);
-    Radial_ = Upload(shell.RadialDirs().data(), n * 16);
-    Terms_ = Upload(nullptr, shell.ForceBins().size() * kTerms * 8);
-    Material_ = Upload(bone.MaterialData(), bone.HasMaterial() ? size_t(bone.NumVoxels()) * 4 : 0);
+    Codes_ = Rt_.Upload(shell.Codes().data(), n * 8);
+    Normals_ = Rt_.Upload(shell.AreaNormals().data(), n * 12);
+    Bins_ = Rt_.Upload(shell.Bins().data(), n * 2);
+    Deltas_ = Rt_.Upload(shell.Deltas().data(), n * 4);
+    Radial_ = Rt_.Upload(shell.RadialDirs().data(), n * 16);
+    Terms_ = Rt_.Upload(nullptr, shell.ForceBins().size() * kTerms * 8);
+    Material_ =
+        Rt_.Upload(bone.MaterialData(), bone.HasMaterial() ? size_t(bone.NumVoxels()) * 4 : 0);
     const std::vector<ElementResidency> state(n);
-    State_ = Upload(state.data(), n * sizeof(ElementResidency), CL_MEM_READ_WRITE);
-    Units_ = Upload(nullptr, n * 4, CL_MEM_READ_WRITE);
-    Buffer_ = Upload(nullptr, n * sizeof(cl_double4), CL_MEM_READ_WRITE);
+    State_ = Rt_.Upload(state.data(), n * sizeof(ElementResidency), CL_MEM_READ_WRITE);
+    Units_ = Rt_.Upload(nullptr, n * 4, CL_MEM_READ_WRITE);
+    Buffer_ = Rt_.Upload(nullptr, n * sizeof(cl_double4), CL_MEM_READ_WRITE);
     ChunkHost_.resize((n + kChunk - 1) / kChunk);
-    ChunkSums_ = Upload(nullptr, ChunkHost_.size() * sizeof(cl_double4), CL_MEM_READ_WRITE);
+    ChunkSums_ = Rt_.Upload(nullptr, ChunkHost_.size() * sizeof(cl_double4), CL_MEM_READ_WRITE);
     SumsHost_.assign(size_t(Rt_.groups) * kSums, 0);
     RemovalSumsHost_.assign(size_t(Rt_.groups * Rt_.lanes) * kRemovalSums, 0);
-    Sums_ = Upload(nullptr, SumsHost_.size() * 8, CL_MEM_READ_WRITE);
-    RemovalSums_ = Upload(nullptr, RemovalSumsHost_.size() * 8, CL_MEM_READ_WRITE);
-    RefineCount_ = Upload(nullptr, 4, CL_MEM_READ_WRITE);
-    Refine_ = Upload(nullptr, n * sizeof(cl_int4), CL_MEM_READ_WRITE);
-    // Warm-up: one frame with every kernel launched, far from the bone (nothing engaged).
-    FrameInput idle;
-    idle.position = Eigen::Vector3d(1e9, 1e9, 1e9);
-    idle.motion = Eigen::Vector3d(0, 0, -1e-6);
-    Launch(idle, 1);
+    Sums_ = Rt_.Upload(nullptr, SumsHost_.size() * 8, CL_MEM_READ_WRITE);
+    RemovalSums_ = Rt_.Upload(nullptr, RemovalSumsHost_.size() * 8, CL_MEM_READ_WRITE);
+    RefineCount_ = Rt_.Upload(nullptr, 4, CL_MEM_READ_WRITE);
+    Refine_ = Rt_.Upload(nullptr, n * sizeof(cl_int4), CL_MEM_READ_WRITE);
+    // Warm-up: one frame with every kernel launched, then the residency state reset.
+    Launch(OpenCLRuntime::WarmUpFrame(), 1);
     const std::vector<ElementResidency> fresh(n);
     Rt_.queue.enqueueWriteBuffer(State_, CL_TRUE, 0, n * sizeof(ElementResidency), fresh.data());
     TermsFeed_ = TermsSpeed_ = -1;
-  } catch (const cl::Error& e) {
-    throw std::runtime_error("OpenCL backend on '" + Rt_.info.name +
-                             "': " + DescribeOpenCLError(e));
-  }
+  });
 }
 
 void OpenCLZhengEngine::UpdateTerms(double f, double n) {

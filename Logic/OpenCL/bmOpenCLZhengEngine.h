@@ -34,7 +34,7 @@ public:
   /// Writes every voxel's fill from the device's octree into the Voxmap given at construction.
   void SyncBone() override;
   const OpenCLRuntime& Runtime() const { return Rt_; }
-  size_t DeviceBytes() const { return DeviceBytes_; }
+  size_t DeviceBytes() const { return Rt_.deviceBytes; }
   size_t NodeCount() const { return Nodes_.size(); }
 
 private:
@@ -42,7 +42,6 @@ private:
   void Refine(int i, int j, int k);
   void UploadTree();
   void UpdateTerms(double f, double n);
-  cl::Buffer Upload(const void* data, size_t bytes, cl_mem_flags flags = CL_MEM_READ_ONLY);
   FrameResult Launch(const FrameInput& in, uint32_t frameNo);
 
   Voxmap& Bone_;
@@ -63,7 +62,6 @@ private:
   std::vector<cl_double4> ChunkHost_;
   std::vector<cl_int4> RefineHost_;
   std::vector<double> TermsHost_;
-  size_t DeviceBytes_ = 0;
   uint32_t Frame_ = 0;
   double TermsFeed_ = -1, TermsSpeed_ = -1;
 };
