@@ -1,38 +1,52 @@
 #include "bmsimArgs.h"
 
+#include <cctype>
 #include <cmath>
 #include <sstream>
 
 namespace bm::cli {
 
 ParsedArgs::ParsedArgs(const Args& args, const std::set<std::string>& valued,
-                       const std::set<std::string>& flags) {
+                       const std::set<std::string>& flags,
+                       const std::map<std::string, std::string>& shortNames,
+                       const std::string& usage) {
+  auto fail = [&](const std::string& what) {
+    throw UsageError(usage.empty() ? what : what + "\n" + usage);
+  };
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
+    std::string name, value;
+    bool hasInline = false;
     if (a.rfind("--", 0) == 0) {
-      std::string name = a.substr(2), value;
+      name = a.substr(2);
       const auto eq = name.find('=');
-      bool hasInline = eq != std::string::npos;
+      hasInline = eq != std::string::npos;
       if (hasInline) {
         value = name.substr(eq + 1);
         name = name.substr(0, eq);
       }
-      if (flags.count(name)) {
-        if (hasInline)
-          throw UsageError("option --" + name + " takes no value");
-        Flags_.insert(name);
-      } else if (valued.count(name)) {
-        if (!hasInline) {
-          if (i + 1 >= args.size())
-            throw UsageError("option --" + name + " needs a value");
-          value = args[++i];
-        }
-        Values_[name] = value;
-      } else {
-        throw UsageError("unknown option --" + name);
-      }
+    } else if (a.size() >= 2 && a[0] == '-' && std::isalpha(static_cast<unsigned char>(a[1]))) {
+      const auto it = shortNames.find(a.substr(1));
+      if (it == shortNames.end())
+        fail("unknown option " + a);
+      name = it->second;
     } else {
       Positional_.push_back(a);
+      continue;
+    }
+    if (flags.count(name)) {
+      if (hasInline)
+        fail("option --" + name + " takes no value");
+      Flags_.insert(name);
+    } else if (valued.count(name)) {
+      if (!hasInline) {
+        if (i + 1 >= args.size())
+          fail(a + " needs a value");
+        value = args[++i];
+      }
+      Values_[name] = value;
+    } else {
+      fail("unknown option --" + name);
     }
   }
 }

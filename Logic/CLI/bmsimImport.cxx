@@ -1,5 +1,6 @@
 // bmsim import - CT (DICOM folder, NRRD/MHA/NIfTI file or InVesalius project) -> voxmap file.
 #if __has_include("bmImport.h") // built only with CT import (BM_WITH_ITK)
+#include "bmsimArgs.h"
 #include "bmsimCommand.h"
 
 #include "bmImport.h"
@@ -9,10 +10,11 @@
 
 #include <atomic>
 #include <csignal>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <algorithm>
 #include <memory>
-#include <sstream>
 
 namespace {
 
@@ -33,38 +35,6 @@ const char* kUsage =
     "  --quiet               no progress bar\n";
 
 std::atomic<bool> gInterrupted{false};
-
-std::vector<double> ParseList(const std::string& opt, const std::string& s, size_t n) {
-  std::vector<double> v;
-  std::stringstream ss(s);
-  std::string part;
-  while (std::getline(ss, part, ',')) {
-    try {
-      size_t used = 0;
-      v.push_back(std::stod(part, &used));
-      if (used != part.size())
-        throw std::invalid_argument(part);
-    } catch (const std::exception&) {
-      throw bm::cli::UsageError(opt + " expects " + std::to_string(n) +
-                                " comma-separated numbers, got '" + s + "'");
-    }
-  }
-  if (v.size() != n)
-    throw bm::cli::UsageError(opt + " expects " + std::to_string(n) +
-                              " comma-separated numbers, got '" + s + "'");
-  return v;
-}
-
-double ParseNumber(const std::string& opt, const std::string& s) {
-  try {
-    size_t used = 0;
-    double v = std::stod(s, &used);
-    if (used == s.size())
-      return v;
-  } catch (const std::exception&) {
-  }
-  throw bm::cli::UsageError(opt + " expects a number, got '" + s + "'");
-}
 
 } // namespace
 
@@ -96,62 +66,49 @@ ProgressFn TerminalProgress(bool quiet) {
 }
 
 static int ImportCommand(const Args& args) {
-  std::string input, output;
-  bm::ImportOptions opt;
-  bool quiet = false;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size())
-        throw UsageError(a + " needs a value\n" + kUsage);
-      return args[++i];
-    };
-    if (a == "--help" || a == "-h") {
-      std::cout << kUsage;
-      return 0;
-    } else if (a == "--out" || a == "-o") {
-      output = value();
-    } else if (a == "--resolution") {
-      double n = ParseNumber(a, value());
-      if (n != double(int(n)) || n < 8 || n > 8192)
-        throw UsageError("--resolution must be an integer 8 .. 8192");
-      opt.resolution = int(n);
-    } else if (a == "--threshold") {
-      opt.segmentation.thresholdHU = float(ParseNumber(a, value()));
-    } else if (a == "--seed") {
-      auto s = ParseList(a, value(), 3);
-      opt.segmentation.seedMm = std::array<double, 3>{s[0], s[1], s[2]};
-    } else if (a == "--roi") {
-      auto r = ParseList(a, value(), 6);
-      bm::Box3 b;
-      for (int k = 0; k < 3; ++k) {
-        b.lo[k] = std::min(r[k], r[k + 3]);
-        b.hi[k] = std::max(r[k], r[k + 3]);
-      }
-      opt.roiMm = b;
-    } else if (a == "--series") {
-      opt.read.seriesUID = value();
-    } else if (a == "--max-memory") {
-      double mb = ParseNumber(a, value());
-      if (!(mb > 0))
-        throw UsageError("--max-memory must be a positive number of MB");
-      opt.read.maxMemoryBytes = uint64_t(mb * 1048576.0);
-    } else if (a == "--keep-all") {
-      opt.segmentation.keepAllComponents = true;
-    } else if (a == "--no-fill-holes") {
-      opt.segmentation.fillHoles = false;
-    } else if (a == "--quiet" || a == "-q") {
-      quiet = true;
-    } else if (!a.empty() && a[0] == '-') {
-      throw UsageError("unknown option " + a + "\n" + kUsage);
-    } else if (input.empty()) {
-      input = a;
-    } else {
-      throw UsageError("more than one INPUT ('" + input + "', '" + a + "')\n" + kUsage);
-    }
+  const ParsedArgs p(args,
+                     {"out", "resolution", "threshold", "seed", "roi", "series", "max-memory"},
+                     {"help", "keep-all", "no-fill-holes", "quiet"},
+                     {{"o", "out"}, {"h", "help"}, {"q", "quiet"}}, kUsage);
+  if (p.Has("help")) {
+    std::cout << kUsage;
+    return 0;
   }
-  if (input.empty())
+  bm::ImportOptions opt;
+  if (const auto n = p.GetDouble("resolution", -HUGE_VAL, HUGE_VAL)) {
+    if (*n != double(int(*n)) || *n < 8 || *n > 8192)
+      throw UsageError("--resolution must be an integer 8 .. 8192");
+    opt.resolution = int(*n);
+  }
+  if (const auto t = p.GetDouble("threshold", -HUGE_VAL, HUGE_VAL))
+    opt.segmentation.thresholdHU = float(*t);
+  if (const auto s = p.GetDoubles("seed", 3))
+    opt.segmentation.seedMm = std::array<double, 3>{(*s)[0], (*s)[1], (*s)[2]};
+  if (const auto r = p.GetDoubles("roi", 6)) {
+    bm::Box3 b;
+    for (int k = 0; k < 3; ++k) {
+      b.lo[k] = std::min((*r)[size_t(k)], (*r)[size_t(k) + 3]);
+      b.hi[k] = std::max((*r)[size_t(k)], (*r)[size_t(k) + 3]);
+    }
+    opt.roiMm = b;
+  }
+  if (const auto uid = p.Get("series"))
+    opt.read.seriesUID = *uid;
+  if (const auto mb = p.GetDouble("max-memory", -HUGE_VAL, HUGE_VAL)) {
+    if (!(*mb > 0))
+      throw UsageError("--max-memory must be a positive number of MB");
+    opt.read.maxMemoryBytes = uint64_t(*mb * 1048576.0);
+  }
+  opt.segmentation.keepAllComponents = p.Has("keep-all");
+  opt.segmentation.fillHoles = !p.Has("no-fill-holes");
+  const bool quiet = p.Has("quiet");
+  const auto& pos = p.Positional();
+  if (pos.size() > 1)
+    throw UsageError("more than one INPUT ('" + pos[0] + "', '" + pos[1] + "')\n" + kUsage);
+  if (pos.empty())
     throw UsageError(std::string("no INPUT given\n") + kUsage);
+  const std::string& input = pos[0];
+  const std::string output = p.Get("out", "");
   if (output.empty())
     throw UsageError(std::string("--out VOXMAP.nrrd is required\n") + kUsage);
   std::signal(SIGINT, [](int) { gInterrupted = true; });

@@ -1,11 +1,13 @@
 // bmsim phantom - write a synthetic CT (glenoid or cortical block) as a real DICOM series.
 #if __has_include("bmPhantom.h") // built only with CT import (BM_WITH_ITK)
+#include "bmsimArgs.h"
 #include "bmsimCommand.h"
 
 #include "bmPhantom.h"
 
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <iomanip>
 #include <iostream>
@@ -28,47 +30,33 @@ namespace bm::cli {
 ProgressFn TerminalProgress(bool quiet); // bmsimImport.cxx
 
 static int PhantomCommand(const Args& args) {
-  std::string name, out;
+  const ParsedArgs p(args, {"out", "compress", "noise"}, {"help", "quiet"},
+                     {{"o", "out"}, {"h", "help"}, {"q", "quiet"}}, kUsage);
+  if (p.Has("help")) {
+    std::cout << kUsage;
+    return 0;
+  }
   bm::PhantomCTOptions ct;
   bm::DicomWriteOptions dicom;
-  bool quiet = false;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size())
-        throw UsageError(a + " needs a value\n" + kUsage);
-      return args[++i];
-    };
-    if (a == "--help" || a == "-h") {
-      std::cout << kUsage;
-      return 0;
-    } else if (a == "--out" || a == "-o") {
-      out = value();
-    } else if (a == "--compress") {
-      dicom.transferSyntax = value();
-      if (dicom.transferSyntax != "rle" && dicom.transferSyntax != "jpeg-lossless" &&
-          dicom.transferSyntax != "jpeg-ls" && dicom.transferSyntax != "jpeg2000")
-        throw UsageError("--compress must be rle, jpeg-lossless, jpeg-ls or jpeg2000");
-    } else if (a == "--noise") {
-      try {
-        ct.noiseHU = std::stod(value());
-      } catch (const std::exception&) {
-        throw UsageError("--noise expects a number of HU");
-      }
-      if (ct.noiseHU < 0)
-        throw UsageError("--noise must be >= 0");
-    } else if (a == "--quiet" || a == "-q") {
-      quiet = true;
-    } else if (!a.empty() && a[0] == '-') {
-      throw UsageError("unknown option " + a + "\n" + kUsage);
-    } else if (name.empty()) {
-      name = a;
-    } else {
-      throw UsageError("more than one phantom name\n" + std::string(kUsage));
-    }
+  if (const auto syntax = p.Get("compress")) {
+    dicom.transferSyntax = *syntax;
+    if (dicom.transferSyntax != "rle" && dicom.transferSyntax != "jpeg-lossless" &&
+        dicom.transferSyntax != "jpeg-ls" && dicom.transferSyntax != "jpeg2000")
+      throw UsageError("--compress must be rle, jpeg-lossless, jpeg-ls or jpeg2000");
   }
+  if (const auto noise = p.GetDouble("noise", -HUGE_VAL, HUGE_VAL)) {
+    if (*noise < 0)
+      throw UsageError("--noise must be >= 0");
+    ct.noiseHU = *noise;
+  }
+  const bool quiet = p.Has("quiet");
+  const auto& pos = p.Positional();
+  if (pos.size() > 1)
+    throw UsageError("more than one phantom name\n" + std::string(kUsage));
+  const std::string name = pos.empty() ? "" : pos[0];
   if (name != "glenoid" && name != "block")
     throw UsageError("name the phantom: glenoid or block\n" + std::string(kUsage));
+  const std::string out = p.Get("out", "");
   if (out.empty())
     throw UsageError("--out DIR is required\n" + std::string(kUsage));
   bm::PhantomInfo info =
