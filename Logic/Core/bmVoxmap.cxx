@@ -44,12 +44,22 @@ Voxmap::Voxmap(std::array<int, 3> dims, double spacingMm, std::array<double, 3> 
   if (!(spacingMm > 0) || !std::isfinite(spacingMm))
     throw std::invalid_argument("Voxmap: spacing must be a positive number of mm");
   Fill_.assign(size_t(NumVoxels()), 0);
-  for (int a = 0; a < 3; ++a)
-    BrickDims_[a] = (Dims_[a] + kBrick - 1) / kBrick;
-  BrickCount_ =
-      std::vector<std::atomic<int32_t>>(size_t(BrickDims_[0]) * BrickDims_[1] * BrickDims_[2]);
+  InitBricks();
   for (auto& c : BrickCount_)
     c.store(0, std::memory_order_relaxed);
+}
+
+void Voxmap::InitBricks() {
+  for (int a = 0; a < 3; ++a)
+    BrickDims_[a] = (Dims_[a] + kBrick - 1) / kBrick;
+  const size_t n = size_t(BrickDims_[0]) * BrickDims_[1] * BrickDims_[2];
+  BrickCount_ = std::vector<std::atomic<int32_t>>(n);
+  BrickGen_ = std::vector<std::atomic<uint32_t>>(n);
+  for (auto& g : BrickGen_)
+    g.store(0, std::memory_order_relaxed);
+  auto reciprocal = [](int d) { return d <= 1 ? uint64_t(0) : ~uint64_t(0) / uint64_t(d) + 1; };
+  InvNx_ = reciprocal(Dims_[0]);
+  InvNy_ = reciprocal(Dims_[1]);
 }
 
 Voxmap::Voxmap(const Voxmap& o) {
@@ -64,11 +74,12 @@ Voxmap& Voxmap::operator=(const Voxmap& o) {
   Origin_ = o.Origin_;
   Fill_ = o.Fill_;
   Material_ = o.Material_;
-  BrickDims_ = o.BrickDims_;
-  BrickCount_ = std::vector<std::atomic<int32_t>>(o.BrickCount_.size());
-  for (size_t b = 0; b < BrickCount_.size(); ++b)
+  InitBricks();
+  for (size_t b = 0; b < BrickCount_.size(); ++b) {
     BrickCount_[b].store(o.BrickCount_[b].load(std::memory_order_relaxed),
                          std::memory_order_relaxed);
+    BrickGen_[b].store(o.BrickGen_[b].load(std::memory_order_relaxed), std::memory_order_relaxed);
+  }
   return *this;
 }
 
@@ -101,23 +112,38 @@ bool Voxmap::VoxelAt(const std::array<double, 3>& p, std::array<int, 3>& ijk) co
   return true;
 }
 
-static inline int64_t BrickOfIndex(const std::array<int, 3>& dims, const std::array<int, 3>& bdims,
-                                   int64_t idx) {
-  int64_t i = idx % dims[0];
-  int64_t rest = idx / dims[0];
-  int64_t j = rest % dims[1];
-  int64_t k = rest / dims[1];
-  return i / Voxmap::kBrick +
-         bdims[0] * (j / Voxmap::kBrick + int64_t(bdims[1]) * (k / Voxmap::kBrick));
+int64_t Voxmap::BrickOfVoxel(int64_t idx) const {
+  // idx / nx and row / ny by multiply-high with the rounded-up reciprocals (exact below 2^52).
+  const uint64_t u = uint64_t(idx);
+  const uint64_t row = InvNx_ ? uint64_t((unsigned __int128)u * InvNx_ >> 64) : u;
+  const uint64_t k = InvNy_ ? uint64_t((unsigned __int128)row * InvNy_ >> 64) : row;
+  const uint64_t i = u - row * uint64_t(Dims_[0]), j = row - k * uint64_t(Dims_[1]);
+  return int64_t(i / kBrick) +
+         int64_t(BrickDims_[0]) *
+             (int64_t(j / kBrick) + int64_t(BrickDims_[1]) * int64_t(k / kBrick));
+}
+
+uint32_t Voxmap::SeenBrickGeneration(int64_t b) const {
+  std::atomic<uint32_t>& g = BrickGen_[size_t(b)];
+  uint32_t v = g.load(std::memory_order_seq_cst);
+  // Odd: changed since a reader last looked; move it to the next even value. A failed exchange
+  // means another reader did it (writers never change an odd value): retry with what it wrote.
+  while (v & 1u)
+    if (g.compare_exchange_weak(v, v + 1u, std::memory_order_seq_cst))
+      return v + 1u;
+  return v;
 }
 
 void Voxmap::SetFill(int64_t idx, Fill f) {
   f = std::min(f, kFull);
-  bool was = Fill_[idx] > 0, now = f > 0;
-  Fill_[idx] = f;
+  std::atomic_ref<Fill> cell(Fill_[size_t(idx)]);
+  const Fill old = cell.load(std::memory_order_relaxed);
+  const bool was = old > 0, now = f > 0;
+  cell.store(f, std::memory_order_seq_cst);
   if (was != now)
-    BrickCount_[BrickOfIndex(Dims_, BrickDims_, idx)].fetch_add(now ? 1 : -1,
-                                                                std::memory_order_relaxed);
+    BrickCount_[size_t(BrickOfVoxel(idx))].fetch_add(now ? 1 : -1, std::memory_order_relaxed);
+  if ((was || now) && old != f)
+    MarkBrickChanged(BrickOfVoxel(idx));
 }
 
 void Voxmap::SetMaterial(int64_t idx, float m) {
@@ -128,11 +154,17 @@ void Voxmap::SetMaterial(int64_t idx, float m) {
 
 Voxmap::Fill Voxmap::Remove(int64_t idx, Fill amount, bool& becameVoid) {
   std::atomic_ref<Fill> cell(Fill_[idx]);
-  Fill old = cell.fetch_sub(amount, std::memory_order_relaxed);
+  // seq_cst: the same locked xadd as relaxed on x86-64; orders the fill before the generation
+  // check below for readers (see the header).
+  Fill old = cell.fetch_sub(amount, std::memory_order_seq_cst);
   Fill after = old - amount;
   becameVoid = old > 0 && after <= 0;
-  if (becameVoid)
-    BrickCount_[BrickOfIndex(Dims_, BrickDims_, idx)].fetch_sub(1, std::memory_order_relaxed);
+  if (old > 0) {
+    const int64_t b = BrickOfVoxel(idx);
+    if (becameVoid)
+      BrickCount_[size_t(b)].fetch_sub(1, std::memory_order_relaxed);
+    MarkBrickChanged(b);
+  }
   return std::max(old, 0) - std::max(after, 0);
 }
 
@@ -172,6 +204,8 @@ bool Voxmap::AnyBoneIn(std::array<int, 3> lo, std::array<int, 3> hi) const {
 void Voxmap::RebuildOccupancy() {
   for (auto& c : BrickCount_)
     c.store(0, std::memory_order_relaxed);
+  for (size_t b = 0; b < BrickGen_.size(); ++b)
+    MarkBrickChanged(int64_t(b));
   for (int k = 0; k < Dims_[2]; ++k)
     for (int j = 0; j < Dims_[1]; ++j) {
       const Fill* row = Fill_.data() + Index(0, j, k);

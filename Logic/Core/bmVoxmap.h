@@ -10,6 +10,19 @@
 // A coarse occupancy per brick (kBrick^3 voxels) is kept current as voxels go, so whole blocks of
 // tool points outside the bone can be skipped.
 //
+// Change generations, per brick, tell readers on other threads (a live view of the surface) which
+// bricks changed since they last looked, without a lock and without the haptic thread ever
+// waiting. A brick's generation is odd while it holds changes no reader has seen: Remove() and
+// SetFill() mark it odd when they change a voxel's fill (an atomic load, and a read-modify-write
+// only on the first change after a reader looked, so the cutting loop pays one cached load per
+// change), and SeenBrickGeneration() moves it to the next even value. A reader that calls
+// SeenBrickGeneration(b) before reading the brick's fills with LoadFill() and re-reads the brick
+// whenever the value differs from the one it kept never misses a change: a write it did not see
+// in this pass leaves the generation odd (or moves it on) for its next pass. The fills are written
+// and these loads made seq_cst, which on x86-64 compiles to the same instructions as relaxed ones
+// (a locked xadd for the removal, plain moves for the loads); the ordering is what makes the
+// "changed after I looked" argument hold (store-buffering between the fill and the generation).
+//
 // Units: world coordinates in mm; spacing in mm (isotropic); volumes in mm^3.
 #pragma once
 
@@ -83,9 +96,17 @@ public:
   /// Voxel containing world point p (mm); false when outside the grid.
   bool VoxelAt(const std::array<double, 3>& p, std::array<int, 3>& ijk) const;
 
-  /// Fill of a voxel in [.., kFull]; <= 0 is void.
+  /// Fill of a voxel in [.., kFull]; <= 0 is void. Plain read: for the thread that cuts.
   Fill GetFill(int64_t idx) const { return Fill_[idx]; }
-  /// Set a voxel's fill (clamped to kFull); keeps the brick occupancy current. Not thread-safe.
+  /// Fill of a voxel read as an atomic (seq_cst) load: safe while another thread cuts the voxmap
+  /// with Remove() (a view refreshing from the live bone). Use with SeenBrickGeneration().
+  Fill LoadFill(int64_t idx) const {
+    return std::atomic_ref<Fill>(const_cast<Fill&>(Fill_[size_t(idx)]))
+        .load(std::memory_order_seq_cst);
+  }
+  /// Set a voxel's fill (clamped to kFull); keeps the brick occupancy current and marks the
+  /// brick's generation changed when the fill changes. Not thread-safe against other writers
+  /// (safe against LoadFill() readers).
   void SetFill(int64_t idx, Fill f);
   /// Fraction of the voxel that is bone, in [0, 1].
   double Fraction(int64_t idx) const { return Fill_[idx] <= 0 ? 0.0 : double(Fill_[idx]) / kFull; }
@@ -96,7 +117,8 @@ public:
 
   /// Thread-safe removal of `amount` fill units (> 0) from a voxel that was bone. Returns the fill
   /// actually removed (the clamped, order-independent decrement) and sets becameVoid when this call
-  /// took the voxel to void. Keeps the brick occupancy current.
+  /// took the voxel to void. Keeps the brick occupancy current and, when the voxel held bone (its
+  /// fraction changed), marks the brick's generation changed.
   Fill Remove(int64_t idx, Fill amount, bool& becameVoid);
 
   /// Bone volume (mm^3): sum of positive fills times the voxel volume.
@@ -113,8 +135,20 @@ public:
   /// True when any bone voxel lies in the voxel index box [lo, hi] (inclusive, clamped to the
   /// grid).
   bool AnyBoneIn(std::array<int, 3> lo, std::array<int, 3> hi) const;
-  /// Recompute the brick occupancy from the fills (after bulk writes through MutableFill()).
+  /// Recompute the brick occupancy from the fills (after bulk writes through MutableFill()); marks
+  /// every brick's generation changed (bulk writes say nothing about where they wrote).
   void RebuildOccupancy();
+
+  // Change generations (see the file comment): one per occupancy brick, same indexing.
+  /// Brick holding voxel index idx (as BrickIndex of the voxel's i/kBrick, j/kBrick, k/kBrick).
+  int64_t BrickOfVoxel(int64_t idx) const;
+  /// The brick's current generation (seq_cst load; odd = changed since a reader last looked).
+  uint32_t BrickGeneration(int64_t b) const { return BrickGen_[size_t(b)].load(); }
+  /// Marks brick b seen and returns its generation as of now, always even. Call it before
+  /// reading the brick's fills (LoadFill); keep the value; the brick changed since then exactly
+  /// when a later call returns a different value. Any thread, any number of readers (each keeps
+  /// its own values); cost: one load, plus one compare-and-swap when the brick changed.
+  uint32_t SeenBrickGeneration(int64_t b) const;
 
   /// Raw arrays (for backends, IO and rendering). After writing through MutableFill(), call
   /// RebuildOccupancy().
@@ -134,6 +168,19 @@ private:
   std::vector<float> Material_;
   std::array<int, 3> BrickDims_{0, 0, 0};
   std::vector<std::atomic<int32_t>> BrickCount_;
+  /// Per-brick change generations; mutable: readers holding a const Voxmap mark them seen.
+  mutable std::vector<std::atomic<uint32_t>> BrickGen_;
+  /// Reciprocals for BrickOfVoxel: ceil(2^64 / nx) and ceil(2^64 / ny) (exact quotients of
+  /// indices below 2^52 by one multiply-high each, cheaper than division on the removal path).
+  uint64_t InvNx_ = 0, InvNy_ = 0;
+
+  void InitBricks();
+  /// Marks brick b changed (odd generation) unless it already is.
+  void MarkBrickChanged(int64_t b) {
+    std::atomic<uint32_t>& g = BrickGen_[size_t(b)];
+    if (!(g.load(std::memory_order_seq_cst) & 1u))
+      g.fetch_or(1u, std::memory_order_seq_cst);
+  }
 };
 
 } // namespace bm
