@@ -2,28 +2,72 @@
 #include "bmBoneSurface.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <new>
 #include <stdexcept>
 
-#include <vtkAppendPolyData.h>
+#include <vtkCellArray.h>
 #include <vtkFloatArray.h>
 #include <vtkFlyingEdges3D.h>
 #include <vtkImageData.h>
-#include <vtkNew.h>
 #include <vtkPointData.h>
+#include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkTypeInt32Array.h>
+#include <vtkTypeInt64Array.h>
 
 namespace bm {
 
 // The padded lattice: sample p = i + 1 for voxel i, plus one void sample before and after the
-// grid on each axis, so there are Dims + 2 samples and Dims + 1 cells per axis.
+// grid on each axis, so there are Dims + 2 samples and Dims + 1 cells per axis. Brick b holds
+// the cells [b B, (b + 1) B) and so the samples [b B, (b + 1) B] (the last plane shared).
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double Ms(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+/// A VTK array of `capacity` values, owned by VTK (freed with free()), holding `size` of them.
+template <class ArrayT>
+vtkSmartPointer<ArrayT> MakeArray(int components, int64_t capacity, const char* name) {
+  using T = typename ArrayT::ValueType;
+  auto a = vtkSmartPointer<ArrayT>::New();
+  a->SetNumberOfComponents(components);
+  if (name)
+    a->SetName(name);
+  void* p = std::malloc(size_t(std::max<int64_t>(capacity, 1)) * sizeof(T));
+  if (!p)
+    throw std::bad_alloc();
+  a->SetArray(static_cast<T*>(p), 0, 0, ArrayT::VTK_DATA_ARRAY_FREE);
+  return a;
+}
+
+/// Sets how many values of its buffer an array from MakeArray holds (no reallocation).
+template <class ArrayT> void SetLength(ArrayT* a, int64_t values) {
+  a->SetArray(a->GetPointer(0), vtkIdType(values), 0, ArrayT::VTK_DATA_ARRAY_FREE);
+  a->Modified();
+}
+} // namespace
 
 BoneSurface::BoneSurface(int brickVoxels, double iso)
-    : Brick_(brickVoxels), Iso_(iso), Output_(vtkSmartPointer<vtkPolyData>::New()) {
+    : Brick_(brickVoxels), Iso_(iso), Output_(vtkSmartPointer<vtkPolyData>::New()),
+      Image_(vtkSmartPointer<vtkImageData>::New()), Values_(vtkSmartPointer<vtkFloatArray>::New()),
+      Edges_(vtkSmartPointer<vtkFlyingEdges3D>::New()) {
   if (brickVoxels < 2)
     throw std::invalid_argument("BoneSurface: brickVoxels must be >= 2");
   if (!(iso > 0.0 && iso < 1.0))
     throw std::invalid_argument("BoneSurface: iso must be in (0, 1)");
+  Values_->SetName("BoneFraction");
+  Image_->GetPointData()->SetScalars(Values_);
+  Edges_->SetInputData(Image_);
+  Edges_->SetValue(0, Iso_);
+  Edges_->ComputeNormalsOn();
+  Edges_->ComputeGradientsOff();
+  Edges_->ComputeScalarsOff();
 }
 
 BoneSurface::~BoneSurface() = default;
@@ -44,7 +88,7 @@ void BoneSurface::MarkDirty(const Box3& box) {
       return;
   std::array<int, 3> lo, hi;
   for (int a = 0; a < 3; ++a) {
-    // Padded sample index of the box's ends, widened by one sample for the gradient stencil.
+    // Padded sample index of the box's ends, widened by one sample.
     const double plo = (box.lo[a] - Origin_[a]) / Spacing_ + 1.0;
     const double phi = (box.hi[a] - Origin_[a]) / Spacing_ + 1.0;
     const double cells = double(Dims_[a]) + 1.0;
@@ -57,7 +101,7 @@ void BoneSurface::MarkDirty(const Box3& box) {
   for (int k = lo[2]; k <= hi[2]; ++k)
     for (int j = lo[1]; j <= hi[1]; ++j)
       for (int i = lo[0]; i <= hi[0]; ++i)
-        Dirty_[size_t(i + int64_t(BrickDims_[0]) * (j + int64_t(BrickDims_[1]) * k))] = 1;
+        Dirty_[size_t(BrickId(i, j, k))] = 1;
 }
 
 void BoneSurface::Reset(const Voxmap& bone) {
@@ -66,91 +110,255 @@ void BoneSurface::Reset(const Voxmap& bone) {
   Origin_ = bone.Origin();
   for (int a = 0; a < 3; ++a)
     BrickDims_[a] = (Dims_[a] + 1 + Brick_ - 1) / Brick_;
-  Bricks_.assign(size_t(NumBricks()), nullptr);
-  Dirty_.assign(size_t(NumBricks()), 1);
+  const size_t n = size_t(NumBricks());
+  Bricks_.assign(n, BrickMesh{});
+  Dirty_.assign(n, 1);
+  Changed_.assign(n, 0);
+  Place_.assign(n, -1);
+  Order_.clear();
+  PointStart_.assign(1, 0);
+  TriangleStart_.assign(1, 0);
+  Cursor_ = 0;
   AllDirty_ = false;
+  // Our bricks that each of the voxmap's bricks reaches, per axis: voxmap brick v holds the voxels
+  // [v kBrick, v kBrick + kBrick - 1], i.e. the samples p0..p1 below; sample p lies in our bricks
+  // (p - 1) / B .. p / B.
+  const auto& vbd = bone.BrickDims();
+  for (int a = 0; a < 3; ++a) {
+    VoxBrickRange_[a].resize(size_t(vbd[a]));
+    for (int v = 0; v < vbd[a]; ++v) {
+      const int p0 = v * Voxmap::kBrick + 1;
+      const int p1 = std::min((v + 1) * Voxmap::kBrick, Dims_[a]);
+      VoxBrickRange_[a][size_t(v)] = {(p0 - 1) / Brick_, std::min(p1 / Brick_, BrickDims_[a] - 1)};
+    }
+  }
+  // Everything is extracted now: mark every voxmap brick seen first.
+  SeenGen_.resize(size_t(vbd[0]) * vbd[1] * vbd[2]);
+  for (size_t b = 0; b < SeenGen_.size(); ++b)
+    SeenGen_[b] = bone.SeenBrickGeneration(int64_t(b));
 }
 
-vtkSmartPointer<vtkPolyData> BoneSurface::ExtractBrick(const Voxmap& bone, int bi, int bj,
-                                                       int bk) const {
-  const std::array<int, 3> b{bi, bj, bk};
+void BoneSurface::ScanGenerations(const Voxmap& bone) {
+  const auto& vbd = bone.BrickDims();
+  int64_t b = 0;
+  for (int vk = 0; vk < vbd[2]; ++vk)
+    for (int vj = 0; vj < vbd[1]; ++vj)
+      for (int vi = 0; vi < vbd[0]; ++vi, ++b) {
+        const uint32_t g = bone.SeenBrickGeneration(b);
+        if (g == SeenGen_[size_t(b)])
+          continue;
+        SeenGen_[size_t(b)] = g;
+        const auto& rx = VoxBrickRange_[0][size_t(vi)];
+        const auto& ry = VoxBrickRange_[1][size_t(vj)];
+        const auto& rz = VoxBrickRange_[2][size_t(vk)];
+        for (int k = rz[0]; k <= rz[1]; ++k)
+          for (int j = ry[0]; j <= ry[1]; ++j)
+            for (int i = rx[0]; i <= rx[1]; ++i)
+              Dirty_[size_t(BrickId(i, j, k))] = 1;
+      }
+}
+
+void BoneSurface::ExtractBrick(const Voxmap& bone, int64_t b, BrickMesh& mesh) {
+  const std::array<int, 3> bijk{int(b % BrickDims_[0]), int((b / BrickDims_[0]) % BrickDims_[1]),
+                                int(b / (int64_t(BrickDims_[0]) * BrickDims_[1]))};
   std::array<int, 3> p0, n;
   for (int a = 0; a < 3; ++a) {
-    p0[a] = b[a] * Brick_;
+    p0[a] = bijk[a] * Brick_;
     n[a] = std::min(p0[a] + Brick_, Dims_[a] + 1) - p0[a] + 1; // samples, shared planes included
   }
-  vtkNew<vtkFloatArray> values;
-  values->SetName("BoneFraction");
-  values->SetNumberOfValues(vtkIdType(n[0]) * n[1] * n[2]);
-  float* v = values->GetPointer(0);
+  Values_->SetNumberOfValues(vtkIdType(n[0]) * n[1] * n[2]);
+  float* v = Values_->GetPointer(0);
   float lo = 1.0f, hi = 0.0f;
+  constexpr float kScale = 1.0f / float(Voxmap::kFull); // a power of two: exact
+  // Voxels gi of the row that lie in the grid: i in [iLo, iHi).
+  const int iLo = std::max(0, 1 - p0[0]), iHi = std::min(n[0], Dims_[0] + 1 - p0[0]);
   for (int k = 0; k < n[2]; ++k) {
     const int gk = p0[2] + k - 1;
-    for (int j = 0; j < n[1]; ++j) {
+    for (int j = 0; j < n[1]; ++j, v += n[0]) {
       const int gj = p0[1] + j - 1;
-      for (int i = 0; i < n[0]; ++i) {
-        const int gi = p0[0] + i - 1;
-        const float f =
-            bone.Contains(gi, gj, gk) ? float(bone.Fraction(bone.Index(gi, gj, gk))) : 0.0f;
-        *v++ = f;
-        lo = std::min(lo, f);
-        hi = std::max(hi, f);
+      if (gk < 0 || gk >= Dims_[2] || gj < 0 || gj >= Dims_[1] || iLo >= iHi) {
+        std::fill(v, v + n[0], 0.0f);
+        lo = 0.0f;
+        continue;
+      }
+      std::fill(v, v + iLo, 0.0f);
+      std::fill(v + iHi, v + n[0], 0.0f);
+      if (iLo > 0 || iHi < n[0])
+        lo = 0.0f;
+      const int64_t base = bone.Index(p0[0] - 1, gj, gk);
+      for (int i = iLo; i < iHi; ++i) {
+        const Voxmap::Fill f = bone.LoadFill(base + i);
+        const float x = f <= 0 ? 0.0f : float(f) * kScale;
+        v[i] = x;
+        lo = std::min(lo, x);
+        hi = std::max(hi, x);
       }
     }
   }
+  mesh.points.clear();
+  mesh.normals.clear();
+  mesh.triangles.clear();
   if (hi < Iso_ || lo >= Iso_)
-    return nullptr; // all void or all bone: no surface in this brick
+    return; // all void or all bone: no surface in this brick
 
-  vtkNew<vtkImageData> image;
-  image->SetDimensions(n[0], n[1], n[2]);
-  image->SetSpacing(Spacing_, Spacing_, Spacing_);
-  image->SetOrigin(Origin_[0] + (p0[0] - 1) * Spacing_, Origin_[1] + (p0[1] - 1) * Spacing_,
-                   Origin_[2] + (p0[2] - 1) * Spacing_);
-  image->GetPointData()->SetScalars(values);
+  Image_->SetDimensions(n[0], n[1], n[2]);
+  Image_->SetSpacing(Spacing_, Spacing_, Spacing_);
+  Image_->SetOrigin(Origin_[0] + (p0[0] - 1) * Spacing_, Origin_[1] + (p0[1] - 1) * Spacing_,
+                    Origin_[2] + (p0[2] - 1) * Spacing_);
+  Values_->Modified();
+  Image_->Modified();
+  Edges_->Update();
+  vtkPolyData* out = Edges_->GetOutput();
+  vtkCellArray* polys = out->GetPolys();
+  const int64_t np = out->GetNumberOfPoints(), nt = polys ? polys->GetNumberOfCells() : 0;
+  if (nt == 0)
+    return;
+  if (polys->GetNumberOfConnectivityIds() != 3 * nt)
+    throw std::logic_error("BoneSurface: flying edges made a cell that is not a triangle");
+  mesh.points.resize(size_t(3 * np));
+  vtkDataArray* pts = out->GetPoints()->GetData();
+  if (auto* f = vtkFloatArray::FastDownCast(pts))
+    std::memcpy(mesh.points.data(), f->GetPointer(0), size_t(3 * np) * sizeof(float));
+  else
+    for (int64_t i = 0; i < 3 * np; ++i)
+      mesh.points[size_t(i)] = float(pts->GetComponent(i / 3, int(i % 3)));
+  mesh.normals.resize(size_t(3 * np));
+  vtkDataArray* nrm = out->GetPointData()->GetNormals();
+  if (auto* f = vtkFloatArray::FastDownCast(nrm))
+    std::memcpy(mesh.normals.data(), f->GetPointer(0), size_t(3 * np) * sizeof(float));
+  else if (nrm)
+    for (int64_t i = 0; i < 3 * np; ++i)
+      mesh.normals[size_t(i)] = float(nrm->GetComponent(i / 3, int(i % 3)));
+  mesh.triangles.resize(size_t(3 * nt));
+  if (polys->IsStorage64Bit()) {
+    const vtkTypeInt64* c = polys->GetConnectivityArray64()->GetPointer(0);
+    for (int64_t i = 0; i < 3 * nt; ++i)
+      mesh.triangles[size_t(i)] = int32_t(c[i]);
+  } else {
+    std::memcpy(mesh.triangles.data(), polys->GetConnectivityArray32()->GetPointer(0),
+                size_t(3 * nt) * sizeof(int32_t));
+  }
+}
 
-  vtkNew<vtkFlyingEdges3D> edges;
-  edges->SetInputData(image);
-  edges->SetValue(0, Iso_);
-  edges->ComputeNormalsOn();
-  edges->ComputeGradientsOff();
-  edges->ComputeScalarsOff();
-  edges->Update();
-  vtkPolyData* out = edges->GetOutput();
-  if (out->GetNumberOfCells() == 0)
-    return nullptr;
-  vtkSmartPointer<vtkPolyData> brick = vtkSmartPointer<vtkPolyData>::New();
-  brick->ShallowCopy(out);
-  return brick;
+void BoneSurface::Assemble(const std::vector<int64_t>& changed) {
+  // New order: the bricks before the first changed one stay where they are; after them the
+  // unchanged bricks that followed, then the changed ones (non-empty).
+  int64_t from = int64_t(Order_.size());
+  for (int64_t b : changed) {
+    Changed_[size_t(b)] = 1;
+    if (Place_[size_t(b)] >= 0)
+      from = std::min(from, Place_[size_t(b)]);
+  }
+  std::vector<int64_t> tail;
+  tail.reserve(Order_.size() - size_t(from) + changed.size());
+  for (size_t q = size_t(from); q < Order_.size(); ++q)
+    if (!Changed_[size_t(Order_[q])])
+      tail.push_back(Order_[q]);
+  for (int64_t b : changed) {
+    Changed_[size_t(b)] = 0;
+    Place_[size_t(b)] = -1;
+    if (!Bricks_[size_t(b)].triangles.empty())
+      tail.push_back(b);
+  }
+  Order_.resize(size_t(from));
+  PointStart_.resize(size_t(from) + 1);
+  TriangleStart_.resize(size_t(from) + 1);
+  for (int64_t b : tail) {
+    Place_[size_t(b)] = int64_t(Order_.size());
+    Order_.push_back(b);
+    PointStart_.push_back(PointStart_.back() + Bricks_[size_t(b)].NumPoints());
+    TriangleStart_.push_back(TriangleStart_.back() + Bricks_[size_t(b)].NumTriangles());
+  }
+  const int64_t np = PointStart_.back(), nt = TriangleStart_.back();
+
+  // Arrays too small (or none yet): new ones with room to grow, written whole. The old ones stay
+  // valid for whoever still holds them.
+  if (!Points_ || np > PointCapacity_ || nt > TriangleCapacity_) {
+    PointCapacity_ = std::max<int64_t>(np + np / 4, 1024);
+    TriangleCapacity_ = std::max<int64_t>(nt + nt / 4, 1024);
+    if (PointCapacity_ > INT32_MAX || 3 * TriangleCapacity_ > INT32_MAX)
+      throw std::length_error("BoneSurface: surface too large for 32-bit connectivity");
+    Points_ = MakeArray<vtkFloatArray>(3, 3 * PointCapacity_, nullptr);
+    Normals_ = MakeArray<vtkFloatArray>(3, 3 * PointCapacity_, "Normals");
+    Offsets_ = MakeArray<vtkTypeInt32Array>(1, TriangleCapacity_ + 1, nullptr);
+    Connectivity_ = MakeArray<vtkTypeInt32Array>(1, 3 * TriangleCapacity_, nullptr);
+    OffsetsWritten_ = 0;
+    from = 0;
+    vtkNew<vtkPoints> points;
+    points->SetData(Points_);
+    Output_->SetPoints(points);
+    Output_->GetPointData()->SetNormals(Normals_);
+    vtkNew<vtkCellArray> polys;
+    SetLength(Offsets_.Get(), 1);
+    Offsets_->GetPointer(0)[0] = 0;
+    SetLength(Connectivity_.Get(), 0);
+    polys->SetData(Offsets_, Connectivity_);
+    Output_->SetPolys(polys);
+  }
+  float* pts = Points_->GetPointer(0);
+  float* nrm = Normals_->GetPointer(0);
+  int32_t* conn = Connectivity_->GetPointer(0);
+  int32_t* off = Offsets_->GetPointer(0);
+  for (size_t q = size_t(from); q < Order_.size(); ++q) {
+    const BrickMesh& m = Bricks_[size_t(Order_[q])];
+    const int64_t p0 = PointStart_[q], t0 = TriangleStart_[q];
+    std::memcpy(pts + 3 * p0, m.points.data(), m.points.size() * sizeof(float));
+    std::memcpy(nrm + 3 * p0, m.normals.data(), m.normals.size() * sizeof(float));
+    int32_t* c = conn + 3 * t0;
+    const int32_t shift = int32_t(p0);
+    for (int32_t local : m.triangles)
+      *c++ = local + shift;
+  }
+  // Every cell is a triangle: offsets are 0, 3, 6, ...; write the ones not yet written.
+  for (int64_t t = OffsetsWritten_ + 1; t <= nt; ++t)
+    off[t] = int32_t(3 * t);
+  OffsetsWritten_ = std::max(OffsetsWritten_, nt);
+  SetLength(Points_.Get(), 3 * np);
+  SetLength(Normals_.Get(), 3 * np);
+  SetLength(Offsets_.Get(), nt + 1);
+  SetLength(Connectivity_.Get(), 3 * nt);
+  Output_->GetPoints()->Modified();
+  Output_->GetPolys()->Modified();
+  Output_->Modified();
+  Stats_.rewrittenTriangles = nt - TriangleStart_[size_t(from)];
 }
 
 int BoneSurface::Update(const Voxmap& bone) {
-  if (AllDirty_ || bone.Dims() != Dims_ || bone.Spacing() != Spacing_ || bone.Origin() != Origin_)
+  Stats_ = UpdateStats{};
+  const auto t0 = Clock::now();
+  const bool full =
+      AllDirty_ || bone.Dims() != Dims_ || bone.Spacing() != Spacing_ || bone.Origin() != Origin_;
+  if (full)
     Reset(bone);
-  int extracted = 0;
-  for (int k = 0; k < BrickDims_[2]; ++k)
-    for (int j = 0; j < BrickDims_[1]; ++j)
-      for (int i = 0; i < BrickDims_[0]; ++i) {
-        const size_t b = size_t(i + int64_t(BrickDims_[0]) * (j + int64_t(BrickDims_[1]) * k));
-        if (!Dirty_[b])
-          continue;
-        Bricks_[b] = ExtractBrick(bone, i, j, k);
-        Dirty_[b] = 0;
-        ++extracted;
-      }
-  if (extracted == 0 && Output_->GetNumberOfPoints() > 0)
-    return 0;
-  vtkNew<vtkAppendPolyData> append;
-  for (const auto& brick : Bricks_)
-    if (brick)
-      append->AddInputData(brick);
-  if (append->GetNumberOfInputConnections(0) == 0) {
-    Output_->Initialize();
-  } else {
-    append->Update();
-    Output_->ShallowCopy(append->GetOutput());
+  else
+    ScanGenerations(bone);
+  const auto t1 = Clock::now();
+
+  std::vector<int64_t> changed;
+  const int64_t n = NumBricks();
+  const bool budget = BudgetMs_ > 0 && !full;
+  int64_t b = full ? 0 : Cursor_;
+  for (int64_t seen = 0; seen < n; ++seen, b = b + 1 == n ? 0 : b + 1) {
+    if (!Dirty_[size_t(b)])
+      continue;
+    if (budget && !changed.empty() && Ms(t1, Clock::now()) >= BudgetMs_)
+      break;
+    ExtractBrick(bone, b, Bricks_[size_t(b)]);
+    Dirty_[size_t(b)] = 0;
+    changed.push_back(b);
   }
-  Output_->Modified();
-  return extracted;
+  Cursor_ = b;
+  const auto t2 = Clock::now();
+  if (!changed.empty() || !Points_)
+    Assemble(changed);
+  const auto t3 = Clock::now();
+
+  Stats_.extracted = int(changed.size());
+  Stats_.pending = int(std::count(Dirty_.begin(), Dirty_.end(), uint8_t(1)));
+  Stats_.scanMs = Ms(t0, t1);
+  Stats_.extractMs = Ms(t1, t2);
+  Stats_.assembleMs = Ms(t2, t3);
+  return Stats_.extracted;
 }
 
 } // namespace bm

@@ -2,14 +2,27 @@
 //
 // The iso-surface (default fill fraction 0.5) of the voxmap's fill fractions (bmVoxmap.h), made
 // with VTK's flying edges (vtkFlyingEdges3D). The grid is cut into bricks of BrickVoxels^3 cells;
-// each brick's triangles are cached, and Update() re-extracts only the bricks marked dirty since
-// the last update (MarkDirty with the box the tool swept), so a live view costs the size of the
-// cut, not of the bone. Neighbouring bricks share their boundary plane of samples, so their
-// triangles meet without gaps (points on the shared planes are duplicated, triangles are not).
-// Samples outside the grid count as void, so bone touching the grid's faces is closed.
+// each brick's triangles are cached, and Update() re-extracts only the bricks whose samples
+// changed since the last update: the voxmap's per-brick change generations say which (so no tool
+// box is needed and nothing that changed is missed), and MarkDirty() adds bricks by hand.
+// Neighbouring bricks share their boundary plane of samples, so their triangles meet without
+// gaps (points on the shared planes are duplicated, triangles are not). Samples outside the grid
+// count as void, so bone touching the grid's faces is closed. Normals come from the fill gradient
+// inside each brick (one-sided on the brick's faces).
 //
-// Units: world mm (points are in the voxmap's world frame). Not thread-safe: the caller makes sure
-// the voxmap is not written during Update() (the live view updates from a session snapshot).
+// Live use: Update() may run while another thread cuts the voxmap (Voxmap::Remove): it reads the
+// fills with atomic loads after marking the bricks seen (Voxmap::SeenBrickGeneration), so a brick
+// cut during its extraction is extracted again at the next Update(), and the cutting thread never
+// waits. A time budget (SetTimeBudgetMs) bounds one update: the bricks left over stay pending and
+// go first next time, so a view keeps its frame rate and catches up within a few refreshes.
+//
+// The output is one vtkPolyData whose arrays are patched, not rebuilt: bricks are laid out one
+// after the other, the bricks re-extracted last at the end. An update rewrites the arrays only
+// from the first re-extracted brick on, which during a cut is the tail of bricks being cut, so its
+// cost follows the cut, not the whole surface (the arrays are reallocated, and rewritten whole,
+// only when they must grow).
+//
+// Units: world mm (points are in the voxmap's world frame); times in ms.
 #pragma once
 
 #include <array>
@@ -20,29 +33,54 @@
 
 #include "bmVoxmap.h"
 
+class vtkFlyingEdges3D;
+class vtkFloatArray;
+class vtkImageData;
 class vtkPolyData;
+class vtkTypeInt32Array;
 
 namespace bm {
 
 class BoneSurface {
 public:
-  /// brickVoxels: edge of a brick in cells (>= 2; default 32); iso: fill fraction of the surface
-  /// in (0, 1) (default 0.5, where the partial-volume fill says half the voxel is bone).
+  /// brickVoxels: edge of a brick in cells (>= 2; default 32: one flying-edges run costs about
+  /// the same at 16 and 32, so fewer, larger bricks re-extract a cut faster); iso: fill fraction
+  /// of the surface in (0, 1) (default 0.5, where the partial-volume fill says half the voxel is
+  /// bone).
   explicit BoneSurface(int brickVoxels = 32, double iso = 0.5);
   ~BoneSurface();
   BoneSurface(const BoneSurface&) = delete;
   BoneSurface& operator=(const BoneSurface&) = delete;
 
-  /// Marks the bricks touching the world box (mm) for re-extraction at the next Update().
+  /// Marks the bricks touching the world box (mm) for re-extraction at the next Update() (not
+  /// needed for changes made through the Voxmap's setters, which Update() finds itself).
   void MarkDirty(const Box3& worldBoxMm);
   /// Marks every brick (the next Update() extracts the whole surface).
   void MarkAllDirty();
-  /// Re-extracts the dirty bricks from `bone` (every brick on the first call or when the grid's
-  /// geometry changed) and rebuilds the output. Returns the number of bricks re-extracted.
+  /// Most time one Update() spends extracting, ms (default 0 = no limit): bricks are extracted
+  /// until the time is spent (at least one), the rest stay pending for the next Update(). The
+  /// first update after a reset always extracts everything.
+  void SetTimeBudgetMs(double ms) { BudgetMs_ = ms; }
+  double TimeBudgetMs() const { return BudgetMs_; }
+  /// Re-extracts the bricks whose samples changed in `bone` since the last update (found from the
+  /// voxmap's change generations), those marked dirty, and those left pending (every brick on the
+  /// first call or when the grid's geometry changed), then patches the output. Returns the number
+  /// of bricks re-extracted. `bone` may be cut by another thread meanwhile (see above).
   int Update(const Voxmap& bone);
 
+  /// What the last Update() did and how long each part took (ms).
+  struct UpdateStats {
+    int extracted = 0;              ///< bricks re-extracted
+    int pending = 0;                ///< bricks left for the next update (time budget)
+    double scanMs = 0;              ///< reading the voxmap's change generations
+    double extractMs = 0;           ///< sampling the fills and flying edges
+    double assembleMs = 0;          ///< patching the output's arrays
+    int64_t rewrittenTriangles = 0; ///< triangles written into the output
+  };
+  const UpdateStats& LastUpdate() const { return Stats_; }
+
   /// The surface (triangles, point normals "Normals" from the fill gradient), world mm. The same
-  /// object is reused by later updates.
+  /// object, and while they need not grow the same arrays, are reused by later updates.
   vtkPolyData* GetOutput() const;
   /// Bricks along x, y, z (of the grid padded by one void sample on each side).
   const std::array<int, 3>& BrickDims() const { return BrickDims_; }
@@ -51,19 +89,55 @@ public:
   double Iso() const { return Iso_; }
 
 private:
+  /// One brick's triangles: points and normals (x, y, z each), vertex indices into its points.
+  struct BrickMesh {
+    std::vector<float> points, normals;
+    std::vector<int32_t> triangles;
+    int64_t NumPoints() const { return int64_t(points.size() / 3); }
+    int64_t NumTriangles() const { return int64_t(triangles.size() / 3); }
+  };
+
   void Reset(const Voxmap& bone);
-  vtkSmartPointer<vtkPolyData> ExtractBrick(const Voxmap& bone, int bi, int bj, int bk) const;
+  void ScanGenerations(const Voxmap& bone);
+  void ExtractBrick(const Voxmap& bone, int64_t b, BrickMesh& mesh);
+  void Assemble(const std::vector<int64_t>& changed);
+  int64_t BrickId(int i, int j, int k) const {
+    return i + int64_t(BrickDims_[0]) * (j + int64_t(BrickDims_[1]) * k);
+  }
 
   int Brick_;
   double Iso_;
+  double BudgetMs_ = 0;
   std::array<int, 3> Dims_{0, 0, 0}; ///< voxmap dims the cache was built for
   double Spacing_ = 0;
   std::array<double, 3> Origin_{0, 0, 0};
   std::array<int, 3> BrickDims_{0, 0, 0};
-  std::vector<vtkSmartPointer<vtkPolyData>> Bricks_; ///< per brick; null = no surface there
+  std::vector<BrickMesh> Bricks_;
   std::vector<uint8_t> Dirty_;
+  int64_t Cursor_ = 0; ///< where the next budgeted update starts looking for dirty bricks
   bool AllDirty_ = true;
+  /// Last generation seen of each of the voxmap's bricks, and for each axis the range of our
+  /// bricks that a voxmap brick's samples fall into.
+  std::vector<uint32_t> SeenGen_;
+  std::array<std::vector<std::array<int, 2>>, 3> VoxBrickRange_;
+
+  /// Output layout: bricks in output order, and each brick's place (-1: not in the output).
+  std::vector<int64_t> Order_;
+  std::vector<int64_t> Place_;
+  /// Start of each ordered brick's points and triangles (one past the end: the totals).
+  std::vector<int64_t> PointStart_{0}, TriangleStart_{0};
+  int64_t PointCapacity_ = 0, TriangleCapacity_ = 0, OffsetsWritten_ = 0;
+  vtkSmartPointer<vtkFloatArray> Points_, Normals_;
+  vtkSmartPointer<vtkTypeInt32Array> Offsets_, Connectivity_;
   vtkSmartPointer<vtkPolyData> Output_;
+
+  // Reused for every brick's extraction.
+  vtkSmartPointer<vtkImageData> Image_;
+  vtkSmartPointer<vtkFloatArray> Values_;
+  vtkSmartPointer<vtkFlyingEdges3D> Edges_;
+  std::vector<uint8_t> Changed_; ///< scratch: bricks re-extracted by this update
+
+  UpdateStats Stats_;
 };
 
 } // namespace bm

@@ -1,0 +1,244 @@
+// TestBoneSurface.cxx - the incremental cut-bone surface (bmBoneSurface.h) equals a from-scratch
+// extraction after cuts: made between updates, made by another thread during updates, and caught
+// up over several time-budgeted updates.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <thread>
+#include <vector>
+
+#include <vtkCellArray.h>
+#include <vtkFloatArray.h>
+#include <vtkFlyingEdges3D.h>
+#include <vtkIdList.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+
+#include "bmBoneSurface.h"
+#include "bmVoxmap.h"
+
+namespace {
+
+constexpr double kH = 0.2; // voxel spacing, mm
+
+/// A ball of bone joined to a slab that reaches the grid's x = 0 face, with partial-volume fills
+/// (a smooth iso-surface, not a staircase).
+bm::Voxmap MakeBone() {
+  bm::Voxmap v({45, 38, 33}, kH, {-3.0, 1.0, 2.0});
+  const std::array<double, 3> c{-3.0 + 24 * kH, 1.0 + 19 * kH, 2.0 + 16 * kH};
+  for (int k = 0; k < 33; ++k)
+    for (int j = 0; j < 38; ++j)
+      for (int i = 0; i < 45; ++i) {
+        const auto p = v.GridToWorld({double(i), double(j), double(k)});
+        const double ball =
+            5.0 - std::sqrt((p[0] - c[0]) * (p[0] - c[0]) + (p[1] - c[1]) * (p[1] - c[1]) +
+                            (p[2] - c[2]) * (p[2] - c[2]));
+        const double slab =
+            std::min({(-3.0 + 12 * kH) - p[0], p[1] - (1.0 + 6 * kH), (1.0 + 30 * kH) - p[1],
+                      p[2] - (2.0 + 5 * kH), (2.0 + 27 * kH) - p[2]});
+        const double s = std::max(ball, slab) / kH; // signed distance in voxels, > 0 inside
+        v.SetFill(v.Index(i, j, k),
+                  bm::Voxmap::Fill(std::clamp(0.5 + s, 0.0, 1.0) * bm::Voxmap::kFull));
+      }
+  return v;
+}
+
+/// One cut: a ball tool of radius r at `centre` takes `share` of the bone it overlaps.
+void Cut(bm::Voxmap& v, const std::array<double, 3>& centre, double r, double share) {
+  for (int k = 0; k < v.Dims()[2]; ++k)
+    for (int j = 0; j < v.Dims()[1]; ++j)
+      for (int i = 0; i < v.Dims()[0]; ++i) {
+        const auto p = v.GridToWorld({double(i), double(j), double(k)});
+        const double d = std::sqrt((p[0] - centre[0]) * (p[0] - centre[0]) +
+                                   (p[1] - centre[1]) * (p[1] - centre[1]) +
+                                   (p[2] - centre[2]) * (p[2] - centre[2]));
+        const double overlap = std::clamp(0.5 + (r - d) / kH, 0.0, 1.0);
+        const auto units = bm::Voxmap::Fill(overlap * share * bm::Voxmap::kFull);
+        const int64_t idx = v.Index(i, j, k);
+        bool voided = false;
+        if (units > 0 && v.GetFill(idx) > 0)
+          v.Remove(idx, units, voided);
+      }
+}
+
+/// The tool's centre at step s of a pass across the ball's top.
+std::array<double, 3> ToolAt(int s) {
+  return {-3.0 + (18 + s) * kH, 1.0 + 19 * kH, 2.0 + 16 * kH + 4.6};
+}
+
+using Triangle = std::array<float, 9>;
+
+/// The surface's triangles as vertex coordinates, each started at its smallest vertex (keeping
+/// the orientation), sorted: equal lists mean the same triangles wherever they sit in the arrays.
+std::vector<Triangle> Triangles(vtkPolyData* pd) {
+  std::vector<Triangle> out;
+  vtkCellArray* polys = pd->GetPolys();
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < polys->GetNumberOfCells(); ++c) {
+    polys->GetCellAtId(c, ids);
+    EXPECT_EQ(ids->GetNumberOfIds(), 3);
+    std::array<std::array<float, 3>, 3> v;
+    for (int q = 0; q < 3; ++q) {
+      double x[3];
+      pd->GetPoint(ids->GetId(q), x);
+      v[size_t(q)] = {float(x[0]), float(x[1]), float(x[2])};
+    }
+    const size_t first = size_t(std::min_element(v.begin(), v.end()) - v.begin());
+    Triangle t;
+    for (size_t q = 0; q < 3; ++q)
+      for (size_t a = 0; a < 3; ++a)
+        t[3 * q + a] = v[(first + q) % 3][a];
+    out.push_back(t);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+double Area(vtkPolyData* pd) {
+  double area = 0;
+  vtkCellArray* polys = pd->GetPolys();
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < polys->GetNumberOfCells(); ++c) {
+    polys->GetCellAtId(c, ids);
+    double a[3], b[3], d[3];
+    pd->GetPoint(ids->GetId(0), a);
+    pd->GetPoint(ids->GetId(1), b);
+    pd->GetPoint(ids->GetId(2), d);
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    const double w[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+    const double x = u[1] * w[2] - u[2] * w[1], y = u[2] * w[0] - u[0] * w[2],
+                 z = u[0] * w[1] - u[1] * w[0];
+    area += 0.5 * std::sqrt(x * x + y * y + z * z);
+  }
+  return area;
+}
+
+/// The whole grid through one flying-edges filter (padded by a void sample on each side, as
+/// BoneSurface pads it): the reference the bricks must add up to.
+vtkSmartPointer<vtkPolyData> WholeGrid(const bm::Voxmap& v) {
+  const auto& d = v.Dims();
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(d[0] + 2, d[1] + 2, d[2] + 2);
+  image->SetSpacing(v.Spacing(), v.Spacing(), v.Spacing());
+  image->SetOrigin(v.Origin()[0] - v.Spacing(), v.Origin()[1] - v.Spacing(),
+                   v.Origin()[2] - v.Spacing());
+  vtkNew<vtkFloatArray> values;
+  values->SetNumberOfValues(vtkIdType(d[0] + 2) * (d[1] + 2) * (d[2] + 2));
+  vtkIdType n = 0;
+  for (int k = -1; k <= d[2]; ++k)
+    for (int j = -1; j <= d[1]; ++j)
+      for (int i = -1; i <= d[0]; ++i)
+        values->SetValue(n++, v.Contains(i, j, k) ? float(v.Fraction(v.Index(i, j, k))) : 0.0f);
+  image->GetPointData()->SetScalars(values);
+  vtkNew<vtkFlyingEdges3D> edges;
+  edges->SetInputData(image);
+  edges->SetValue(0, 0.5);
+  edges->Update();
+  vtkSmartPointer<vtkPolyData> out = edges->GetOutput();
+  return out;
+}
+
+void ExpectSameSurface(vtkPolyData* live, const bm::Voxmap& bone, int brick) {
+  bm::BoneSurface fresh(brick);
+  fresh.Update(bone);
+  ASSERT_GT(fresh.GetOutput()->GetNumberOfCells(), 1000);
+  EXPECT_EQ(live->GetNumberOfCells(), fresh.GetOutput()->GetNumberOfCells());
+  EXPECT_TRUE(Triangles(live) == Triangles(fresh.GetOutput()))
+      << "the incremental surface's triangles differ from a fresh extraction's";
+  // Against one filter over the whole grid: the bricks add up to it (same triangles, the points
+  // computed from other origins: equal to float rounding).
+  vtkSmartPointer<vtkPolyData> whole = WholeGrid(bone);
+  EXPECT_EQ(live->GetNumberOfCells(), whole->GetNumberOfCells());
+  EXPECT_NEAR(Area(live), Area(whole), 1e-5 * Area(whole));
+  ASSERT_NE(live->GetPointData()->GetNormals(), nullptr);
+  EXPECT_EQ(live->GetPointData()->GetNormals()->GetNumberOfTuples(), live->GetNumberOfPoints());
+}
+
+} // namespace
+
+TEST(BoneSurface, IncrementalEqualsFromScratchAfterCuts) {
+  bm::Voxmap bone = MakeBone();
+  bm::BoneSurface live(8);
+  const int first = live.Update(bone);
+  EXPECT_EQ(first, live.NumBricks()) << "the first update extracts everything";
+  const double before = Area(live.GetOutput());
+  EXPECT_EQ(live.Update(bone), 0) << "nothing changed";
+  for (int s = 0; s < 10; ++s) {
+    Cut(bone, ToolAt(s), 1.5, 0.35);
+    const int n = live.Update(bone);
+    EXPECT_GT(n, 0) << "step " << s;
+    EXPECT_LT(n, live.NumBricks() / 4) << "step " << s << ": only the cut's bricks";
+    EXPECT_LT(live.LastUpdate().rewrittenTriangles, live.GetOutput()->GetNumberOfCells())
+        << "step " << s << ": the output is patched, not rebuilt";
+  }
+  EXPECT_NE(Area(live.GetOutput()), before);
+  ExpectSameSurface(live.GetOutput(), bone, 8);
+}
+
+TEST(BoneSurface, ManualMarksAndBrickSizes) {
+  // Writes behind the voxmap's back (bulk writes, then RebuildOccupancy) mark everything; the
+  // result does not depend on the brick size beyond float rounding.
+  bm::Voxmap bone = MakeBone();
+  bm::BoneSurface a(16), b(5);
+  a.Update(bone);
+  b.Update(bone);
+  Cut(bone, ToolAt(3), 2.0, 1.0);
+  a.Update(bone);
+  b.Update(bone);
+  EXPECT_EQ(a.GetOutput()->GetNumberOfCells(), b.GetOutput()->GetNumberOfCells());
+  EXPECT_NEAR(Area(a.GetOutput()), Area(b.GetOutput()), 1e-5 * Area(a.GetOutput()));
+  std::fill(bone.MutableFill(), bone.MutableFill() + bone.NumVoxels() / 2, 0);
+  bone.RebuildOccupancy();
+  EXPECT_EQ(a.Update(bone), a.NumBricks());
+  ExpectSameSurface(a.GetOutput(), bone, 16);
+}
+
+TEST(BoneSurface, TimeBudgetCatchesUp) {
+  bm::Voxmap bone = MakeBone();
+  bm::BoneSurface live(8);
+  live.Update(bone);
+  live.SetTimeBudgetMs(1e-6); // one brick per update
+  Cut(bone, ToolAt(0), 2.0, 0.5);
+  EXPECT_EQ(live.Update(bone), 1);
+  const int pending = live.LastUpdate().pending;
+  EXPECT_GT(pending, 3);
+  int updates = 1;
+  while (live.LastUpdate().pending > 0 && updates < 10000) {
+    EXPECT_EQ(live.Update(bone), 1);
+    ++updates;
+  }
+  EXPECT_EQ(updates, pending + 1);
+  ExpectSameSurface(live.GetOutput(), bone, 8);
+}
+
+TEST(BoneSurface, UpdatesWhileAnotherThreadCuts) {
+  // The live view's case: the haptic thread cuts while the view updates, neither waits. Once
+  // the cutting stops, one more update must give the surface of the final bone.
+  bm::Voxmap bone = MakeBone();
+  bm::BoneSurface live(8);
+  live.Update(bone);
+  std::atomic<bool> done{false};
+  std::atomic<int> updates{0};
+  std::thread cutter([&] {
+    for (int s = 0; s < 16; ++s) {
+      while (updates.load() < s) // keep the two interleaved on a busy machine
+        std::this_thread::yield();
+      Cut(bone, ToolAt(s), 1.5, 0.2);
+    }
+    done.store(true);
+  });
+  while (!done.load()) {
+    live.Update(bone);
+    updates.fetch_add(1);
+  }
+  cutter.join();
+  live.Update(bone);
+  EXPECT_GE(updates.load(), 16);
+  ExpectSameSurface(live.GetOutput(), bone, 8);
+}
