@@ -20,6 +20,7 @@
 #include <cmath>
 #include <exception>
 #include <filesystem>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -27,6 +28,8 @@ class vtkBMCTBoneSource::vtkInternals {
 public:
   std::string Error;
   std::string Specification;
+  std::unique_ptr<bm::Voxmap> Bone; ///< the last import's voxmap (null when it failed)
+  vtkMTimeType ImportTime = 0;      ///< this source's MTime at the last import
 };
 
 vtkStandardNewMacro(vtkBMCTBoneSource);
@@ -60,17 +63,34 @@ const char* vtkBMCTBoneSource::GetBoneSpecification() {
 
 int vtkBMCTBoneSource::RequestInformation(vtkInformation*, vtkInformationVector**,
                                           vtkInformationVector* outputVector) {
-  // The extent is known only once the CT is imported: RequestData sets the whole image.
+  // The import runs here (once per change of the settings): image consumers need the extent,
+  // origin and spacing before they request data.
+  vtkInternals& in = *this->Internals;
+  if (this->GetMTime() > in.ImportTime) {
+    in.ImportTime = this->GetMTime();
+    this->Import();
+  }
   vtkInformation* info = outputVector->GetInformationObject(0);
+  int extent[6] = {0, -1, 0, -1, 0, -1};
+  double origin[3] = {0, 0, 0}, spacing[3] = {1, 1, 1};
+  if (in.Bone) {
+    for (int a = 0; a < 3; ++a) {
+      extent[2 * a + 1] = in.Bone->Dims()[a] - 1;
+      origin[a] = in.Bone->Origin()[a];
+      spacing[a] = in.Bone->Spacing();
+    }
+  }
+  info->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
+  info->Set(vtkDataObject::ORIGIN(), origin, 3);
+  info->Set(vtkDataObject::SPACING(), spacing, 3);
   info->Set(CAN_PRODUCE_SUB_EXTENT(), 0);
   return 1;
 }
 
-int vtkBMCTBoneSource::RequestData(vtkInformation*, vtkInformationVector**,
-                                   vtkInformationVector* outputVector) {
-  vtkImageData* output = vtkImageData::GetData(outputVector, 0);
-  output->Initialize();
-  this->Internals->Error.clear();
+void vtkBMCTBoneSource::Import() {
+  vtkInternals& in = *this->Internals;
+  in.Error.clear();
+  in.Bone.reset();
   this->BoneVoxels = 0;
   this->BoneVolumeMm3 = 0;
   for (double& b : this->BoneBounds)
@@ -91,26 +111,12 @@ int vtkBMCTBoneSource::RequestData(vtkInformation*, vtkInformationVector**,
       throw std::runtime_error("the axis is zero: give the direction the tool comes in along");
 #ifdef BM_WITH_IO
     const nlohmann::json spec = nlohmann::json::parse(this->GetBoneSpecification());
-    const bm::Voxmap v = bm::MakeCTVoxmap(spec, "", this->Resolution);
+    in.Bone = std::make_unique<bm::Voxmap>(bm::MakeCTVoxmap(spec, "", this->Resolution));
 #else
     throw std::runtime_error("CT import needs the IO library, which this build leaves out");
-    const bm::Voxmap v({8, 8, 8}, 1.0, {0, 0, 0});
 #endif
-    const std::array<int, 3>& d = v.Dims();
+    const bm::Voxmap& v = *in.Bone;
     const double h = v.Spacing();
-    output->SetDimensions(d[0], d[1], d[2]);
-    output->SetSpacing(h, h, h);
-    output->SetOrigin(v.Origin()[0], v.Origin()[1], v.Origin()[2]);
-    vtkNew<vtkFloatArray> fraction;
-    fraction->SetName("BoneFraction");
-    fraction->SetNumberOfTuples(v.NumVoxels());
-    for (int64_t i = 0; i < v.NumVoxels(); ++i)
-      fraction->SetValue(i, float(v.Fraction(i)));
-    output->GetPointData()->SetScalars(fraction);
-    vtkInformation* info = outputVector->GetInformationObject(0);
-    int extent[6] = {0, d[0] - 1, 0, d[1] - 1, 0, d[2] - 1};
-    info->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
-
     this->BoneVoxels = v.CountBone();
     this->BoneVolumeMm3 = v.BoneVolume();
     const bm::Box3 box = v.Bounds();
@@ -130,8 +136,8 @@ int vtkBMCTBoneSource::RequestData(vtkInformation*, vtkInformationVector**,
     for (int a = 0; a < 3; ++a)
       this->SuggestedEntry[a] = centre[a];
     const int steps = int(std::ceil(4 * halfDiagonal / h));
-    for (int s = 0; s <= steps; ++s) {
-      const double t = halfDiagonal - s * 0.5 * h;
+    for (int step = 0; step <= steps; ++step) {
+      const double t = halfDiagonal - step * 0.5 * h;
       const std::array<double, 3> p{centre[0] + t * u[0], centre[1] + t * u[1],
                                     centre[2] + t * u[2]};
       std::array<int, 3> ijk;
@@ -142,11 +148,34 @@ int vtkBMCTBoneSource::RequestData(vtkInformation*, vtkInformationVector**,
       }
     }
   } catch (const std::exception& e) {
-    this->Internals->Error = e.what();
-    output->Initialize();
-    vtkErrorMacro(<< "cannot import the CT bone: " << this->Internals->Error);
+    in.Error = e.what();
+    in.Bone.reset();
+    this->BoneVoxels = 0;
+    this->BoneVolumeMm3 = 0;
+  }
+}
+
+int vtkBMCTBoneSource::RequestData(vtkInformation*, vtkInformationVector**,
+                                   vtkInformationVector* outputVector) {
+  vtkImageData* output = vtkImageData::GetData(outputVector, 0);
+  output->Initialize();
+  vtkInternals& in = *this->Internals;
+  if (!in.Bone) {
+    vtkErrorMacro(<< "cannot import the CT bone: " << in.Error);
     return 0;
   }
+  const bm::Voxmap& v = *in.Bone;
+  const std::array<int, 3>& d = v.Dims();
+  const double h = v.Spacing();
+  output->SetExtent(0, d[0] - 1, 0, d[1] - 1, 0, d[2] - 1);
+  output->SetSpacing(h, h, h);
+  output->SetOrigin(v.Origin()[0], v.Origin()[1], v.Origin()[2]);
+  vtkNew<vtkFloatArray> fraction;
+  fraction->SetName("BoneFraction");
+  fraction->SetNumberOfTuples(v.NumVoxels());
+  for (int64_t i = 0; i < v.NumVoxels(); ++i)
+    fraction->SetValue(i, float(v.Fraction(i)));
+  output->GetPointData()->SetScalars(fraction);
   return 1;
 }
 

@@ -10,8 +10,10 @@
 // on the bone's surface along an axis, and the bone specification (JSON) a vtkBMSessionSource
 // machines (SetBoneCT()).
 //
-// Bad input (missing file, no bone above the threshold, an empty ROI) fails the execution with
-// the importer's message in GetLastError(); the output is then empty.
+// The import runs in RequestInformation (so that the image's extent is known before data is
+// requested), once per change of the settings. Bad input (missing file, no bone above the
+// threshold, an empty ROI) fails the execution with the importer's message in GetLastError();
+// the output is then empty.
 //
 // Units: mm, HU, mm^3.
 #pragma once
@@ -90,6 +92,9 @@ protected:
   double SuggestedEntry[3] = {0, 0, 0};
 
 private:
+  /// Imports the CT with the current settings into the internals and fills the results (or
+  /// the error).
+  void Import();
   vtkBMCTBoneSource(const vtkBMCTBoneSource&) = delete;
   void operator=(const vtkBMCTBoneSource&) = delete;
 

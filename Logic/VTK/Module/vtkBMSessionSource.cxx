@@ -25,6 +25,7 @@
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTable.h"
 #include "vtkTransform.h"
 #include "vtkTransformPolyDataFilter.h"
@@ -171,6 +172,26 @@ int vtkBMSessionSource::FillOutputPortInformation(int port, vtkInformation* info
     return 1;
   }
   return this->Superclass::FillOutputPortInformation(port, info);
+}
+
+int vtkBMSessionSource::RequestInformation(vtkInformation*, vtkInformationVector**,
+                                           vtkInformationVector* outputVector) {
+  vtkInformation* info = outputVector->GetInformationObject(3);
+  int extent[6] = {0, -1, 0, -1, 0, -1};
+  double origin[3] = {0, 0, 0}, spacing[3] = {1, 1, 1};
+  if (this->VolumeOutput && this->Internals->Setup) {
+    const bm::Voxmap& v = this->Internals->Setup->Bone();
+    for (int a = 0; a < 3; ++a) {
+      extent[2 * a + 1] = v.Dims()[a] - 1;
+      origin[a] = v.Origin()[a];
+      spacing[a] = v.Spacing();
+    }
+  }
+  info->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
+  info->Set(vtkDataObject::ORIGIN(), origin, 3);
+  info->Set(vtkDataObject::SPACING(), spacing, 3);
+  info->Set(vtkAlgorithm::CAN_PRODUCE_SUB_EXTENT(), 0);
+  return 1;
 }
 
 vtkTable* vtkBMSessionSource::GetHistory() {

@@ -202,6 +202,10 @@ protected:
   vtkBMSessionSource();
   ~vtkBMSessionSource() override;
   int FillOutputPortInformation(int port, vtkInformation* info) override;
+  /// Port 3's whole extent, origin and spacing (the voxmap's grid), which image consumers such
+  /// as ParaView's volume representation need before they request data.
+  int RequestInformation(vtkInformation* request, vtkInformationVector** inputVector,
+                         vtkInformationVector* outputVector) override;
   int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
                   vtkInformationVector* outputVector) override;
 

@@ -6,8 +6,10 @@
 
 #include "vtkDataArray.h"
 #include "vtkImageData.h"
+#include "vtkInformation.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 
 #include <gtest/gtest.h>
 
@@ -69,6 +71,12 @@ TEST(CTBoneSource, PreviewsTheBoneAtThresholdAndRegion) {
   vtkImageData* image = source->GetOutput();
   ASSERT_NE(image->GetPointData()->GetArray("BoneFraction"), nullptr);
   EXPECT_GT(image->GetNumberOfPoints(), 48 * 48 * 30);
+  // The extent is announced before data is requested (image consumers crop to it).
+  int extent[6] = {0, -1, 0, -1, 0, -1}, dims[3];
+  source->GetOutputInformation(0)->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent);
+  image->GetDimensions(dims);
+  for (int a = 0; a < 3; ++a)
+    EXPECT_EQ(extent[2 * a + 1] - extent[2 * a] + 1, dims[a]);
 
   // Half the block by the region of interest (x in [-2, 0]).
   source->SetROI(-5, 0, -5, 5, -5, 5);

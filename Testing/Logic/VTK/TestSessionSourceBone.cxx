@@ -5,9 +5,11 @@
 
 #include "vtkDataArray.h"
 #include "vtkImageData.h"
+#include "vtkInformation.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTable.h"
 
 #ifdef BM_WITH_IO
@@ -99,6 +101,17 @@ TEST(SessionSource, SavedBoneRoundTripsAndSessionsGoOnFromIt) {
   ASSERT_TRUE(s->SaveBone(file.c_str())) << s->GetLastError();
   EXPECT_STREQ(s->GetLastError(), "");
   const double cut = ImageBoneVolume(s);
+  // The volume port announces its grid before data is requested (ParaView's volume
+  // representation crops to the announced extent: without it nothing is drawn).
+  s->UpdateInformation();
+  int extent[6] = {0, -1, 0, -1, 0, -1};
+  s->GetOutputInformation(3)->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent);
+  int dims[3];
+  s->GetBoneImage()->GetDimensions(dims);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_EQ(extent[2 * a], 0);
+    EXPECT_EQ(extent[2 * a + 1], dims[a] - 1);
+  }
   const bm::Voxmap saved = bm::LoadVoxmap(file);
   EXPECT_NEAR(saved.BoneVolume(), cut, 1e-6 * cut);
   s->Stop();
