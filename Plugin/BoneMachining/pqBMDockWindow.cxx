@@ -212,8 +212,10 @@ void pqBMDockWindow::setVolumeRendering(bool on) {
       vtkSMPropertyHelper(repr, "Representation").Set("Volume");
       repr->UpdateVTKObjects();
     }
+    controller->Hide(proxy, 0, view->getViewProxy()); // the opaque surface would hide it
   } else {
     controller->Hide(proxy, 3, view->getViewProxy());
+    controller->Show(proxy, 0, view->getViewProxy());
   }
   view->render();
 }

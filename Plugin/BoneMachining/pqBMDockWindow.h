@@ -39,7 +39,8 @@ private Q_SLOTS:
   /// Saves the session's cut bone to `path` through the SaveBone property (atomic in the logic)
   /// and reports the result in the panel.
   void saveBone(const QString& path);
-  /// Turns the session's Volume output on or off and shows it with volume rendering.
+  /// Turns the session's Volume output on or off and shows it with volume rendering in place of
+  /// the bone's surface (which would hide it), or the surface again.
   void setVolumeRendering(bool on);
   /// Creates (once) or updates a "BM CT Bone" source (vtkBMCTBoneSource) with the panel's CT
   /// settings, shows its bone as a slice coloured by BoneFraction and reports the preview (bone
