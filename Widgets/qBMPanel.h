@@ -86,7 +86,8 @@ public:
   double toolDepth() const;
 
 public Q_SLOTS:
-  /// Choose the tool type (vtkBMToolSource::ToolTypes); out-of-range values are ignored.
+  /// Choose the tool type (vtkBMToolSource::ToolTypes); out-of-range values are ignored. The
+  /// parameter editors are rebuilt at the new type's defaults.
   void setToolType(int type);
   /// Choose the display resolution (facets around the axis); clamped to [3, 1024].
   void setResolution(int facets);
@@ -106,7 +107,9 @@ public Q_SLOTS:
   bool setToolParameter(const QString& key, double value);
   /// Set the bone file path (.nrrd or .mha).
   void setBoneFile(const QString& path);
+  /// Start sessions from the bone file (true) or the scene's bone (false, the default).
   void setStartFromBoneFile(bool start);
+  /// Show the cut bone with volume rendering (true) or as its surface (false, the default).
   void setVolumeRendering(bool on);
   /// Show the session's recent history in the charts: a table with the columns time_s, thrust_N,
   /// torque_Nmm and frame_ms (vtkBMSessionSource's output port 2). The panel keeps a copy; null
