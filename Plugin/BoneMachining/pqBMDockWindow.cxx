@@ -85,6 +85,11 @@ void pqBMDockWindow::startSession(const QString& scene, int voxmapResolution, in
   pqServer* server = pqActiveObjects::instance().activeServer();
   if (!server)
     return;
+  if (this->Panel->useChosenTool() && this->Panel->toolSpecification().isEmpty()) {
+    // Refused before any source is made: the scene's tool must not stand in silently.
+    this->Panel->setSessionStatus(tr("Cannot start: %1").arg(this->Panel->toolSummary()), false);
+    return;
+  }
   std::string boneCT;
   if (this->Panel->useCTBone()) {
     if (!this->CTBone) {
