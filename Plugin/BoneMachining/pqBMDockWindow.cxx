@@ -92,12 +92,18 @@ void pqBMDockWindow::startSession(const QString& scene, int voxmapResolution, in
   }
   std::string boneCT;
   if (this->Panel->useCTBone()) {
+    this->previewCT(); // the CT settings as they are now, checked before the session starts
     if (!this->CTBone) {
-      this->Panel->setSessionStatus(tr("Preview the CT bone first."), false);
+      this->Panel->setSessionStatus(tr("Cannot start: no BM CT Bone source."), false);
       return;
     }
     vtkSMProxy* ct = this->CTBone->getProxy();
-    ct->UpdatePropertyInformation();
+    const std::string error = vtkSMPropertyHelper(ct, "LastErrorInfo").GetAsString();
+    if (!error.empty()) {
+      this->Panel->setSessionStatus(
+          tr("Cannot start on the CT bone: %1").arg(QString::fromStdString(error)), false);
+      return;
+    }
     boneCT = vtkSMPropertyHelper(ct, "BoneSpecificationInfo").GetAsString();
   }
   pqPipelineSource* source = pqApplicationCore::instance()->getObjectBuilder()->createSource(

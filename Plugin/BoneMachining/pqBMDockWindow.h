@@ -29,7 +29,8 @@ private Q_SLOTS:
   /// resolutions, device, force model, tool, bone file, volume), starts it and shows the cut bone
   /// and the tool in the active view. ParaView's live-source behaviour re-executes it as it cuts;
   /// pollSession() reads its numbers and, with the built-in server, its history into the panel
-  /// (~30 Hz).
+  /// (~30 Hz). On the CT bone, the CT is previewed with the panel's current settings first and
+  /// an import error refuses the start.
   void startSession(const QString& scene, int voxmapResolution, int shellResolution,
                     int deviceType);
   void pauseSession(bool paused);
