@@ -152,6 +152,8 @@ void pqBMDockWindow::startSession(const QString& scene, int voxmapResolution, in
     view->render();
   }
   this->Session = source;
+  this->ChartedFrame = -1;
+  this->ChartClock.start();
   this->Poll->start();
   this->Panel->setSessionStatus(tr("Started %1.").arg(source->getSMName()), true);
 }
@@ -170,7 +172,9 @@ void pqBMDockWindow::stopSession() {
     return;
   this->Session->getProxy()->InvokeCommand("Stop");
   this->Session->updatePipeline(); // the final cut, numbers and state
+  this->ForceCharts = true;
   this->pollSession();
+  this->ForceCharts = false;
   this->Panel->setSessionStatus(tr("Stopped %1.").arg(this->Session->getSMName()), false);
 }
 
@@ -279,9 +283,17 @@ void pqBMDockWindow::pollSession() {
     return;
   vtkSMProxy* proxy = this->Session->getProxy();
   proxy->UpdatePropertyInformation();
-  // The history table lives where the source runs: with the built-in server that is here.
-  if (auto* logic = vtkBMSessionSource::SafeDownCast(proxy->GetClientSideObject()))
-    this->Panel->setHistory(logic->GetHistory());
+  // The history table lives where the source runs: with the built-in server that is here. The
+  // charts are redrawn only when the source executed since, and at most every 100 ms: drawing
+  // takes the cores the haptic thread needs.
+  const vtkIdType frame = vtkSMPropertyHelper(proxy, "FrameInfo").GetAsIdType();
+  if (frame != this->ChartedFrame && (this->ForceCharts || this->ChartClock.elapsed() >= 100)) {
+    if (auto* logic = vtkBMSessionSource::SafeDownCast(proxy->GetClientSideObject())) {
+      this->Panel->setHistory(logic->GetHistory());
+      this->ChartedFrame = frame;
+      this->ChartClock.restart();
+    }
+  }
   // The state, and why it paused (the trial's end, overruns, a device fault, the user).
   const int state = vtkSMPropertyHelper(proxy, "StateInfo").GetAsInt();
   const QString reason =

@@ -3,7 +3,10 @@
 #pragma once
 
 #include <QDockWidget>
+#include <QElapsedTimer>
 #include <QPointer>
+
+#include "vtkType.h"
 
 class pqPipelineSource;
 class qBMPanel;
@@ -54,4 +57,8 @@ private:
   QPointer<pqPipelineSource> Session;
   QPointer<pqPipelineSource> CTBone;
   QTimer* Poll;
+  /// Session frame the charts show, and the time since they were drawn.
+  vtkIdType ChartedFrame = -1;
+  QElapsedTimer ChartClock;
+  bool ForceCharts = false; ///< draw the charts at the next poll whatever the time (Stop)
 };
