@@ -1,16 +1,34 @@
-// bmsim bench - frame time against force error over the paper's resolution grid (issue 3).
+// bmsim bench - frame time against force error over the paper's resolution grid (issue 3);
+// with --view, the live view of the cut bone during a reaming session (issue 6).
 #include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
+#include <memory>
 #include <sstream>
 #include <thread>
 
+#include <vtkNew.h>
+#include <vtkPolyData.h>
+
 #include "bmAtomicFile.h"
 #include "bmBenchmark.h"
+#include "bmBoneSurface.h"
+#include "bmEdgeQuadrature.h"
+#include "bmFeedTrial.h"
+#include "bmTimingStats.h"
+#include "bmMachiningSetup.h"
+#include "bmScene.h"
 #include "bmSpeedAccuracyChart.h"
 #include "bmsimArgs.h"
 #include "bmsimCommand.h"
+#ifdef BM_WITH_IO
+#include "bmCTVoxmap.h"
+#endif
 
 namespace {
 
@@ -34,6 +52,30 @@ const char* kUsage = R"(usage: bmsim bench [options]
   --cell-limit S         stop a cell after S seconds (default 600)
   --replot CSV,...       run nothing: merge saved bench.csv files (a later file's cell replaces
                          an earlier one's) and write the tables and the chart from them
+
+  --view                 instead: the live view of the cut bone (bm::BoneSurface, as the BM
+                         Session source refreshes it) while the glenoid scene is reamed, per
+                         voxmap of --voxmaps (default 192,512): a haptic thread runs the scene's
+                         scripted feed through the engine (one frame per period, frames back to
+                         back, --threads engine threads, default 1), once without and once with
+                         the view refreshing on this thread every --interval ms (default 33,
+                         ParaView's live-source poll; 0 = back to back), --repeats times
+                         (default 1). Prints the refresh time median and p99 (ms) over the
+                         refreshes while bone was being cut, the refreshes per second that
+                         would fit (1000 / median, 1000 / p99), the bricks re-extracted and left
+                         pending, the first (whole-surface) extraction, and the haptic frame
+                         time p50/p99 with and without the view. Writes view.csv to --out
+                         (default out/bench-view).
+  --scene NAME|FILE      --view: the scene (default glenoid; in builds without CT import, the
+                         glenoid phantom's analytic bone is sampled straight into the voxmap)
+  --interval MS          --view: refresh period, ms (default 33)
+  --repeats N            --view: runs per voxmap and mode (default 1)
+  --real-time            --view: the haptic thread at the scene's frame rate (1 kHz, sleeping
+                         between frames) instead of back to back
+  --frames N             --view: stop after N haptic frames (default: the scene's whole trial)
+  --budget MS            --view: the surface's extraction time budget per refresh, ms (default
+                         20, as the BM Session source; 0 = every changed brick every refresh)
+  --brick N              --view: the surface's brick edge, voxels (default 32, as the source)
 )";
 
 std::vector<std::string> Split(const std::string& s) {
@@ -80,18 +122,257 @@ std::string MachineName() {
   return model + ", " + std::to_string(std::thread::hardware_concurrency()) + " logical cores";
 }
 
+using Clock = std::chrono::steady_clock;
+
+#ifndef BM_WITH_IO
+/// The glenoid phantom's bone (bmPhantom.h's analytic geometry: face centre (-60, 20, 40) mm,
+/// outward axis -x, elliptic face 40 x 29 mm, concave face of radius 35 mm, vault 25 mm deep,
+/// pilot hole r 3.2 mm x 10 mm) sampled straight into a voxmap, for builds without BMIO (no ITK:
+/// no CT import). Box: the bone's bounds plus 0.625 mm, `resolution` voxels along its longest
+/// side; fill = 0.5 + (signed distance to the surface) / spacing, clamped (partial volume, as the
+/// CT import's resampling gives), all cortical. Units: mm.
+bm::Voxmap AnalyticGlenoid(int resolution) {
+  const double a = 20, b = 14.5, Rc = 35, H = 25, rp = 3.2, Dp = 10, margin = 0.625;
+  const double wTop = Rc - std::sqrt(Rc * Rc - a * a);
+  // World x = -60 - w, y = 20 + v, z = 40 + u.
+  const std::array<double, 3> lo{-60 - wTop - margin, 20 - b - margin, 40 - a - margin};
+  const std::array<double, 3> hi{-60 + H + margin, 20 + b + margin, 40 + a + margin};
+  double longest = 0;
+  for (int q = 0; q < 3; ++q)
+    longest = std::max(longest, hi[q] - lo[q]);
+  const double h = longest / resolution;
+  std::array<int, 3> dims;
+  for (int q = 0; q < 3; ++q)
+    dims[q] = int(std::ceil((hi[q] - lo[q]) / h));
+  bm::Voxmap v(dims, h, {lo[0] + 0.5 * h, lo[1] + 0.5 * h, lo[2] + 0.5 * h});
+  bm::Voxmap::Fill* fill = v.MutableFill();
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i) {
+        const auto p = v.GridToWorld({double(i), double(j), double(k)});
+        const double w = -60 - p[0], vv = p[1] - 20, u = p[2] - 40;
+        const double r = std::hypot(u, vv);
+        // Signed distances (> 0 inside): elliptic wall (first order), vault floor, concave face
+        // (a sphere of radius Rc centred Rc above the face centre), pilot hole.
+        const double q = std::hypot(u / a, vv / b);
+        const double g = q > 1e-9 ? std::hypot(u / (a * a), vv / (b * b)) / q : 1 / b;
+        const double wall = (1 - q) / g;
+        const double floor = w + H;
+        const double face = std::sqrt(r * r + (w - Rc) * (w - Rc)) - Rc;
+        const double hole = std::max(r - rp, -Dp - w);
+        const double d = std::min({wall, floor, face, hole});
+        fill[v.Index(i, j, k)] =
+            bm::Voxmap::Fill(std::clamp(0.5 + d / h, 0.0, 1.0) * bm::Voxmap::kFull);
+      }
+  v.RebuildOccupancy();
+  return v;
+}
+#endif
+
+/// One scripted session of the scene, with or without the live view refreshing.
+struct ViewRun {
+  std::vector<double> refreshMs;             ///< refreshes while bone was cut
+  std::vector<int> bricks;                   ///< bricks re-extracted by those refreshes
+  std::vector<double> extractMs, assembleMs; ///< their parts (bm::BoneSurface::UpdateStats)
+  std::vector<double> pending;               ///< changed bricks each left for the next
+  double firstMs = 0;                        ///< the first refresh (the whole surface)
+  int refreshes = 0;                         ///< all refreshes after the first
+  double cutS = 0;        ///< wall time from the first to the last cutting refresh
+  bm::TimingStats haptic; ///< the session's frame time
+  double removedMm3 = 0;
+  vtkIdType triangles = 0; ///< of the final surface
+};
+
+/// Runs the scene's scripted feed trial as vtkBMSessionSource runs it (position-source limits,
+/// scripted feed, frames back to back unless realTime) and, when view, refreshes the surface
+/// from the live bone every intervalMs on this thread (BoneSurface::Update then a shallow copy
+/// into the port's polydata, the surface part of vtkBMSessionSource::RequestData).
+ViewRun RunViewSession(const bm::Scene& scene, bool view, double intervalMs, bool realTime,
+                       int64_t maxFrames, double budgetMs, int brick) {
+#ifdef BM_WITH_IO
+  bm::Voxmap bone = scene.bone.type == "block"
+                        ? bm::MakeSceneBlock(scene)
+                        : bm::MakeCTVoxmap(scene.bone.ct, scene.baseDir, scene.voxmapResolution);
+#else
+  const bool glenoid =
+      scene.bone.type != "block" && scene.bone.ct.value("phantom", "") == "glenoid";
+  if (scene.bone.type != "block" && !glenoid)
+    throw std::runtime_error("scene '" + scene.name + "' needs CT import (BMIO)");
+  bm::Voxmap bone = glenoid ? AnalyticGlenoid(scene.voxmapResolution) : bm::MakeSceneBlock(scene);
+#endif
+  bm::MachiningSetup setup(scene, std::move(bone));
+  const bm::TrialSpec& t = scene.trial;
+  const double depth =
+      t.depthMm >= 0 ? t.depthMm : bm::FullEngagementDepth(setup.Tool()) + t.extraDepthMm;
+  const bm::FeedPath path(setup);
+  int64_t frames = int64_t(std::ceil((depth + t.clearanceMm) / path.StepMm()));
+  if (maxFrames > 0)
+    frames = std::min(frames, maxFrames);
+
+  // The haptic thread: the scene's scripted feed, one engine frame (collision, forces, removal)
+  // per period, as the feed trial runs it; it never waits for the view.
+  std::vector<double> frameMs;
+  frameMs.reserve(size_t(frames));
+  std::atomic<double> removedMm3{0};
+  std::atomic<bool> finished{false};
+  std::thread haptic([&] {
+    bm::Engine& engine = setup.GetEngine();
+    const auto start = Clock::now();
+    double removed = 0;
+    for (int64_t k = 0; k < frames; ++k) {
+      const bm::FrameInput in = path.Frame(-t.clearanceMm + path.StepMm() * double(k + 1), k);
+      const auto t0 = Clock::now();
+      removed += engine.Step(in).removedVolumeMm3;
+      frameMs.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+      removedMm3.store(removed, std::memory_order_relaxed);
+      if (realTime)
+        std::this_thread::sleep_until(start +
+                                      std::chrono::duration<double>(t.frameS * double(k + 1)));
+    }
+    finished.store(true);
+  });
+
+  bm::BoneSurface surface(brick);
+  surface.SetTimeBudgetMs(budgetMs);
+  vtkNew<vtkPolyData> port;
+  ViewRun r;
+  const auto period = std::chrono::microseconds(int64_t(intervalMs * 1000));
+  double lastRemoved = 0;
+  bool first = true;
+  Clock::time_point firstCut, lastCut;
+  while (true) {
+    const auto next = Clock::now() + period;
+    const bool done = finished.load();
+    if (view) {
+      const double removed = removedMm3.load(std::memory_order_relaxed);
+      const auto t0 = Clock::now();
+      const int n = surface.Update(setup.Bone());
+      port->ShallowCopy(surface.GetOutput());
+      const auto t1 = Clock::now();
+      const double ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+      if (first) {
+        r.firstMs = ms;
+        first = false;
+      } else {
+        ++r.refreshes;
+        if (removed > lastRemoved) {
+          if (r.refreshMs.empty())
+            firstCut = t0;
+          lastCut = t1;
+          r.refreshMs.push_back(ms);
+          r.bricks.push_back(n);
+          r.extractMs.push_back(surface.LastUpdate().extractMs);
+          r.assembleMs.push_back(surface.LastUpdate().assembleMs);
+          r.pending.push_back(surface.LastUpdate().pending);
+        }
+      }
+      lastRemoved = removed;
+    }
+    if (done)
+      break;
+    std::this_thread::sleep_until(next);
+  }
+  haptic.join();
+  r.removedMm3 = removedMm3.load();
+  std::sort(frameMs.begin(), frameMs.end());
+  r.haptic.frames = int64_t(frameMs.size());
+  r.haptic.p50Ms = bm::Percentile(frameMs, 50);
+  r.haptic.p99Ms = bm::Percentile(frameMs, 99);
+  r.haptic.maxMs = frameMs.empty() ? 0 : frameMs.back();
+  for (double x : frameMs)
+    r.haptic.meanMs += x / double(frameMs.size());
+  if (view) {
+    surface.Update(setup.Bone());
+    r.triangles = surface.GetOutput()->GetNumberOfCells();
+    r.cutS = std::chrono::duration<double>(lastCut - firstCut).count();
+  }
+  return r;
+}
+
+int ViewBench(const bm::cli::ParsedArgs& p) {
+  using bm::cli::UsageError;
+  const std::vector<int> voxmaps = Resolutions(p, "voxmaps", {192, 512});
+  const int threads = int(p.GetInt("threads", 1, 64).value_or(1));
+  const double interval = p.GetDouble("interval", 0, 10000).value_or(33.0);
+  const int repeats = int(p.GetInt("repeats", 1, 100).value_or(1));
+  const bool realTime = p.Has("real-time");
+  const int64_t frames = p.GetInt("frames", 1, 100000000).value_or(0);
+  const double budget = p.GetDouble("budget", 0, 10000).value_or(20.0);
+  const int brick = int(p.GetInt("brick", 2, 1024).value_or(32));
+  const std::string sceneName = p.Get("scene", "glenoid");
+  const std::string out = p.Get("out", "out/bench-view");
+  bm::Scene base = (std::filesystem::path(sceneName).extension() == ".json" ||
+                    std::filesystem::exists(sceneName))
+                       ? bm::Scene::Load(sceneName)
+                       : bm::Scene::Builtin(sceneName);
+  std::ostringstream csv;
+  csv << "voxmap,run,view,refresh_ms_median,refresh_ms_p99,fps_median,fps_p99,refreshes_cutting,"
+         "refreshes_per_s,bricks_median,pending_median,pending_max,extract_ms_median,"
+         "assemble_ms_median,first_extract_ms,triangles,haptic_ms_mean,haptic_ms_p50,haptic_ms_p99,"
+         "haptic_ms_max,haptic_frames,removed_mm3\n";
+  std::cout << std::fixed << std::setprecision(2);
+  std::cout << "live view of scene " << base.name << ": engine threads " << threads << ", "
+            << (realTime ? "real-time 1 kHz" : "frames back to back") << ", refresh every "
+            << interval << " ms, extraction budget " << budget << " ms, bricks of " << brick
+            << " voxels; machine: " << MachineName() << "\n";
+  for (int v : voxmaps) {
+    nlohmann::json j = base.ToJson();
+    j["voxmap_resolution"] = v;
+    j["threads"] = threads;
+    bm::Scene scene = bm::Scene::FromJson(j);
+    scene.baseDir = base.baseDir;
+    for (int run = 1; run <= repeats; ++run)
+      for (bool view : {false, true}) {
+        const ViewRun r = RunViewSession(scene, view, interval, realTime, frames, budget, brick);
+        const double med = bm::Percentile(r.refreshMs, 50), p99 = bm::Percentile(r.refreshMs, 99);
+        std::vector<double> bricks(r.bricks.begin(), r.bricks.end());
+        std::cout << "voxmap " << v << " run " << run << (view ? " view on: " : " view off: ");
+        if (view)
+          std::cout << "refresh median " << med << " ms, p99 " << p99 << " ms ("
+                    << (med > 0 ? 1000 / med : 0) << " / " << (p99 > 0 ? 1000 / p99 : 0)
+                    << " FPS), " << r.refreshMs.size() << " refreshes while cutting ("
+                    << (r.cutS > 0 ? double(r.refreshMs.size()) / r.cutS : 0.0)
+                    << " per s), bricks median " << bm::Percentile(bricks, 50)
+                    << ", left pending median " << bm::Percentile(r.pending, 50) << " max "
+                    << bm::Percentile(r.pending, 100) << "; extract median "
+                    << bm::Percentile(r.extractMs, 50) << " ms, assemble median "
+                    << bm::Percentile(r.assembleMs, 50) << " ms; first " << r.firstMs << " ms, "
+                    << r.triangles << " triangles; ";
+        std::cout << "haptic mean " << r.haptic.meanMs << " ms, p50 " << r.haptic.p50Ms
+                  << " ms, p99 " << r.haptic.p99Ms << " ms, max " << r.haptic.maxMs << " ms over "
+                  << r.haptic.frames << " frames; removed " << r.removedMm3 << " mm^3\n"
+                  << std::flush;
+        csv << v << "," << run << "," << (view ? 1 : 0) << "," << med << "," << p99 << ","
+            << (med > 0 ? 1000 / med : 0) << "," << (p99 > 0 ? 1000 / p99 : 0) << ","
+            << r.refreshMs.size() << "," << (r.cutS > 0 ? double(r.refreshMs.size()) / r.cutS : 0.0)
+            << "," << bm::Percentile(bricks, 50) << "," << bm::Percentile(r.pending, 50) << ","
+            << bm::Percentile(r.pending, 100) << "," << bm::Percentile(r.extractMs, 50) << ","
+            << bm::Percentile(r.assembleMs, 50) << "," << r.firstMs << "," << r.triangles << ","
+            << r.haptic.meanMs << "," << r.haptic.p50Ms << "," << r.haptic.p99Ms << ","
+            << r.haptic.maxMs << "," << r.haptic.frames << "," << r.removedMm3 << "\n";
+      }
+  }
+  std::filesystem::create_directories(out);
+  bm::WriteFileAtomic(out + "/view.csv", csv.str());
+  std::cout << "wrote " << out << "/view.csv\n";
+  return 0;
+}
+
 int BenchCommand(const bm::cli::Args& args) {
   using bm::cli::UsageError;
   bm::cli::ParsedArgs p(args,
                         {"out", "methods", "backends", "shells", "voxmaps", "frames", "warmup",
-                         "threads", "device", "cell-limit", "replot"},
-                        {"quick", "help"});
+                         "threads", "device", "cell-limit", "replot", "scene", "interval", "budget",
+                         "brick", "repeats"},
+                        {"quick", "help", "view", "real-time"});
   if (p.Has("help")) {
     std::cout << kUsage;
     return 0;
   }
   if (!p.Positional().empty())
     throw UsageError(std::string("takes no positional arguments\n") + kUsage);
+  if (p.Has("view"))
+    return ViewBench(p);
   bm::BenchOptions o;
   const bool quick = p.Has("quick");
   if (quick) {
