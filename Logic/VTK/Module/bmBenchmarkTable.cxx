@@ -2,6 +2,7 @@
 #include "bmBenchmarkTable.h"
 
 #include <charconv>
+#include <cstdlib>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -36,6 +37,8 @@ double ParseNumber(const std::string& text, const std::string& path, int line,
 } // namespace
 
 std::string BenchmarkTable::DefaultPath() {
+  if (const char* env = std::getenv("BM_BENCHMARK_CSV"); env && *env)
+    return env;
 #ifdef BM_BENCHMARK_CSV
   return BM_BENCHMARK_CSV;
 #else

@@ -32,8 +32,9 @@ public:
   /// Reads a bench.csv. Throws std::runtime_error naming the file and the problem (unreadable,
   /// a missing column, a malformed number with its line), and when no row has status "ok".
   static BenchmarkTable Load(const std::string& path);
-  /// The installed table: Resources/Benchmark/bench.csv of the source tree (compile definition
-  /// BM_BENCHMARK_CSV), as the built-in scenes are found.
+  /// The table to read: $BM_BENCHMARK_CSV when set and not empty (e.g. a machine's own
+  /// measurements, or a test's), else Resources/Benchmark/bench.csv of the source tree (compile
+  /// definition BM_BENCHMARK_CSV), as the built-in scenes are found.
   static std::string DefaultPath();
 
   /// The measured cells (status "ok" only), in file order.

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -33,17 +34,28 @@ std::string LoadError(const std::string& text) {
 }
 } // namespace
 
-TEST(BenchmarkTable, InstalledTableHasEveryMeasuredCell) {
+TEST(BenchmarkTable, InstalledTableFindsEachMeasuredCell) {
+  // Whatever the figures (bench.csv is re-measured now and then): the installed table reads,
+  // covers both methods on the CPU, and a measured resolution finds its own cell.
+  unsetenv("BM_BENCHMARK_CSV");
   const bm::BenchmarkTable table = bm::BenchmarkTable::Load(bm::BenchmarkTable::DefaultPath());
-  EXPECT_EQ(table.Cells().size(), 80u); // 2 methods x 2 backends x 5 shells x 4 voxmaps
-  // A cell measured exactly: bench.csv's lazar/cpu row at shell 256, voxmap 256.
-  const bm::BenchmarkCell* c = table.Nearest("lazar", "cpu", 256, 256);
-  ASSERT_NE(c, nullptr);
-  EXPECT_EQ(c->shell, 256);
-  EXPECT_EQ(c->voxmap, 256);
-  EXPECT_DOUBLE_EQ(c->medianMs, 0.09358);
-  EXPECT_DOUBLE_EQ(c->p99Ms, 0.189043);
-  EXPECT_DOUBLE_EQ(c->forceError, 0.000335505);
+  ASSERT_FALSE(table.Cells().empty());
+  EXPECT_NE(table.Nearest("lazar", "cpu", 256, 256), nullptr);
+  EXPECT_NE(table.Nearest("zheng", "cpu", 256, 256), nullptr);
+  for (const bm::BenchmarkCell& c : table.Cells()) {
+    EXPECT_EQ(table.Nearest(c.method, c.backend, c.shell, c.voxmap), &c)
+        << c.method << "/" << c.backend << " " << c.shell << "/" << c.voxmap;
+    EXPECT_GT(c.medianMs, 0);
+    EXPECT_GE(c.p99Ms, c.medianMs);
+    EXPECT_GE(c.forceError, 0);
+  }
+}
+
+TEST(BenchmarkTable, EnvironmentChoosesTheTable) {
+  setenv("BM_BENCHMARK_CSV", "/somewhere/else.csv", 1);
+  EXPECT_EQ(bm::BenchmarkTable::DefaultPath(), "/somewhere/else.csv");
+  unsetenv("BM_BENCHMARK_CSV");
+  EXPECT_NE(bm::BenchmarkTable::DefaultPath(), "/somewhere/else.csv");
 }
 
 TEST(BenchmarkTable, NearestInLogResolution) {
