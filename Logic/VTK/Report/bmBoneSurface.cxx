@@ -2,6 +2,7 @@
 #include "bmBoneSurface.h"
 
 #include <algorithm>
+#include <functional>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -113,11 +114,8 @@ void BoneSurface::Reset(const Voxmap& bone) {
   const size_t n = size_t(NumBricks());
   Bricks_.assign(n, BrickMesh{});
   Dirty_.assign(n, 1);
-  Changed_.assign(n, 0);
-  Place_.assign(n, -1);
-  Order_.clear();
-  PointStart_.assign(1, 0);
-  TriangleStart_.assign(1, 0);
+  PointSlots_.assign(n, {});
+  TriangleSlots_.assign(n, {});
   Cursor_ = 0;
   AllDirty_ = false;
   // Our bricks that each of the voxmap's bricks reaches, per axis: voxmap brick v holds the voxels
@@ -240,87 +238,132 @@ void BoneSurface::ExtractBrick(const Voxmap& bone, int64_t b, BrickMesh& mesh) {
   }
 }
 
-void BoneSurface::Assemble(const std::vector<int64_t>& changed) {
-  // New order: the bricks before the first changed one stay where they are; after them the
-  // unchanged bricks that followed, then the changed ones (non-empty).
-  int64_t from = int64_t(Order_.size());
-  for (int64_t b : changed) {
-    Changed_[size_t(b)] = 1;
-    if (Place_[size_t(b)] >= 0)
-      from = std::min(from, Place_[size_t(b)]);
+void BoneSurface::RemoveBrick(int64_t b) {
+  std::vector<int32_t>& points = PointSlots_[size_t(b)];
+  FreePoints_.insert(FreePoints_.end(), points.begin(), points.end());
+  points.clear();
+  // Fill each of its triangle places, highest first, with the array's last triangle (never one
+  // of this brick's: those above the current place are gone already).
+  std::vector<int32_t>& tris = TriangleSlots_[size_t(b)];
+  std::sort(tris.begin(), tris.end(), std::greater<int32_t>());
+  int32_t* conn = Connectivity_->GetPointer(0);
+  for (int32_t slot : tris) {
+    const int32_t last = int32_t(--NumTriangles_);
+    if (slot == last)
+      continue;
+    std::memcpy(conn + 3 * int64_t(slot), conn + 3 * int64_t(last), 3 * sizeof(int32_t));
+    const int32_t owner = TriangleOwner_[size_t(last)], index = TriangleIndex_[size_t(last)];
+    TriangleOwner_[size_t(slot)] = owner;
+    TriangleIndex_[size_t(slot)] = index;
+    TriangleSlots_[size_t(owner)][size_t(index)] = slot;
+    ++Stats_.rewrittenTriangles;
   }
-  std::vector<int64_t> tail;
-  tail.reserve(Order_.size() - size_t(from) + changed.size());
-  for (size_t q = size_t(from); q < Order_.size(); ++q)
-    if (!Changed_[size_t(Order_[q])])
-      tail.push_back(Order_[q]);
-  for (int64_t b : changed) {
-    Changed_[size_t(b)] = 0;
-    Place_[size_t(b)] = -1;
-    if (!Bricks_[size_t(b)].triangles.empty())
-      tail.push_back(b);
-  }
-  Order_.resize(size_t(from));
-  PointStart_.resize(size_t(from) + 1);
-  TriangleStart_.resize(size_t(from) + 1);
-  for (int64_t b : tail) {
-    Place_[size_t(b)] = int64_t(Order_.size());
-    Order_.push_back(b);
-    PointStart_.push_back(PointStart_.back() + Bricks_[size_t(b)].NumPoints());
-    TriangleStart_.push_back(TriangleStart_.back() + Bricks_[size_t(b)].NumTriangles());
-  }
-  const int64_t np = PointStart_.back(), nt = TriangleStart_.back();
+  tris.clear();
+}
 
-  // Arrays too small (or none yet): new ones with room to grow, written whole. The old ones stay
-  // valid for whoever still holds them.
-  if (!Points_ || np > PointCapacity_ || nt > TriangleCapacity_) {
-    PointCapacity_ = std::max<int64_t>(np + np / 4, 1024);
-    TriangleCapacity_ = std::max<int64_t>(nt + nt / 4, 1024);
-    if (PointCapacity_ > INT32_MAX || 3 * TriangleCapacity_ > INT32_MAX)
-      throw std::length_error("BoneSurface: surface too large for 32-bit connectivity");
-    Points_ = MakeArray<vtkFloatArray>(3, 3 * PointCapacity_, nullptr);
-    Normals_ = MakeArray<vtkFloatArray>(3, 3 * PointCapacity_, "Normals");
-    Offsets_ = MakeArray<vtkTypeInt32Array>(1, TriangleCapacity_ + 1, nullptr);
-    Connectivity_ = MakeArray<vtkTypeInt32Array>(1, 3 * TriangleCapacity_, nullptr);
-    OffsetsWritten_ = 0;
-    from = 0;
-    vtkNew<vtkPoints> points;
-    points->SetData(Points_);
-    Output_->SetPoints(points);
-    Output_->GetPointData()->SetNormals(Normals_);
-    vtkNew<vtkCellArray> polys;
-    SetLength(Offsets_.Get(), 1);
-    Offsets_->GetPointer(0)[0] = 0;
-    SetLength(Connectivity_.Get(), 0);
-    polys->SetData(Offsets_, Connectivity_);
-    Output_->SetPolys(polys);
-  }
+void BoneSurface::AddBrick(int64_t b) {
+  const BrickMesh& m = Bricks_[size_t(b)];
   float* pts = Points_->GetPointer(0);
   float* nrm = Normals_->GetPointer(0);
   int32_t* conn = Connectivity_->GetPointer(0);
-  int32_t* off = Offsets_->GetPointer(0);
-  for (size_t q = size_t(from); q < Order_.size(); ++q) {
-    const BrickMesh& m = Bricks_[size_t(Order_[q])];
-    const int64_t p0 = PointStart_[q], t0 = TriangleStart_[q];
-    std::memcpy(pts + 3 * p0, m.points.data(), m.points.size() * sizeof(float));
-    std::memcpy(nrm + 3 * p0, m.normals.data(), m.normals.size() * sizeof(float));
-    int32_t* c = conn + 3 * t0;
-    const int32_t shift = int32_t(p0);
-    for (int32_t local : m.triangles)
-      *c++ = local + shift;
+  std::vector<int32_t>& points = PointSlots_[size_t(b)];
+  points.resize(size_t(m.NumPoints()));
+  for (size_t i = 0; i < points.size(); ++i) {
+    int32_t slot;
+    if (!FreePoints_.empty()) {
+      slot = FreePoints_.back();
+      FreePoints_.pop_back();
+    } else {
+      slot = int32_t(NumPoints_++);
+    }
+    points[i] = slot;
+    std::memcpy(pts + 3 * int64_t(slot), m.points.data() + 3 * i, 3 * sizeof(float));
+    std::memcpy(nrm + 3 * int64_t(slot), m.normals.data() + 3 * i, 3 * sizeof(float));
+  }
+  std::vector<int32_t>& tris = TriangleSlots_[size_t(b)];
+  tris.resize(size_t(m.NumTriangles()));
+  for (size_t t = 0; t < tris.size(); ++t) {
+    const int32_t slot = int32_t(NumTriangles_++);
+    tris[t] = slot;
+    int32_t* c = conn + 3 * int64_t(slot);
+    for (size_t q = 0; q < 3; ++q)
+      c[q] = points[size_t(m.triangles[3 * t + q])];
+    TriangleOwner_[size_t(slot)] = int32_t(b);
+    TriangleIndex_[size_t(slot)] = int32_t(t);
+  }
+  Stats_.rewrittenTriangles += int64_t(tris.size());
+}
+
+void BoneSurface::Rebuild() {
+  int64_t np = 0, nt = 0;
+  for (const BrickMesh& m : Bricks_) {
+    np += m.NumPoints();
+    nt += m.NumTriangles();
+  }
+  // New arrays with room to grow; the old ones stay valid for whoever still holds them.
+  PointCapacity_ = std::max<int64_t>(np + np / 4, 1024);
+  TriangleCapacity_ = std::max<int64_t>(nt + nt / 4, 1024);
+  if (PointCapacity_ > INT32_MAX || 3 * TriangleCapacity_ > INT32_MAX)
+    throw std::length_error("BoneSurface: surface too large for 32-bit connectivity");
+  Points_ = MakeArray<vtkFloatArray>(3, 3 * PointCapacity_, nullptr);
+  Normals_ = MakeArray<vtkFloatArray>(3, 3 * PointCapacity_, "Normals");
+  Offsets_ = MakeArray<vtkTypeInt32Array>(1, TriangleCapacity_ + 1, nullptr);
+  Connectivity_ = MakeArray<vtkTypeInt32Array>(1, 3 * TriangleCapacity_, nullptr);
+  TriangleOwner_.assign(size_t(TriangleCapacity_), 0);
+  TriangleIndex_.assign(size_t(TriangleCapacity_), 0);
+  OffsetsWritten_ = 0;
+  Offsets_->GetPointer(0)[0] = 0;
+  vtkNew<vtkPoints> points;
+  points->SetData(Points_);
+  Output_->SetPoints(points);
+  Output_->GetPointData()->SetNormals(Normals_);
+  vtkNew<vtkCellArray> polys;
+  polys->SetData(Offsets_, Connectivity_);
+  Output_->SetPolys(polys);
+  FreePoints_.clear();
+  NumPoints_ = NumTriangles_ = 0;
+  for (size_t b = 0; b < Bricks_.size(); ++b) {
+    PointSlots_[b].clear();
+    TriangleSlots_[b].clear();
+    AddBrick(int64_t(b));
+  }
+}
+
+void BoneSurface::Assemble(const std::vector<int64_t>& changed, bool full) {
+  // Patch in place when the arrays hold the result and no more than half of the points would
+  // be unused; otherwise write everything into new arrays.
+  int64_t oldPoints = 0, newPoints = 0, oldTriangles = 0, newTriangles = 0;
+  for (int64_t b : changed) {
+    oldPoints += int64_t(PointSlots_[size_t(b)].size());
+    oldTriangles += int64_t(TriangleSlots_[size_t(b)].size());
+    newPoints += Bricks_[size_t(b)].NumPoints();
+    newTriangles += Bricks_[size_t(b)].NumTriangles();
+  }
+  const int64_t unused = int64_t(FreePoints_.size()) + oldPoints;
+  const int64_t points = NumPoints_ + std::max<int64_t>(0, newPoints - unused);
+  const int64_t triangles = NumTriangles_ - oldTriangles + newTriangles;
+  const int64_t unusedAfter = std::max<int64_t>(0, unused - newPoints);
+  if (full || !Points_ || points > PointCapacity_ || triangles > TriangleCapacity_ ||
+      (unusedAfter > 4096 && 2 * unusedAfter > points)) {
+    Rebuild();
+  } else {
+    for (int64_t b : changed)
+      RemoveBrick(b);
+    for (int64_t b : changed)
+      AddBrick(b);
   }
   // Every cell is a triangle: offsets are 0, 3, 6, ...; write the ones not yet written.
-  for (int64_t t = OffsetsWritten_ + 1; t <= nt; ++t)
+  int32_t* off = Offsets_->GetPointer(0);
+  for (int64_t t = OffsetsWritten_ + 1; t <= NumTriangles_; ++t)
     off[t] = int32_t(3 * t);
-  OffsetsWritten_ = std::max(OffsetsWritten_, nt);
-  SetLength(Points_.Get(), 3 * np);
-  SetLength(Normals_.Get(), 3 * np);
-  SetLength(Offsets_.Get(), nt + 1);
-  SetLength(Connectivity_.Get(), 3 * nt);
+  OffsetsWritten_ = std::max(OffsetsWritten_, NumTriangles_);
+  SetLength(Points_.Get(), 3 * NumPoints_);
+  SetLength(Normals_.Get(), 3 * NumPoints_);
+  SetLength(Offsets_.Get(), NumTriangles_ + 1);
+  SetLength(Connectivity_.Get(), 3 * NumTriangles_);
   Output_->GetPoints()->Modified();
   Output_->GetPolys()->Modified();
   Output_->Modified();
-  Stats_.rewrittenTriangles = nt - TriangleStart_[size_t(from)];
 }
 
 int BoneSurface::Update(const Voxmap& bone) {
@@ -350,7 +393,7 @@ int BoneSurface::Update(const Voxmap& bone) {
   Cursor_ = b;
   const auto t2 = Clock::now();
   if (!changed.empty() || !Points_)
-    Assemble(changed);
+    Assemble(changed, full);
   const auto t3 = Clock::now();
 
   Stats_.extracted = int(changed.size());

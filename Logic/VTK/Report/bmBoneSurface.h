@@ -16,11 +16,11 @@
 // waits. A time budget (SetTimeBudgetMs) bounds one update: the bricks left over stay pending and
 // go first next time, so a view keeps its frame rate and catches up within a few refreshes.
 //
-// The output is one vtkPolyData whose arrays are patched, not rebuilt: bricks are laid out one
-// after the other, the bricks re-extracted last at the end. An update rewrites the arrays only
-// from the first re-extracted brick on, which during a cut is the tail of bricks being cut, so its
-// cost follows the cut, not the whole surface (the arrays are reallocated, and rewritten whole,
-// only when they must grow).
+// The output is one vtkPolyData whose arrays are patched, not rebuilt, so an update costs the
+// triangles it changed, not the whole surface: a brick's old triangles are removed by moving the
+// array's last triangles into their places (its points' places are freed for later bricks: the
+// points array may hold unused points, which no triangle references), its new ones appended. The
+// arrays are reallocated and written whole only when they must grow or are half unused points.
 //
 // Units: world mm (points are in the voxmap's world frame); times in ms.
 #pragma once
@@ -100,7 +100,10 @@ private:
   void Reset(const Voxmap& bone);
   void ScanGenerations(const Voxmap& bone);
   void ExtractBrick(const Voxmap& bone, int64_t b, BrickMesh& mesh);
-  void Assemble(const std::vector<int64_t>& changed);
+  void Assemble(const std::vector<int64_t>& changed, bool full);
+  void Rebuild();
+  void RemoveBrick(int64_t b);
+  void AddBrick(int64_t b);
   int64_t BrickId(int i, int j, int k) const {
     return i + int64_t(BrickDims_[0]) * (j + int64_t(BrickDims_[1]) * k);
   }
@@ -121,11 +124,11 @@ private:
   std::vector<uint32_t> SeenGen_;
   std::array<std::vector<std::array<int, 2>>, 3> VoxBrickRange_;
 
-  /// Output layout: bricks in output order, and each brick's place (-1: not in the output).
-  std::vector<int64_t> Order_;
-  std::vector<int64_t> Place_;
-  /// Start of each ordered brick's points and triangles (one past the end: the totals).
-  std::vector<int64_t> PointStart_{0}, TriangleStart_{0};
+  /// Output layout: each brick's point and triangle places in the output arrays; for each
+  /// triangle place, its brick and its index in that brick's list; unused point places.
+  std::vector<std::vector<int32_t>> PointSlots_, TriangleSlots_;
+  std::vector<int32_t> TriangleOwner_, TriangleIndex_, FreePoints_;
+  int64_t NumPoints_ = 0, NumTriangles_ = 0; ///< points (unused ones included), triangles
   int64_t PointCapacity_ = 0, TriangleCapacity_ = 0, OffsetsWritten_ = 0;
   vtkSmartPointer<vtkFloatArray> Points_, Normals_;
   vtkSmartPointer<vtkTypeInt32Array> Offsets_, Connectivity_;
@@ -135,7 +138,6 @@ private:
   vtkSmartPointer<vtkImageData> Image_;
   vtkSmartPointer<vtkFloatArray> Values_;
   vtkSmartPointer<vtkFlyingEdges3D> Edges_;
-  std::vector<uint8_t> Changed_; ///< scratch: bricks re-extracted by this update
 
   UpdateStats Stats_;
 };
