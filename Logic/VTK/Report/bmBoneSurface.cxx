@@ -295,10 +295,22 @@ void BoneSurface::AddBrick(int64_t b) {
 }
 
 void BoneSurface::Rebuild() {
+  // Sizes of the result, and whether the current arrays hold it.
   int64_t np = 0, nt = 0;
   for (const BrickMesh& m : Bricks_) {
     np += m.NumPoints();
     nt += m.NumTriangles();
+  }
+  if (Points_ && np <= PointCapacity_ && nt <= TriangleCapacity_) {
+    // The arrays hold it: rewrite them in place, in order.
+    FreePoints_.clear();
+    NumPoints_ = NumTriangles_ = 0;
+    for (size_t b = 0; b < Bricks_.size(); ++b) {
+      PointSlots_[b].clear();
+      TriangleSlots_[b].clear();
+      AddBrick(int64_t(b));
+    }
+    return;
   }
   // New arrays with room to grow; the old ones stay valid for whoever still holds them.
   PointCapacity_ = std::max<int64_t>(np + np / 4, 1024);
@@ -330,8 +342,9 @@ void BoneSurface::Rebuild() {
 }
 
 void BoneSurface::Assemble(const std::vector<int64_t>& changed, bool full) {
-  // Patch in place when the arrays hold the result and no more than half of the points would
-  // be unused; otherwise write everything into new arrays.
+  // Patch in place when the arrays hold the result, no more than half of the points would be
+  // unused and the change is under a quarter of the surface (moving triangles one by one into
+  // holes costs more than a sequential rewrite past that); otherwise write everything again.
   int64_t oldPoints = 0, newPoints = 0, oldTriangles = 0, newTriangles = 0;
   for (int64_t b : changed) {
     oldPoints += int64_t(PointSlots_[size_t(b)].size());
@@ -344,7 +357,8 @@ void BoneSurface::Assemble(const std::vector<int64_t>& changed, bool full) {
   const int64_t triangles = NumTriangles_ - oldTriangles + newTriangles;
   const int64_t unusedAfter = std::max<int64_t>(0, unused - newPoints);
   if (full || !Points_ || points > PointCapacity_ || triangles > TriangleCapacity_ ||
-      (unusedAfter > 4096 && 2 * unusedAfter > points)) {
+      (unusedAfter > 4096 && 2 * unusedAfter > points) ||
+      4 * (oldTriangles + newTriangles) > NumTriangles_ + newTriangles) {
     Rebuild();
   } else {
     for (int64_t b : changed)
