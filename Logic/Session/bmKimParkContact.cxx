@@ -9,8 +9,10 @@ KimParkContact::KimParkContact(const ToolDistanceField& sdf, BoneSurfaceShell& s
     : Sdf_(sdf), Shell_(shell), KA_(stiffnessPerArea) {}
 
 void KimParkContact::ToolBox(const Eigen::Matrix3d& R, const Eigen::Vector3d& p,
-                             Eigen::Vector3d& lo, Eigen::Vector3d& hi) const {
-  const Eigen::Vector3d c = 0.5 * (Sdf_.Lo() + Sdf_.Hi()), e = 0.5 * (Sdf_.Hi() - Sdf_.Lo());
+                             Eigen::Vector3d& lo, Eigen::Vector3d& hi, ToolPart part) const {
+  Eigen::Vector3d tlo, thi;
+  Sdf_.PartBox(part, tlo, thi);
+  const Eigen::Vector3d c = 0.5 * (tlo + thi), e = 0.5 * (thi - tlo);
   const Eigen::Vector3d wc = R * c + p;
   const Eigen::Vector3d we = R.cwiseAbs() * e;
   lo = wc - we;
@@ -18,10 +20,10 @@ void KimParkContact::ToolBox(const Eigen::Matrix3d& R, const Eigen::Vector3d& p,
 }
 
 ContactResult KimParkContact::Query(const Eigen::Matrix3d& R, const Eigen::Vector3d& p,
-                                    double deadBandMm, ToolPart part) const {
+                                    double deadBandMm, ToolPart part, double rimBandMm) const {
   ContactResult out;
   Eigen::Vector3d lo, hi;
-  ToolBox(R, p, lo, hi);
+  ToolBox(R, p, lo, hi, part);
   const double h = Shell_.Bone().Spacing();
   const double kPoint = KA_ * h * h;
   const Eigen::Matrix3d Rt = R.transpose();
@@ -34,7 +36,7 @@ ContactResult KimParkContact::Query(const Eigen::Matrix3d& R, const Eigen::Vecto
     Eigen::Vector3d g;
     const double d = Sdf_.Sample(q, g);
     const double pen = -d - deadBandMm;
-    if (pen <= 0 || !Sdf_.InPart(q, part))
+    if (pen <= 0 || !Sdf_.InPart(q, part, rimBandMm))
       return;
     const double k = kPoint * sp.material;
     out.force += k * pen * sp.normal;

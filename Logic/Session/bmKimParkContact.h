@@ -38,13 +38,15 @@ public:
   const ToolDistanceField& Field() const { return Sdf_; }
   BoneSurfaceShell& Shell() { return Shell_; }
   double StiffnessPerArea() const { return KA_; }
-  /// World box (mm) covering the tool's field at pose (R, p).
+  /// World box (mm) covering the tool's field at pose (R, p), or only `part` of it (default: the
+  /// whole tool).
   void ToolBox(const Eigen::Matrix3d& R, const Eigen::Vector3d& p, Eigen::Vector3d& lo,
-               Eigen::Vector3d& hi) const;
+               Eigen::Vector3d& hi, ToolPart part = ToolPart::Whole) const;
   /// Contact of the tool at pose (R, p) with dead band deadBandMm (mm, >= 0, default 0), counting
-  /// only the bone points nearest to `part` of the tool's surface (default: the whole tool).
+  /// only the bone points nearest to `part` of the tool's surface (default: the whole tool) and,
+  /// for a part, at least rimBandMm (mm, default 0) inside its rim (ToolDistanceField::InPart).
   ContactResult Query(const Eigen::Matrix3d& R, const Eigen::Vector3d& p, double deadBandMm = 0,
-                      ToolPart part = ToolPart::Whole) const;
+                      ToolPart part = ToolPart::Whole, double rimBandMm = 0) const;
   /// Kim et al.'s Boolean removal: bone voxels whose centre is deeper than depthMm inside the tool
   /// at (R, p) are removed and the shell regenerated. Returns voxels removed; fill units in
   /// removedFill.

@@ -62,17 +62,19 @@ Eigen::Vector3d Proxy::Sweep(const Eigen::Vector3d& from, const Eigen::Vector3d&
   if (L <= 0 || !Sdf_->Has(part))
     return to;
   Eigen::Vector3d lo0, hi0, lo1, hi1;
-  Contact_->ToolBox(R, from, lo0, hi0);
-  Contact_->ToolBox(R, to, lo1, hi1);
+  Contact_->ToolBox(R, from, lo0, hi0, part);
+  Contact_->ToolBox(R, to, lo1, hi1, part);
   if (Shell_->EmptyIn(lo0.cwiseMin(lo1), hi0.cwiseMax(hi1)))
     return to; // no bone anywhere near the path
-  if (part != ToolPart::Whole && Contact_->Query(R, from, band, part).points > 0)
+  // A part's rim gets the lateral dead band: bone beside it is across the axis, not in front.
+  const double rim = part == ToolPart::Whole ? 0.0 : O_.deadBandVoxels * Setup_.Bone().Spacing();
+  if (part != ToolPart::Whole && Contact_->Query(R, from, band, part, rim).points > 0)
     return from; // a rigid part on bone goes no deeper
   const double step = O_.maxStepVoxels * Setup_.Bone().Spacing();
   const int n = std::max(1, int(std::ceil(L / step)));
   for (int i = 1; i <= n; ++i) {
     const Eigen::Vector3d q = from + d * (double(i) / n);
-    if (Contact_->Query(R, q, band, part).points > 0)
+    if (Contact_->Query(R, q, band, part, rim).points > 0)
       return q; // first contact: at most one step deep
   }
   return to;

@@ -27,6 +27,29 @@ ToolDistanceField::ToolDistanceField(const ToolModel& tool, int resolution, int 
     // The outline runs from the tip around to the back, so the outward normal is (dz, -drho) / L:
     // it faces the feed (-z_t) where rho grows along the segment.
     Leading_.push_back(a.kind == EdgeKind::None && b.rho - a.rho > 1e-9 * H_);
+    SegmentRhoMax_.push_back(std::max(a.rho, b.rho));
+  }
+  // A leading surface is drawn as a run of short segments: its rim is the run's outer radius.
+  for (size_t i = 0; i < Segments_.size();) {
+    size_t j = i + 1;
+    while (Leading_[i] && j < Segments_.size() && Leading_[j])
+      ++j;
+    const double rim =
+        *std::max_element(SegmentRhoMax_.begin() + long(i), SegmentRhoMax_.begin() + long(j));
+    std::fill(SegmentRhoMax_.begin() + long(i), SegmentRhoMax_.begin() + long(j), rim);
+    i = j;
+  }
+  // The leading part's box: its segments swept around the axis, grown by the field's margin.
+  double leadRho = 0, leadZLo = 1e300, leadZHi = -1e300;
+  for (size_t i = 0; i < Segments_.size(); ++i)
+    if (Leading_[i]) {
+      leadRho = std::max(leadRho, SegmentRhoMax_[i]);
+      leadZLo = std::min({leadZLo, Segments_[i][1], Segments_[i][3]});
+      leadZHi = std::max({leadZHi, Segments_[i][1], Segments_[i][3]});
+    }
+  if (leadZLo <= leadZHi) {
+    LeadLo_ = Eigen::Vector3d(-leadRho - Far_, -leadRho - Far_, leadZLo - Far_);
+    LeadHi_ = Eigen::Vector3d(leadRho + Far_, leadRho + Far_, leadZHi + Far_);
   }
   // 2D table over (rho, z) at half the 3D spacing.
   const double h2 = H_ / 2;
@@ -40,7 +63,7 @@ ToolDistanceField::ToolDistanceField(const ToolModel& tool, int resolution, int 
     for (int i = 0; i < nr; ++i) {
       size_t seg = 0;
       t[size_t(k) * nr + i] = Signed(i * h2, z0 + k * h2, seg);
-      LeadingTable_[size_t(k) * nr + i] = Leading_[seg];
+      LeadingTable_[size_t(k) * nr + i] = Leading_[seg] ? int32_t(seg) : -1;
     }
   TableStep_ = h2;
   TableZ0_ = z0;
@@ -87,12 +110,19 @@ size_t ToolDistanceField::Nearest(double rho, double z, double& dist2) const {
   return best;
 }
 
-bool ToolDistanceField::InPart(const Eigen::Vector3d& q, ToolPart part) const {
+bool ToolDistanceField::InPart(const Eigen::Vector3d& q, ToolPart part, double rimBandMm) const {
   if (part == ToolPart::Whole)
     return true;
-  const int i = std::clamp(int(std::lround(std::hypot(q(0), q(1)) / TableStep_)), 0, TableNr_ - 1);
+  const double rho = std::hypot(q(0), q(1));
+  const int i = std::clamp(int(std::lround(rho / TableStep_)), 0, TableNr_ - 1);
   const int k = std::clamp(int(std::lround((q(2) - TableZ0_) / TableStep_)), 0, TableNz_ - 1);
-  return LeadingTable_[size_t(k) * TableNr_ + i] != 0;
+  const int32_t seg = LeadingTable_[size_t(k) * TableNr_ + i];
+  return seg >= 0 && rho <= SegmentRhoMax_[size_t(seg)] - rimBandMm;
+}
+
+void ToolDistanceField::PartBox(ToolPart part, Eigen::Vector3d& lo, Eigen::Vector3d& hi) const {
+  lo = part == ToolPart::Whole ? Lo_ : LeadLo_;
+  hi = part == ToolPart::Whole ? Hi_ : LeadHi_;
 }
 
 bool ToolDistanceField::Has(ToolPart part) const {

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -48,8 +49,15 @@ public:
   /// Exact signed distance from the outline (mm) at radius rho and height z (for tests).
   double Exact(double rho, double z) const;
   /// Whether the outline nearest to tool-frame point q (mm) belongs to `part` (nearest node of a
-  /// table at half the grid spacing; outside the table: the nearest edge of it).
-  bool InPart(const Eigen::Vector3d& q, ToolPart part) const;
+  /// table at half the grid spacing; outside the table: the nearest edge of it) and q lies at
+  /// least rimBandMm (mm, default 0) inside the outer radius of that part's surface. The rim band
+  /// keeps a partial-volume wall beside a part (a pilot hole's wall along the guide nipple's side)
+  /// from counting as bone in front of it: the part's side is across the axis, where the contact
+  /// has its dead band.
+  bool InPart(const Eigen::Vector3d& q, ToolPart part, double rimBandMm = 0) const;
+  /// Tool-frame box (mm) holding every point InPart can accept for `part`: the whole field for
+  /// Whole, else the part's outline swept around the axis, grown by the field's margin.
+  void PartBox(ToolPart part, Eigen::Vector3d& lo, Eigen::Vector3d& hi) const;
   /// Whether any of the outline belongs to `part` (a drill or a burr has no leading non-cutting
   /// surface).
   bool Has(ToolPart part) const;
@@ -62,7 +70,9 @@ private:
 
   std::vector<std::array<double, 4>> Segments_; // (rho0, z0, rho1, z1)
   std::vector<unsigned char> Leading_;          // per segment: non-cutting, facing the feed
-  std::vector<unsigned char> LeadingTable_;     // Leading_ of the nearest segment, (rho, z) grid
+  std::vector<int32_t> LeadingTable_; // nearest segment if it is leading, else -1; (rho, z) grid
+  std::vector<double> SegmentRhoMax_; // per segment: outer radius of its run of leading ones, mm
+  Eigen::Vector3d LeadLo_ = Eigen::Vector3d::Zero(), LeadHi_ = Eigen::Vector3d::Zero();
   double TableStep_ = 0, TableZ0_ = 0;
   int TableNr_ = 0, TableNz_ = 0;
   const ToolModel* Tool_ = nullptr;

@@ -130,7 +130,11 @@ struct NippleRun {
   int stopFrame = -1; // first frame of the rest at the end
 };
 
-NippleRun RunNippleIntoPilotHole(double nippleRadiusMm) {
+/// holeR, holeDepth: the pilot hole, mm. partialWall: the wall voxels keep the fraction of their
+/// width outside holeR (a partial-volume wall, as a CT import leaves it), so bone points of the
+/// wall lie up to half a voxel inside holeR.
+NippleRun RunNippleIntoPilotHole(double nippleRadiusMm, double holeR = 0.35, double holeDepth = 0.6,
+                                 bool partialWall = false) {
   nlohmann::json j = bm::Scene::Builtin("drilling").ToJson();
   j["tool"] = {{"type", "reamer"},
                {"arc_radius_mm", 1.0},
@@ -151,8 +155,8 @@ NippleRun RunNippleIntoPilotHole(double nippleRadiusMm) {
   const bm::Scene scene = bm::Scene::FromJson(j);
   bm::MachiningSetup setup(scene, bm::MakeSceneBlock(scene));
   bm::Voxmap& bone = setup.Bone();
-  const double holeR = 0.35, holeDepth = 0.6;
   const auto d = bone.Dims();
+  const double h = bone.Spacing();
   NippleRun out;
   out.bottomCentreZ = -1e9;
   auto underNipple = [&](int64_t& sum) {
@@ -169,7 +173,11 @@ NippleRun RunNippleIntoPilotHole(double nippleRadiusMm) {
     for (int jj = 0; jj < d[1]; ++jj)
       for (int i = 0; i < d[0]; ++i) {
         const auto w = bone.GridToWorld({double(i), double(jj), double(k)});
-        if (std::hypot(w[0], w[1]) <= holeR) {
+        const double r = std::hypot(w[0], w[1]);
+        if (partialWall && w[2] >= -holeDepth && std::abs(r - holeR) < 0.5 * h) {
+          const double outside = (r - holeR) / h + 0.5; // share of the voxel's width beyond holeR
+          bone.SetFill(bone.Index(i, jj, k), bm::Voxmap::Fill(outside * bm::Voxmap::kFull));
+        } else if (r <= holeR) {
           if (w[2] >= -holeDepth)
             bone.SetFill(bone.Index(i, jj, k), 0);
           else
@@ -237,6 +245,22 @@ TEST(Proxy, NonCuttingPartsAreARigidContactAlongTheAxisWhileCutting) {
   // The same tool, all lips, in the same setup cuts on past the nipple's stop.
   EXPECT_LT(plain.finalZ, stopZ - 0.05);
   EXPECT_GT(plain.removedMm3, guided.removedMm3);
+}
+
+// The guided reamer in a snug through hole (radius = the nipple's) whose wall is partial volume,
+// as a CT import leaves it: wall points lie up to half a voxel inside the nipple's radius, beside
+// it rather than in front of it. The nipple must slide along that wall (the rim band) and the lips
+// cut on like the nipple-less reamer's; counting those points as bone in front of the nipple
+// stalled the glenoid session at its start.
+TEST(Proxy, GuideNippleSlidesAlongAPartialVolumeHoleWall) {
+  const NippleRun snug = RunNippleIntoPilotHole(0.25, 0.25, 2.0, true);
+  const NippleRun plain = RunNippleIntoPilotHole(0.0, 0.25, 2.0, true);
+  std::cout << "[nipple] snug partial-volume hole: proxy z " << snug.finalZ << " mm, removed "
+            << snug.removedMm3 << " mm^3; without nipple: z " << plain.finalZ << " mm, removed "
+            << plain.removedMm3 << " mm^3\n";
+  EXPECT_LT(snug.finalZ, -0.3); // past the nipple-less reamer's 0.3 mm-deep guided stop above
+  EXPECT_NEAR(snug.finalZ, plain.finalZ, 0.05);
+  EXPECT_GT(snug.removedMm3, 0.8 * plain.removedMm3);
 }
 
 } // namespace
