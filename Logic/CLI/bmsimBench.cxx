@@ -74,7 +74,7 @@ const char* kUsage = R"(usage: bmsim bench [options]
                          between frames) instead of back to back
   --frames N             --view: stop after N haptic frames (default: the scene's whole trial)
   --budget MS            --view: the surface's extraction time budget per refresh, ms (default
-                         20, as the BM Session source; 0 = every changed brick every refresh)
+                         8, as the BM Session source; 0 = every changed brick every refresh)
   --brick N              --view: the surface's brick edge, voxels (default 32, as the source)
 )";
 
@@ -297,7 +297,7 @@ int ViewBench(const bm::cli::ParsedArgs& p) {
   const int repeats = int(p.GetInt("repeats", 1, 100).value_or(1));
   const bool realTime = p.Has("real-time");
   const int64_t frames = p.GetInt("frames", 1, 100000000).value_or(0);
-  const double budget = p.GetDouble("budget", 0, 10000).value_or(20.0);
+  const double budget = p.GetDouble("budget", 0, 10000).value_or(8.0);
   const int brick = int(p.GetInt("brick", 2, 1024).value_or(32));
   const std::string sceneName = p.Get("scene", "glenoid");
   const std::string out = p.Get("out", "out/bench-view");

@@ -188,7 +188,7 @@ public:
   vtkGetMacro(FrameMsP99, double);
   /// Bricks re-extracted by the last execution, and its time, ms.
   vtkGetMacro(BricksUpdated, int);
-  /// Changed bricks the last execution left for the next (its extraction time budget, 20 ms).
+  /// Changed bricks the last execution left for the next (its extraction time budget, 8 ms).
   vtkGetMacro(BricksPending, int);
   vtkGetMacro(ExtractMs, double);
   const char* GetLastError();

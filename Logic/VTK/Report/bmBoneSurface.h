@@ -20,7 +20,10 @@
 // triangles it changed, not the whole surface: a brick's old triangles are removed by moving the
 // array's last triangles into their places (its points' places are freed for later bricks: the
 // points array may hold unused points, which no triangle references), its new ones appended. The
-// arrays are reallocated and written whole only when they must grow or are half unused points.
+// arrays are written whole, in order, when a quarter of the surface or more changed (in place),
+// or when they must grow or are half unused points (new arrays). One polydata rather than a
+// composite of per-brick pieces: the BM Session source's port stays a vtkPolyData, and the mapper
+// draws one buffer instead of thousands of blocks (a 512^3 voxmap holds 4913 bricks of 32).
 //
 // Units: world mm (points are in the voxmap's world frame); times in ms.
 #pragma once
