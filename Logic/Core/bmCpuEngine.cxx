@@ -1,7 +1,9 @@
 #include "bmCpuEngine.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <memory>
 
 #include <Eigen/Geometry>
 
@@ -16,6 +18,46 @@ void FramePartial::Clear() {
   removedFill = removedVoxels = 0;
   removals.clear();
 }
+
+void FramePartial::Add(const FramePartial& o) {
+  thrust += o.thrust;
+  torque += o.torque;
+  fx += o.fx;
+  fy += o.fy;
+  visited += o.visited;
+  engaged += o.engaged;
+  engagedCutting += o.engagedCutting;
+  requested += o.requested;
+  removedFill += o.removedFill;
+  removedVoxels += o.removedVoxels;
+}
+
+namespace {
+
+// Memory a worker may still read while it finishes a task it has lost (bmWorkerPool.h
+// RunRedoable: its results are thrown away) and the caller rewrites in a later frame: the fills
+// (removal), the residency buffers and the force table. Accessed as relaxed atomics, which on
+// x86-64 are the same plain moves, so that access is no data race.
+template <class T> T LoadRelaxed(const T& v) {
+  return std::atomic_ref<T>(const_cast<T&>(v)).load(std::memory_order_relaxed);
+}
+template <class T> void StoreRelaxed(T& v, T x) {
+  std::atomic_ref<T>(v).store(x, std::memory_order_relaxed);
+}
+ElementResidency LoadResidency(const ElementResidency& r) {
+  ElementResidency o;
+  o.voxel = LoadRelaxed(r.voxel);
+  o.frame = LoadRelaxed(r.frame);
+  o.engaged = LoadRelaxed(r.engaged);
+  return o;
+}
+void StoreResidency(ElementResidency& r, const ElementResidency& v) {
+  StoreRelaxed(r.voxel, v.voxel);
+  StoreRelaxed(r.frame, v.frame);
+  StoreRelaxed(r.engaged, v.engaged);
+}
+
+} // namespace
 
 double MaxRemovalUnits(const Eigen::Vector3d& d, double voxelMm, double unitsPerMm3) {
   // Projected area of a voxel along d times |d|: h^2 (|dx| + |dy| + |dz|).
@@ -49,13 +91,34 @@ FrameResult SumPartials(const std::vector<FramePartial>& parts, double voxelVolu
 CpuEngine::CpuEngine(Voxmap& bone, const ToolModel& tool, const PointShell& shell,
                      const ForceModel& model, int threads, CullingOptions culling)
     : Bone_(bone), Tool_(tool), Shell_(shell), Model_(model), Culling_(culling), Pool_(threads),
-      Partials_(size_t(threads)), State_(shell.Size()),
-      VoxelScratch_(size_t(threads), std::vector<int64_t>(kBatch)) {}
+      Partials_(NumTasks(shell) * size_t(Pool_.Threads())),
+      State_(Pool_.Threads() == 1 ? 1 : 2 * size_t(Pool_.Threads()),
+             std::vector<ElementResidency>(shell.Size())),
+      PrevWinner_(NumTasks(shell), 0),
+      RemovalCounts_((NumTasks(shell) + kTasksPerRemoval - 1) / kTasksPerRemoval),
+      VoxelScratch_(size_t(Pool_.Threads()), std::vector<int64_t>(kBatch)) {
+  Pool_.ReserveRedoable(int(NumTasks(shell)));
+}
+
+size_t CpuEngine::NumTasks(const PointShell& shell) {
+  return (shell.Blocks().size() + kBlocksPerTask - 1) / kBlocksPerTask;
+}
 
 void CpuEngine::UpdateForceTable(double f, double n) {
   if (f == TableFeed_ && n == TableSpeed_)
     return;
-  Table_ = ForceTable(Tool_, Model_, ShellBinSpans(Shell_), f, n);
+  // In place once sized: a worker still finishing a task of an earlier frame may read it.
+  const auto table = ForceTable(Tool_, Model_, ShellBinSpans(Shell_), f, n);
+  if (Table_.size() == table.size()) {
+    for (size_t i = 0; i < table.size(); ++i) {
+      StoreRelaxed(Table_[i].fx, table[i].fx);
+      StoreRelaxed(Table_[i].fy, table[i].fy);
+      StoreRelaxed(Table_[i].fz, table[i].fz);
+      StoreRelaxed(Table_[i].torque, table[i].torque);
+    }
+  } else {
+    Table_ = table; // the first cutting frame: no task has read it yet
+  }
   TableFeed_ = f;
   TableSpeed_ = n;
 }
@@ -67,13 +130,70 @@ std::vector<std::pair<EdgeKind, std::array<double, 2>>> ShellBinSpans(const Poin
   return spans;
 }
 
+CpuEngine::~CpuEngine() {
+  // A worker may still be finishing a task it lost (bmWorkerPool.h RunRedoable): join it before
+  // the buffers it writes go.
+  Pool_.Stop();
+}
+
 FrameResult CpuEngine::Step(const FrameInput& in) {
-  for (auto& p : Partials_)
-    p.Clear();
+  const int T = Pool_.Threads();
   const uint32_t frameNo = ++Frame_;
-  const FrameGeometry G(in, Shell_, Bone_);
+  // The frame's context, held by the workers that run its tasks: one that was descheduled may
+  // still be running a task after this frame (its results are not used), and must find
+  // consistent geometry, so every index it forms stays inside the arrays.
+  auto job = std::make_shared<PassJob>(
+      PassJob{FrameGeometry(in, Shell_, Bone_), frameNo, in.envelopeRemoves, PrevWinner_});
+  const FrameGeometry& G = job->G;
   if (G.cutting)
     UpdateForceTable(in.feedMmPerRev, in.speedRpm);
+  const Voxmap::Fill* fill = Bone_.FillData();
+  const int nTasks = int(PrevWinner_.size());
+  Pool_.RunRedoable(nTasks,
+                    std::make_shared<const WorkerPool::RedoableFn>(
+                        [this, job](int task, int thread) { RunPassTask(*job, task, thread); }));
+  for (int t = 0; t < nTasks; ++t)
+    PrevWinner_[size_t(t)] = uint8_t(Pool_.Winner(t));
+
+  const bool remove = G.remove;
+  const int nRemoval = (nTasks + kTasksPerRemoval - 1) / kTasksPerRemoval;
+  if (remove) {
+    Pool_.Run(nRemoval, [&](int task, int) {
+      int64_t removedFill = 0, removedVoxels = 0;
+      const int pEnd = std::min(nTasks, (task + 1) * kTasksPerRemoval);
+      for (int pi = task * kTasksPerRemoval; pi < pEnd; ++pi) {
+        const auto& req = Partials_[size_t(pi * T + PrevWinner_[size_t(pi)])].removals;
+        const size_t n = req.size();
+        constexpr size_t kAhead = 16; // requests whose fills are prefetched ahead
+        for (size_t i = 0; i < std::min(n, kAhead); ++i)
+          __builtin_prefetch(fill + req[i].first, 1);
+        for (size_t i = 0; i < n; ++i) {
+          if (i + kAhead < n)
+            __builtin_prefetch(fill + req[i + kAhead].first, 1);
+          bool voided = false;
+          removedFill += Bone_.Remove(req[i].first, req[i].second, voided);
+          removedVoxels += voided;
+        }
+      }
+      RemovalCounts_[size_t(task)] = {removedFill, removedVoxels};
+    });
+  }
+  FramePartial total;
+  for (int t = 0; t < nTasks; ++t)
+    total.Add(Partials_[size_t(t * T + PrevWinner_[size_t(t)])]);
+  if (remove)
+    for (int t = 0; t < nRemoval; ++t) {
+      total.removedFill += RemovalCounts_[size_t(t)][0];
+      total.removedVoxels += RemovalCounts_[size_t(t)][1];
+    }
+  FrameResult r = SumPartials({total}, Bone_.VoxelVolume());
+  FrameGeometry::UnturnLateral(r, in, Shell_);
+  return r;
+}
+
+void CpuEngine::RunPassTask(const PassJob& job, int task, int thread) {
+  const FrameGeometry& G = job.G;
+  const uint32_t frameNo = job.frame;
   const bool cutting = G.cutting, remove = G.remove;
   const Eigen::Vector3d& d = G.motionTool;
   const Voxmap::Fill* fill = Bone_.FillData();
@@ -84,6 +204,16 @@ FrameResult CpuEngine::Step(const FrameInput& in) {
   const auto& deltas = Shell_.Deltas();
   const auto& blocks = Shell_.Blocks();
   const auto& radial = Shell_.RadialDirs();
+  const size_t T = size_t(Pool_.Threads());
+  // The residency as the previous frame's winning run of this task left it, and this run's own.
+  // One thread (no run of a task can overlap another): one buffer, updated in place.
+  const ElementResidency* prev =
+      T == 1 ? State_[0].data()
+             : State_[(job.prevWinner[size_t(task)] % T) * 2 + ((frameNo - 1) & 1)].data();
+  ElementResidency* cur =
+      T == 1 ? State_[0].data() : State_[size_t(thread) * 2 + (frameNo & 1)].data();
+  FramePartial& P = Partials_[size_t(task) * T + size_t(thread)];
+  P.Clear();
 
   auto blockVisible = [&](const ShellBlock& blk) {
     if (Culling_.motion && !blk.hasCutting) {
@@ -101,74 +231,59 @@ FrameResult CpuEngine::Step(const FrameInput& in) {
   };
 
   const int nBlocks = int(blocks.size());
-  const int chunk = 16; // blocks per task
-  Pool_.Run((nBlocks + chunk - 1) / chunk, [&](int task, int thread) {
-    FramePartial& P = Partials_[size_t(thread)];
-    const int bEnd = std::min(nBlocks, (task + 1) * chunk);
-    for (int bi = task * chunk; bi < bEnd; ++bi) {
-      const ShellBlock& blk = blocks[size_t(bi)];
-      if (!blockVisible(blk))
-        continue;
-      // Pass A: voxel of every element of the block, prefetching the fills (the voxel reads
-      // miss the cache: hiding that latency is most of the frame's cost).
-      for (uint32_t base = blk.begin; base < blk.end; base += kBatch) {
-        const uint32_t end = std::min(blk.end, base + kBatch);
-        int64_t* vox = VoxelScratch_[size_t(thread)].data();
-        for (uint32_t e = base; e < end; ++e) {
-          const int64_t idx = G.VoxelOf(ElementCoords(codes[e]));
-          if (idx >= 0)
-            __builtin_prefetch(fill + idx);
-          vox[e - base] = idx;
+  const int bEnd = std::min(nBlocks, (task + 1) * kBlocksPerTask);
+  for (int bi = task * kBlocksPerTask; bi < bEnd; ++bi) {
+    const ShellBlock& blk = blocks[size_t(bi)];
+    if (!blockVisible(blk))
+      continue;
+    // Pass A: voxel of every element of the block, prefetching the fills (the voxel reads
+    // miss the cache: hiding that latency is most of the frame's cost).
+    for (uint32_t base = blk.begin; base < blk.end; base += kBatch) {
+      const uint32_t end = std::min(blk.end, base + kBatch);
+      int64_t* vox = VoxelScratch_[size_t(thread)].data();
+      for (uint32_t e = base; e < end; ++e) {
+        const int64_t idx = G.VoxelOf(ElementCoords(codes[e]));
+        if (idx >= 0)
+          __builtin_prefetch(fill + idx);
+        vox[e - base] = idx;
+      }
+      // Pass B: engagement, removal requests, elemental forces.
+      for (uint32_t e = base; e < end; ++e) {
+        const int64_t idx = vox[e - base];
+        ++P.visited;
+        ElementResidency st = LoadResidency(prev[e]);
+        const bool engaged = st.Visit(frameNo, idx, idx >= 0 ? LoadRelaxed(fill[idx]) : 0);
+        StoreResidency(cur[e], st);
+        if (!engaged)
+          continue;
+        ++P.engaged;
+        if (remove && (job.envelopeRemoves || ElementIsCutting(codes[e]))) {
+          if (const int32_t units = G.RemovalUnits(an[e]); units > 0) {
+            // Consecutive elements often share a voxel: one request per run (same result,
+            // since the clamped decrement telescopes).
+            if (!P.removals.empty() && P.removals.back().first == idx)
+              P.removals.back().second += units;
+            else
+              P.removals.emplace_back(idx, units);
+            P.requested += units;
+          }
         }
-        // Pass B: engagement, removal requests, elemental forces.
-        for (uint32_t e = base; e < end; ++e) {
-          const int64_t idx = vox[e - base];
-          ++P.visited;
-          if (!State_[e].Visit(frameNo, idx, idx >= 0 ? fill[idx] : 0))
-            continue;
-          ++P.engaged;
-          if (remove && (in.envelopeRemoves || ElementIsCutting(codes[e]))) {
-            if (const int32_t units = G.RemovalUnits(an[e]); units > 0) {
-              // Consecutive elements often share a voxel: one request per run (same result,
-              // since the clamped decrement telescopes).
-              if (!P.removals.empty() && P.removals.back().first == idx)
-                P.removals.back().second += units;
-              else
-                P.removals.emplace_back(idx, units);
-              P.requested += units;
-            }
-          }
-          const uint64_t code = codes[e];
-          if (cutting && ElementIsCutting(code)) {
-            ++P.engagedCutting;
-            const uint16_t bin = bins[e];
-            const double w = deltas[e] * (material ? material[idx] : 1.0f);
-            const BinForce& t = Table_[bin];
-            const double c = radial[e][0], s = radial[e][1];
-            P.thrust += int64_t(w * t.fz * kForceFixedScale);
-            P.torque += int64_t(w * t.torque * kForceFixedScale);
-            P.fx += int64_t(w * (t.fx * c - t.fy * s) * kForceFixedScale);
-            P.fy += int64_t(w * (t.fx * s + t.fy * c) * kForceFixedScale);
-          }
+        const uint64_t code = codes[e];
+        if (cutting && ElementIsCutting(code)) {
+          ++P.engagedCutting;
+          const uint16_t bin = bins[e];
+          const double w = deltas[e] * (material ? material[idx] : 1.0f);
+          const BinForce& tb = Table_[bin];
+          const double tfx = LoadRelaxed(tb.fx), tfy = LoadRelaxed(tb.fy);
+          const double c = radial[e][0], s = radial[e][1];
+          P.thrust += int64_t(w * LoadRelaxed(tb.fz) * kForceFixedScale);
+          P.torque += int64_t(w * LoadRelaxed(tb.torque) * kForceFixedScale);
+          P.fx += int64_t(w * (tfx * c - tfy * s) * kForceFixedScale);
+          P.fy += int64_t(w * (tfx * s + tfy * c) * kForceFixedScale);
         }
       }
     }
-  });
-
-  if (remove) {
-    Pool_.Run(int(Partials_.size()), [&](int task, int thread) {
-      (void)thread;
-      FramePartial& P = Partials_[size_t(task)];
-      for (const auto& [idx, units] : P.removals) {
-        bool voided = false;
-        P.removedFill += Bone_.Remove(idx, units, voided);
-        P.removedVoxels += voided;
-      }
-    });
   }
-  FrameResult r = SumPartials(Partials_, Bone_.VoxelVolume());
-  FrameGeometry::UnturnLateral(r, in, Shell_);
-  return r;
 }
 
 } // namespace bm

@@ -8,6 +8,23 @@
 //     (max over the block's normal bounds of n . d <= 0) is skipped: its elements sweep no
 //     material and produce no cutting force (margins sliding along a wall the envelope already
 //     cut).
+//
+// Work split (the frame's pass over the blocks): tasks of kBlocksPerTask blocks, claimed one at a
+// time and run with WorkerPool::RunRedoable, so the caller never waits for a worker: a task a
+// worker has not finished when the caller runs out of tasks (the worker descheduled by a build on
+// the other core, for milliseconds) is run again by the caller, and the first run to finish
+// counts. So a task's run writes only its own outputs: partial sums and removal requests per
+// (task, thread), fixed-point, so the totals do not depend on which thread ran which task; and
+// the element residency, double-buffered per thread: a run reads the buffer of the thread that
+// won the task in the previous frame and writes its own thread's buffer of this frame's parity
+// (results identical to one thread updating it in place). A losing run may go on after the frame:
+// it holds the frame's context (PassJob) and reads fills, residency and force table as relaxed
+// atomics, since the caller may be rewriting them.
+// Removal (after the pass: engagement is decided on the voxmap as the frame found it): the
+// requests of kTasksPerRemoval pass tasks per task of WorkerPool::Run (removal is not idempotent,
+// so the caller waits for removal tasks a worker has claimed: a few microseconds each), the
+// fills prefetched for writing a few requests ahead (the locked decrement would otherwise wait
+// for each cache miss in turn).
 // Elemental forces depend on the element's radius only: a table per force bin (averaged over the
 // bin's width, bmForceModel.h ForceTable) is evaluated once per (feed, speed) and each engaged
 // element adds delta x material x table[bin].
@@ -18,6 +35,7 @@
 
 #include "bmElementResidency.h"
 #include "bmEngine.h"
+#include "bmFrameGeometry.h"
 #include "bmForceModel.h"
 #include "bmPointShell.h"
 #include "bmVoxmap.h"
@@ -30,13 +48,15 @@ struct CullingOptions {
   bool motion = true; ///< rule 2
 };
 
-/// Per-thread partial sums of a frame; fixed-point so that any split sums to the same totals.
+/// Partial sums of a part of a frame; fixed-point so that any split sums to the same totals.
 struct alignas(64) FramePartial {
   int64_t thrust = 0, torque = 0, fx = 0, fy = 0;
   int64_t visited = 0, engaged = 0, engagedCutting = 0, requested = 0;
   int64_t removedFill = 0, removedVoxels = 0;
   std::vector<std::pair<int64_t, int32_t>> removals; ///< (voxel index, fill units)
   void Clear();
+  /// Adds o's counts and sums (not its removals).
+  void Add(const FramePartial& o);
 };
 
 class CpuEngine final : public Engine {
@@ -45,12 +65,26 @@ public:
   /// threads >= 1 (default 2, this machine's cores).
   CpuEngine(Voxmap& bone, const ToolModel& tool, const PointShell& shell, const ForceModel& model,
             int threads = 2, CullingOptions culling = {});
+  ~CpuEngine() override;
   std::string Name() const override { return "cpu/" + ToString(Model_.GetMethod()); }
   FrameResult Step(const FrameInput& in) override;
   int Threads() const { return Pool_.Threads(); }
 
 private:
+  /// What one frame's pass tasks read, shared with the workers that run them (kept alive by
+  /// them: a descheduled worker may finish its copy of a task after the frame).
+  struct PassJob {
+    FrameGeometry G;
+    uint32_t frame = 0;
+    bool envelopeRemoves = true;
+    std::vector<uint8_t> prevWinner; ///< per task: the thread whose state buffer holds frame - 1
+  };
+  static size_t NumTasks(const PointShell& shell);
   void UpdateForceTable(double f, double n);
+  /// Pass task `task` (its kBlocksPerTask blocks) on `thread`: culling, engagement, removal
+  /// requests and forces into Partials_[task * Threads() + thread], residency into that thread's
+  /// buffer of this frame's parity.
+  void RunPassTask(const PassJob& job, int task, int thread);
 
   Voxmap& Bone_;
   const ToolModel& Tool_;
@@ -58,8 +92,15 @@ private:
   ForceModel Model_;
   CullingOptions Culling_;
   WorkerPool Pool_;
-  std::vector<FramePartial> Partials_;
-  std::vector<ElementResidency> State_; // per element
+  static constexpr int kBlocksPerTask = 4;   // shell blocks per pass task
+  static constexpr int kTasksPerRemoval = 8; // pass tasks' removal lists per removal task
+  std::vector<FramePartial> Partials_;       // per (pass task, thread)
+  /// Element residency, one buffer per (thread, frame parity): a task's run reads the buffer of
+  /// the thread that won the task in the previous frame and writes its own thread's. With one
+  /// thread, one buffer updated in place (half the memory traffic).
+  std::vector<std::vector<ElementResidency>> State_;
+  std::vector<uint8_t> PrevWinner_;                   // per pass task, the last frame's winner
+  std::vector<std::array<int64_t, 2>> RemovalCounts_; // per removal task: fill units, voxels
   uint32_t Frame_ = 0;
   static constexpr uint32_t kBatch = 64;           // elements whose voxels are fetched ahead
   std::vector<std::vector<int64_t>> VoxelScratch_; // per thread: the batch's voxel indices

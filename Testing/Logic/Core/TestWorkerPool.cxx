@@ -1,8 +1,12 @@
 // Persistent worker threads (bmWorkerPool.h): every task runs exactly once per Run, on a valid
 // thread index, over many consecutive runs; Stop() joins cleanly and Run() then runs on the caller.
+// RunRedoable: every task finishes at least once, the winner is a thread whose run finished, and
+// the caller never waits for a worker that holds a task (a worker blocked in a task until the run
+// has returned would otherwise deadlock the test).
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <memory>
 #include <thread>
 #include <vector>
 
@@ -69,9 +73,60 @@ TEST(WorkerPool, IdleWorkersSleepAndWake) {
   std::atomic<int> n{0};
   pool.Run(4, [&](int, int) { n.fetch_add(1); });
   std::this_thread::sleep_for(
-      std::chrono::milliseconds(50)); // past the spin: workers wait on the CV
+      std::chrono::milliseconds(50)); // past the spin: workers sleep on the futex
   pool.Run(4, [&](int, int) { n.fetch_add(1); });
   EXPECT_EQ(n.load(), 8);
+}
+
+TEST(WorkerPool, RedoableRunsEveryTaskAndNamesAFinishedWinner) {
+  for (int threads : {1, 2, 4}) {
+    bm::WorkerPool pool(threads);
+    pool.ReserveRedoable(1000);
+    for (int tasks : {1, 2, 17, 1000}) {
+      for (int round = 0; round < 50; ++round) {
+        // finished[task * threads + thread]: that thread's run of the task finished.
+        auto finished = std::make_shared<std::vector<std::atomic<int>>>(size_t(tasks * threads));
+        pool.RunRedoable(tasks, std::make_shared<const bm::WorkerPool::RedoableFn>(
+                                    [finished, threads](int task, int thread) {
+                                      (*finished)[size_t(task * threads + thread)].store(1);
+                                    }));
+        for (int t = 0; t < tasks; ++t) {
+          const int w = pool.Winner(t);
+          ASSERT_GE(w, 0);
+          ASSERT_LT(w, threads);
+          ASSERT_EQ((*finished)[size_t(t * threads + w)].load(), 1) << "task " << t;
+        }
+      }
+    }
+  }
+}
+
+TEST(WorkerPool, RedoableNeverWaitsForABlockedWorker) {
+  bm::WorkerPool pool(2);
+  pool.ReserveRedoable(64);
+  auto release = std::make_shared<std::atomic<bool>>(false);
+  auto blocked = std::make_shared<std::atomic<int>>(-1); // the task a worker is held in
+  for (int round = 0; round < 2000 && blocked->load() < 0; ++round) {
+    pool.RunRedoable(64, std::make_shared<const bm::WorkerPool::RedoableFn>(
+                             [release, blocked](int task, int thread) {
+                               int none = -1;
+                               if (thread != 0 && blocked->compare_exchange_strong(none, task))
+                                 while (!release->load())
+                                   std::this_thread::yield();
+                             }));
+    // Reaching here while a worker is held in a task: the caller ran that task itself.
+    if (blocked->load() >= 0) {
+      EXPECT_EQ(pool.Winner(blocked->load()), 0);
+    }
+  }
+  // Later runs go on without the held worker.
+  std::atomic<int> n{0};
+  for (int round = 0; round < 10; ++round)
+    pool.RunRedoable(64, std::make_shared<const bm::WorkerPool::RedoableFn>(
+                             [&n](int, int thread) { n.fetch_add(thread == 0 ? 1 : 0); }));
+  release->store(true);
+  pool.Stop(); // joins the worker once it is let go
+  EXPECT_GT(n.load(), 0);
 }
 
 TEST(WorkerPool, RefusesZeroThreads) {
