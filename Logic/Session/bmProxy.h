@@ -13,8 +13,10 @@
 //    Non-cutting surfaces that lead the feed (a reamer's guide nipple; ToolPart::NonCuttingLeading)
 //    are a rigid contact along the axis too: the advance, cutting or free, stops at their first
 //    contact with bone and does not go deeper while they touch it, so the device's push is
-//    rendered through the coupling. The engine runs with FrameInput::envelopeRemoves off: only
-//    cutting elements remove bone, non-cutting parts never wear their way in.
+//    rendered through the coupling. Bone beside such a part (within the dead band of its rim, a
+//    partial-volume hole wall along the nipple) is across the axis and does not stop it. The
+//    engine removes with the whole envelope (MODEL_NOTES 8), so the nipple removes at most the
+//    graze of the sub-step that found the contact.
 //    Spindle stopped: every surface is a rigid contact (same solve, all three axes).
 //    Direct: the penalty force k_dev * (deepest penetration) along the contact normal at the
 //    device pose, plus the engine's force at the device's own feed (a damper with a wall).
