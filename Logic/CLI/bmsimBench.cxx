@@ -78,23 +78,13 @@ const char* kUsage = R"(usage: bmsim bench [options]
   --brick N              --view: the surface's brick edge, voxels (default 32, as the source)
 )";
 
-std::vector<std::string> Split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, ','))
-    if (!item.empty())
-      out.push_back(item);
-  return out;
-}
-
 std::vector<int> Resolutions(const bm::cli::ParsedArgs& p, const std::string& name,
                              std::vector<int> def) {
   const auto v = p.Get(name);
   if (!v)
     return def;
   std::vector<int> out;
-  for (const auto& s : Split(*v)) {
+  for (const auto& s : bm::SplitCommaList(*v)) {
     size_t used = 0;
     int r = 0;
     try {
@@ -383,7 +373,7 @@ int BenchCommand(const bm::cli::Args& args) {
   }
   if (auto v = p.Get("methods")) {
     o.methods.clear();
-    for (const auto& m : Split(*v)) {
+    for (const auto& m : bm::SplitCommaList(*v)) {
       try {
         o.methods.push_back(bm::MethodFromString(m));
       } catch (const std::invalid_argument& e) {
@@ -392,7 +382,7 @@ int BenchCommand(const bm::cli::Args& args) {
     }
   }
   if (auto v = p.Get("backends")) {
-    o.backends = Split(*v);
+    o.backends = bm::SplitCommaList(*v);
     for (const auto& b : o.backends)
       if (b != "cpu" && b != "opencl")
         throw UsageError("--backends: '" + b + "' is not cpu or opencl");
@@ -415,7 +405,7 @@ int BenchCommand(const bm::cli::Args& args) {
   std::vector<bm::BenchCell> cells;
   std::string framesNote;
   if (auto files = p.Get("replot")) {
-    for (const auto& f : Split(*files)) {
+    for (const auto& f : bm::SplitCommaList(*files)) {
       std::ifstream in(f);
       if (!in)
         throw UsageError("--replot: cannot read " + f);

@@ -257,6 +257,16 @@ BenchCell RunBenchCellIsolated(Method method, const std::string& backend, int sh
   return c;
 }
 
+std::vector<std::string> SplitCommaList(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ','))
+    if (!item.empty())
+      out.push_back(item);
+  return out;
+}
+
 std::string BenchCsv(const std::vector<BenchCell>& cells) {
   std::ostringstream os;
   os << std::setprecision(6);

@@ -68,6 +68,10 @@ BenchCell RunBenchCellIsolated(Method method, const std::string& backend, int sh
                                const BenchOptions& options);
 
 /// The CSV of the cells (header + one line per cell).
+/// The non-empty items of a comma-separated list ("128,256" -> {"128", "256"}): the sweep
+/// options of `bmsim bench` and BMBenchCells.
+std::vector<std::string> SplitCommaList(const std::string& s);
+
 std::string BenchCsv(const std::vector<BenchCell>& cells);
 /// Cells back from BenchCsv() text (a saved bench.csv). Throws std::runtime_error naming the
 /// line that does not parse.

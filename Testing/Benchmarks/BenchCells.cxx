@@ -19,19 +19,9 @@
 
 namespace {
 
-std::vector<std::string> Split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, ','))
-    if (!item.empty())
-      out.push_back(item);
-  return out;
-}
-
 std::vector<int> Ints(const std::string& s) {
   std::vector<int> out;
-  for (const auto& v : Split(s))
+  for (const auto& v : bm::SplitCommaList(s))
     out.push_back(std::stoi(v));
   return out;
 }
@@ -46,7 +36,7 @@ int main(int argc, char** argv) {
     const std::string k = argv[i], v = argv[i + 1];
     if (k == "--methods") {
       o.methods.clear();
-      for (const auto& m : Split(v))
+      for (const auto& m : bm::SplitCommaList(v))
         o.methods.push_back(bm::MethodFromString(m));
     } else if (k == "--shells")
       o.shells = Ints(v);

@@ -301,17 +301,19 @@ void BoneSurface::Rebuild() {
     np += m.NumPoints();
     nt += m.NumTriangles();
   }
-  if (Points_ && np <= PointCapacity_ && nt <= TriangleCapacity_) {
-    // The arrays hold it: rewrite them in place, in order.
-    FreePoints_.clear();
-    NumPoints_ = NumTriangles_ = 0;
-    for (size_t b = 0; b < Bricks_.size(); ++b) {
-      PointSlots_[b].clear();
-      TriangleSlots_[b].clear();
-      AddBrick(int64_t(b));
-    }
-    return;
+  if (!Points_ || np > PointCapacity_ || nt > TriangleCapacity_)
+    Reallocate(np, nt);
+  // Rewrite the arrays in place, in order.
+  FreePoints_.clear();
+  NumPoints_ = NumTriangles_ = 0;
+  for (size_t b = 0; b < Bricks_.size(); ++b) {
+    PointSlots_[b].clear();
+    TriangleSlots_[b].clear();
+    AddBrick(int64_t(b));
   }
+}
+
+void BoneSurface::Reallocate(int64_t np, int64_t nt) {
   // New arrays with room to grow; the old ones stay valid for whoever still holds them.
   PointCapacity_ = std::max<int64_t>(np + np / 4, 1024);
   TriangleCapacity_ = std::max<int64_t>(nt + nt / 4, 1024);
@@ -332,13 +334,6 @@ void BoneSurface::Rebuild() {
   vtkNew<vtkCellArray> polys;
   polys->SetData(Offsets_, Connectivity_);
   Output_->SetPolys(polys);
-  FreePoints_.clear();
-  NumPoints_ = NumTriangles_ = 0;
-  for (size_t b = 0; b < Bricks_.size(); ++b) {
-    PointSlots_[b].clear();
-    TriangleSlots_[b].clear();
-    AddBrick(int64_t(b));
-  }
 }
 
 void BoneSurface::Assemble(const std::vector<int64_t>& changed, bool full) {

@@ -105,6 +105,9 @@ private:
   void ExtractBrick(const Voxmap& bone, int64_t b, BrickMesh& mesh);
   void Assemble(const std::vector<int64_t>& changed, bool full);
   void Rebuild();
+  /// New output arrays for np points and nt triangles with a quarter to spare (the old arrays stay
+  /// valid for whoever still holds them).
+  void Reallocate(int64_t np, int64_t nt);
   void RemoveBrick(int64_t b);
   void AddBrick(int64_t b);
   int64_t BrickId(int i, int j, int k) const {
