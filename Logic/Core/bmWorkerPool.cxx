@@ -78,8 +78,10 @@ int WorkerPool::Drain(uint32_t tag, int thread, const RedoableFn* redoable) {
       continue; // c reloaded
     if (c & kRedoableBit) {
       if (!redoable) {
-        if (!job)
-          job = Job_.load(std::memory_order_acquire);
+        if (!job) {
+          std::lock_guard<std::mutex> lock(JobMutex_);
+          job = Job_;
+        }
         if (uint32_t(job->run & kTagMask) != tag)
           break; // the caller has finished this run and moved on
         redoable = job->fn.get();
@@ -141,7 +143,11 @@ void WorkerPool::RunRedoable(int tasks, std::shared_ptr<const RedoableFn> fn) {
     }
     return;
   }
-  Job_.store(std::make_shared<const Published>(Published{Run_, fn}), std::memory_order_release);
+  std::shared_ptr<const Published> job = std::make_shared<const Published>(Published{Run_, fn});
+  {
+    std::lock_guard<std::mutex> lock(JobMutex_);
+    Job_.swap(job);
+  } // the previous run's job (in `job`) is released outside the lock
   Tasks_.store(tasks, std::memory_order_relaxed);
   const uint32_t tag = uint32_t(Run_) & kTagMask;
   Claim_.store(kRedoableBit | (uint64_t(tag) << kTaskBits), std::memory_order_release);

@@ -30,6 +30,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <thread>
 #include <vector>
 
@@ -98,8 +99,12 @@ private:
   std::atomic<bool> Stopping_{false};
   std::atomic<int> Tasks_{0}; ///< tasks of the current run (published before Claim_)
   std::atomic<const std::function<void(int, int)>*> Fn_{nullptr};
-  uint32_t Run_ = 0;                                  ///< the caller's run counter
-  std::atomic<std::shared_ptr<const Published>> Job_; ///< the current RunRedoable()'s fn
+  uint32_t Run_ = 0; ///< the caller's run counter
+  /// The current RunRedoable()'s fn, behind a mutex held only to copy or swap the pointer (GCC 12's
+  /// std::atomic<std::shared_ptr> unlocks its loads with relaxed order: ThreadSanitizer reports
+  /// it).
+  std::mutex JobMutex_;
+  std::shared_ptr<const Published> Job_;
   std::unique_ptr<std::atomic<uint64_t>[]> TaskDone_; ///< per task: (run << 8) | winner
   int MaxRedoable_ = 0;
 };
