@@ -8,7 +8,8 @@
 #   2. build/: the full Release build (logic, widgets, ParaView plugin, bmsim), all its ctests.
 #   3. build-asan/: Logic only (no ParaView, ITK, OpenCL or benchmarks) under AddressSanitizer and
 #      UndefinedBehaviorSanitizer, all its unit tests.
-#   4. build-tsan/: Logic only under ThreadSanitizer, the session unit tests (BMSessionTests).
+#   4. build-tsan/: Logic only under ThreadSanitizer, the engine's and the session's unit tests
+#      (BMCoreTests: the worker pool; BMSessionTests: the haptic thread).
 # Environment: BM_JOBS (parallel jobs, default 2).
 set -euo pipefail
 
@@ -42,13 +43,15 @@ sanitizer_config build-asan address,undefined
 cmake --build build-asan -j "$jobs"
 (cd build-asan && ctest --output-on-failure -j "$jobs")
 
-stage "ThreadSanitizer (build-tsan/, session unit tests)"
+stage "ThreadSanitizer (build-tsan/, engine and session unit tests)"
 sanitizer_config build-tsan thread
 if ninja -C build-tsan -t targets all | grep -q '^BMSessionTests:'; then
   # Kernels with high mmap randomisation break TSan's memory layout; run without ASLR if allowed.
   norandom=()
   if setarch "$(uname -m)" -R true 2>/dev/null; then norandom=(setarch "$(uname -m)" -R); fi
-  "${norandom[@]}" cmake --build build-tsan -j "$jobs" --target BMSessionTests
+  "${norandom[@]}" cmake --build build-tsan -j "$jobs" --target BMCoreTests BMSessionTests
+  # The engine's worker pool (BMCoreTests) and the haptic thread (BMSessionTests).
+  "${norandom[@]}" build-tsan/Testing/Logic/BMCoreTests
   "${norandom[@]}" build-tsan/Testing/Logic/BMSessionTests
 else
   echo "test.sh: no BMSessionTests target yet (no session unit tests); ThreadSanitizer stage skipped"
