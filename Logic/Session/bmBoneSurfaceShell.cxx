@@ -91,6 +91,7 @@ void BoneSurfaceShell::AddPoint(int64_t idx, int i, int j, int k) {
       Points_.emplace_back();
     }
   }
+  ++Generation_;
   SurfacePoint& p = Points_[size_t(slot)];
   const auto w = Bone_.GridToWorld({double(i), double(j), double(k)});
   p.position = {w[0], w[1], w[2]};
@@ -109,6 +110,7 @@ void BoneSurfaceShell::KillPoint(int64_t idx) {
   const int32_t slot = PointOf_[size_t(idx)];
   if (slot < 0)
     return;
+  ++Generation_;
   const auto d = Bone_.Dims();
   const int i = int(idx % d[0]), j = int((idx / d[0]) % d[1]),
             k = int(idx / (int64_t(d[0]) * d[1]));

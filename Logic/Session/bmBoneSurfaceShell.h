@@ -16,6 +16,7 @@
 // One thread at a time (the haptic thread). Units: world mm.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -46,6 +47,19 @@ public:
                  const std::function<void(const SurfacePoint&)>& fn) const;
   /// True when no live point lies in a brick overlapping [lo, hi].
   bool EmptyIn(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const;
+  /// The bricks (voxmap brick coordinates, inclusive; bhi < blo on an axis: none) overlapping the
+  /// world box [lo, hi] (mm): the bricks ForEachIn visits.
+  void BrickRange(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, std::array<int, 3>& blo,
+                  std::array<int, 3>& bhi) const;
+  /// Point slots of brick (bi, bj, bk), in the order ForEachIn visits them.
+  const std::vector<int32_t>& Bucket(int bi, int bj, int bk) const {
+    return Buckets_[size_t(Bone_.BrickIndex(bi, bj, bk))];
+  }
+  /// The point in a slot of a Bucket.
+  const SurfacePoint& Point(int32_t slot) const { return Points_[size_t(slot)]; }
+  /// Changes whenever a point is added, removed or refreshed (Sync, Cut): what was read from the
+  /// shell at one generation still holds while it stays the same.
+  uint64_t Generation() const { return Generation_; }
   /// After the engine removed material: finds the points in [lo, hi] whose voxel is now void and
   /// regenerates the shell around them. Returns the number of voxels found void.
   int64_t Sync(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
@@ -63,8 +77,6 @@ private:
   std::array<int, 3> Brick(int i, int j, int k) const;
   void Flood(std::vector<int64_t>& seeds, const std::function<bool(const Eigen::Vector3d&)>* inside,
              int64_t& removedFill, int64_t& removed);
-  void BrickRange(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, std::array<int, 3>& blo,
-                  std::array<int, 3>& bhi) const;
 
   Voxmap& Bone_;
   std::vector<SurfacePoint> Points_;
@@ -73,6 +85,7 @@ private:
   std::vector<uint8_t> Known_;                // per voxel: 1 = the shell knows it as bone
   std::vector<std::vector<int32_t>> Buckets_; // per brick: point slots
   size_t Live_ = 0;
+  uint64_t Generation_ = 0;
 };
 
 } // namespace bm

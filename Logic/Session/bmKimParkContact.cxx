@@ -1,6 +1,8 @@
 #include "bmKimParkContact.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace bm {
 
@@ -19,6 +21,90 @@ void KimParkContact::ToolBox(const Eigen::Matrix3d& R, const Eigen::Vector3d& p,
   hi = wc + we;
 }
 
+void KimParkContact::SetCandidateRadius(double radiusMm) {
+  Radius_ = radiusMm > 0 ? radiusMm : 0.0;
+  HaveCandidates_ = false;
+  Candidates_.clear();
+  Keys_.clear();
+  Groups_.clear();
+}
+
+bool KimParkContact::Covers(const Eigen::Matrix3d& R, const Eigen::Vector3d& p) const {
+  if (!HaveCandidates_ || Shell_.Generation() != CandidateGeneration_ || R != CandidateR_)
+    return false;
+  const Eigen::Vector3d d = p - CandidateP_;
+  return d.norm() <= Radius_ && (R.transpose() * d).norm() <= Radius_;
+}
+
+void KimParkContact::Gather(const Eigen::Matrix3d& R, const Eigen::Vector3d& p) const {
+  ++Scans_;
+  Candidates_.clear();
+  Keys_.clear();
+  AnchorIds_.clear();
+  Groups_.clear();
+  Anchors_.assign(1, p);
+  CandidateR_ = R;
+  CandidateP_ = p;
+  CandidateGeneration_ = Shell_.Generation();
+  HaveCandidates_ = true;
+  const double rho = Radius_, eps = 1e-9; // eps (mm): far above the rounding of these sums
+  const double L = Sdf_.LipschitzBound();
+  const Eigen::Matrix3d Rt = R.transpose();
+  const Eigen::Vector3d glo = Sdf_.Lo(), ghi = Sdf_.Hi();
+  const Eigen::Vector3d grow = Eigen::Vector3d::Constant(rho + eps);
+  // Every box a covered query scans lies in the whole tool's box at p grown by rho.
+  Eigen::Vector3d lo, hi;
+  ToolBox(R, p, lo, hi);
+  std::array<int, 3> blo{}, bhi{};
+  Shell_.BrickRange(lo - grow, hi + grow, blo, bhi);
+  const Voxmap& bone = Shell_.Bone();
+  const int B = Voxmap::kBrick;
+  const double half = 0.5 * (B - 1) * bone.Spacing(); // brick centre to its outer voxel centres
+  const double ball = std::sqrt(3.0) * half + rho + eps;
+  for (int bk = blo[2]; bk <= bhi[2]; ++bk)
+    for (int bj = blo[1]; bj <= bhi[1]; ++bj)
+      for (int bi = blo[0]; bi <= bhi[0]; ++bi) {
+        const std::vector<int32_t>& bucket = Shell_.Bucket(bi, bj, bk);
+        if (bucket.empty())
+          continue;
+        // The brick's points at any covered pose lie within `ball` of its centre's image.
+        const auto cw = bone.GridToWorld(
+            {bi * B + 0.5 * (B - 1), bj * B + 0.5 * (B - 1), bk * B + 0.5 * (B - 1)});
+        const Eigen::Vector3d qc = Rt * (Eigen::Vector3d(cw[0], cw[1], cw[2]) - p);
+        if (((qc.array() + ball) < glo.array()).any() || ((qc.array() - ball) > ghi.array()).any())
+          continue; // wholly outside the grid: no point passes the box test
+        if (((qc.array() - ball) >= glo.array()).all() &&
+            ((qc.array() + ball) < ghi.array()).all()) {
+          if (Sdf_.Value(qc) > L * ball + eps)
+            continue; // wholly in the grid and clear of the tool
+        }
+        Group group;
+        group.begin = uint32_t(Candidates_.size());
+        group.brick = {bi, bj, bk};
+        group.anchor = p;
+        for (int32_t slot : bucket) {
+          const SurfacePoint& sp = Shell_.Point(slot);
+          const Eigen::Vector3d q = Rt * (sp.position - p);
+          if (((q.array() + grow.array()) < glo.array()).any() ||
+              ((q.array() - grow.array()) > ghi.array()).any())
+            continue; // fails the box test at every covered pose
+          double d0 = -std::numeric_limits<double>::infinity(); // outside the grid: no bound
+          if (Sdf_.InGrid(q)) {
+            d0 = Sdf_.Value(q);
+            if (d0 >= L * rho + eps)
+              continue; // stays outside the tool at every covered pose
+          }
+          Candidates_.push_back({sp.position, sp.normal, sp.material});
+          Keys_.push_back(d0);
+          AnchorIds_.push_back(0);
+          group.key = std::min(group.key, d0);
+        }
+        group.end = uint32_t(Candidates_.size());
+        if (group.end > group.begin)
+          Groups_.push_back(group);
+      }
+}
+
 ContactResult KimParkContact::Query(const Eigen::Matrix3d& R, const Eigen::Vector3d& p,
                                     double deadBandMm, ToolPart part, double rimBandMm) const {
   ContactResult out;
@@ -28,23 +114,77 @@ ContactResult KimParkContact::Query(const Eigen::Matrix3d& R, const Eigen::Vecto
   const double kPoint = KA_ * h * h;
   const Eigen::Matrix3d Rt = R.transpose();
   Eigen::Vector3d nsum = Eigen::Vector3d::Zero();
-  Shell_.ForEachIn(lo, hi, [&](const SurfacePoint& sp) {
-    const Eigen::Vector3d q = Rt * (sp.position - p);
+  const double unknown = -std::numeric_limits<double>::infinity();
+  // Adds the point's push; returns its distance (mm) where the field interpolated it, else -inf.
+  auto visit = [&](const Eigen::Vector3d& position, const Eigen::Vector3d& normal, float material) {
+    const Eigen::Vector3d q = Rt * (position - p);
     if (q(0) < Sdf_.Lo()(0) || q(1) < Sdf_.Lo()(1) || q(2) < Sdf_.Lo()(2) || q(0) > Sdf_.Hi()(0) ||
         q(1) > Sdf_.Hi()(1) || q(2) > Sdf_.Hi()(2))
-      return;
+      return unknown;
     Eigen::Vector3d g;
     const double d = Sdf_.Sample(q, g);
     const double pen = -d - deadBandMm;
     if (pen <= 0 || !Sdf_.InPart(q, part, rimBandMm))
-      return;
-    const double k = kPoint * sp.material;
-    out.force += k * pen * sp.normal;
-    out.jacobian += k * sp.normal * (R * g).transpose();
-    nsum += pen * sp.normal;
+      return d == Sdf_.Far() ? unknown : d;
+    const double k = kPoint * material;
+    out.force += k * pen * normal;
+    out.jacobian += k * normal * (R * g).transpose();
+    nsum += pen * normal;
     out.maxDepthMm = std::max(out.maxDepthMm, pen);
     ++out.points;
-  });
+    return d;
+  };
+  if (Radius_ > 0 && deadBandMm >= 0) {
+    if (!Covers(R, p))
+      Gather(R, p);
+    // A candidate's key is a lower bound of its distance with the tool at its anchor (one of the
+    // last kMaxAnchors query positions), so the key less L times the tool's move since then
+    // bounds the distance now; a group's key bounds its candidates' at the group's anchor. A point
+    // (or a whole group) whose bound is at least -deadBandMm cannot push (pen <= 0) and is not
+    // sampled; a sampled point's key becomes its distance, anchored here. The groups of the
+    // bricks a full scan of this box would visit are read in its order.
+    const double L = Sdf_.LipschitzBound(), eps = 1e-9;
+    const double skipFrom = -deadBandMm + eps;
+    if (Anchors_.size() >= kMaxAnchors) { // re-anchor every key here (their bounds now)
+      for (size_t i = 0; i < Keys_.size(); ++i)
+        Keys_[i] -= L * (Rt * (p - Anchors_[AnchorIds_[i]])).norm() + eps;
+      std::fill(AnchorIds_.begin(), AnchorIds_.end(), uint8_t(0));
+      Anchors_.assign(1, p);
+    } else if (p != Anchors_.back()) {
+      Anchors_.push_back(p);
+    }
+    const uint8_t here = uint8_t(Anchors_.size() - 1);
+    Drops_.resize(Anchors_.size());
+    for (size_t k = 0; k < Anchors_.size(); ++k)
+      Drops_[k] = L * (Rt * (p - Anchors_[k])).norm() + eps;
+    std::array<int, 3> blo{}, bhi{};
+    Shell_.BrickRange(lo, hi, blo, bhi);
+    for (Group& grp : Groups_) {
+      if (grp.brick[0] < blo[0] || grp.brick[0] > bhi[0] || grp.brick[1] < blo[1] ||
+          grp.brick[1] > bhi[1] || grp.brick[2] < blo[2] || grp.brick[2] > bhi[2])
+        continue;
+      if (grp.key - (L * (Rt * (p - grp.anchor)).norm() + eps) >= skipFrom)
+        continue;
+      double key = std::numeric_limits<double>::infinity();
+      for (uint32_t i = grp.begin; i < grp.end; ++i) {
+        const double bound = Keys_[i] - Drops_[AnchorIds_[i]];
+        if (bound >= skipFrom) {
+          key = std::min(key, bound);
+        } else {
+          const Candidate& c = Candidates_[i];
+          Keys_[i] = visit(c.position, c.normal, c.material);
+          AnchorIds_[i] = here;
+          key = std::min(key, Keys_[i]);
+        }
+      }
+      grp.key = key;
+      grp.anchor = p;
+    }
+  } else {
+    ++Scans_;
+    Shell_.ForEachIn(lo, hi,
+                     [&](const SurfacePoint& sp) { visit(sp.position, sp.normal, sp.material); });
+  }
   const double n = nsum.norm();
   if (n > 0)
     out.normal = nsum / n;

@@ -11,8 +11,32 @@
 // band is 0 for Kim et al.'s method; the cutting model uses about one voxel so that voxels the
 // engine is still thinning at the hole's wall do not push.
 //
+// Candidate points (exact, for speed): a haptic frame queries the contact many times at nearby
+// poses (the proxy's sweep sub-steps and equilibrium iterations), each over every bone point under
+// the tool's box (tens of thousands for a glenoid reamer), most of them not pushing. With a
+// candidate radius rho > 0, a query at (R, p) gathers once the points that can touch the tool at
+// any p' within rho of p: those whose distance at p, d_i(p), is below L rho (L: the field's
+// Lipschitz bound, ToolDistanceField::LipschitzBound, so d_i(p') >= d_i(p) - L |p' - p| and a point
+// with d_i(p) >= L rho never touches, for any dead band >= 0), plus those outside the grid at p but
+// within rho of it; bricks whose whole ball (brick plus rho) lies in the grid and, by the centre's
+// distance and L, clear of the tool are skipped without reading their points. Later queries with
+// the same R (a rotation), within rho of that p, while the shell is unchanged
+// (BoneSurfaceShell::Generation), read only the candidates of the bricks a full scan of their box
+// would visit, in the shell's order. Each candidate keeps a lower bound of its distance at the
+// tool position where it was last sampled (its anchor), each brick's group the least bound at its
+// own anchor: a point (or a group) whose bound less L times the tool's move since is at least
+// -deadBand cannot push (pen <= 0) and is not sampled. The points that push are the same, in the
+// same order, as in a full scan, so the result is bit-identical (TestContactCandidates.cxx).
+//
+// One thread at a time (the haptic thread): Query keeps the candidates in mutable members.
+//
 // Units: mm, N, N/mm, N/mm^3.
 #pragma once
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -47,6 +71,13 @@ public:
   /// for a part, at least rimBandMm (mm, default 0) inside its rim (ToolDistanceField::InPart).
   ContactResult Query(const Eigen::Matrix3d& R, const Eigen::Vector3d& p, double deadBandMm = 0,
                       ToolPart part = ToolPart::Whole, double rimBandMm = 0) const;
+  /// Candidate radius rho (mm, >= 0; 0, the default: every query scans the shell under its box).
+  void SetCandidateRadius(double radiusMm);
+  double CandidateRadius() const { return Radius_; }
+  /// Shell scans so far: full queries (no candidates) and candidate gathers; for benchmarks.
+  int64_t Scans() const { return Scans_; }
+  /// Candidates held now (0 without a gather); for benchmarks.
+  size_t CandidateCount() const { return Candidates_.size(); }
   /// Kim et al.'s Boolean removal: bone voxels whose centre is deeper than depthMm inside the tool
   /// at (R, p) are removed and the shell regenerated. Returns voxels removed; fill units in
   /// removedFill.
@@ -54,9 +85,40 @@ public:
               int64_t& removedFill);
 
 private:
+  struct Candidate {
+    Eigen::Vector3d position, normal; // world mm, unit
+    float material;
+  };
+  /// The candidates of one voxmap brick: [begin, end) of Candidates_; key = the least of their
+  /// keys.
+  struct Group {
+    uint32_t begin = 0, end = 0;
+    std::array<int, 3> brick{0, 0, 0};
+    Eigen::Vector3d anchor = Eigen::Vector3d::Zero(); // tool position its key holds for, mm
+    double key = std::numeric_limits<double>::infinity();
+  };
+  /// Whether the candidates hold every point that can touch at (R, p).
+  bool Covers(const Eigen::Matrix3d& R, const Eigen::Vector3d& p) const;
+  void Gather(const Eigen::Matrix3d& R, const Eigen::Vector3d& p) const;
+
   const ToolDistanceField& Sdf_;
   BoneSurfaceShell& Shell_;
   double KA_;
+  double Radius_ = 0;
+  mutable std::vector<Candidate> Candidates_;
+  static constexpr size_t kMaxAnchors = 255;
+  /// Per candidate: a lower bound of its distance (mm) with the tool at its anchor (-inf: none),
+  /// and the anchor's index in Anchors_ (tool positions, world mm, of recent queries).
+  mutable std::vector<double> Keys_;
+  mutable std::vector<uint8_t> AnchorIds_;
+  mutable std::vector<Eigen::Vector3d> Anchors_;
+  mutable std::vector<double> Drops_; // per anchor: L times the tool's move since, mm
+  mutable std::vector<Group> Groups_;
+  mutable bool HaveCandidates_ = false;
+  mutable uint64_t CandidateGeneration_ = 0;
+  mutable Eigen::Matrix3d CandidateR_ = Eigen::Matrix3d::Identity();
+  mutable Eigen::Vector3d CandidateP_ = Eigen::Vector3d::Zero(); // where they were gathered, mm
+  mutable int64_t Scans_ = 0;
 };
 
 } // namespace bm

@@ -40,6 +40,7 @@ Proxy::Proxy(MachiningSetup& setup, const DeviceLimits& limits, double frameS,
   Sdf_ = std::make_unique<ToolDistanceField>(setup.Tool(), o.sdfResolution);
   Shell_ = std::make_unique<BoneSurfaceShell>(setup.Bone());
   Contact_ = std::make_unique<KimParkContact>(*Sdf_, *Shell_, o.contactStiffnessPerArea);
+  Contact_->SetCandidateRadius(o.candidateRadiusVoxels * setup.Bone().Spacing());
 }
 
 Proxy::~Proxy() = default;

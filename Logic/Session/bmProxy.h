@@ -63,6 +63,10 @@ struct ProxyOptions {
   int maxIterations = 24;         ///< equilibrium iterations per frame
   double deadBandVoxels = 1.0;    ///< Cutting: lateral contact dead band, voxels
   double kimCutDepthVoxels = 0.5; ///< KimPark: removal depth inside the tool, voxels
+  /// Contact queries within this distance (voxels) of the pose where the contact last gathered its
+  /// candidate points, at the same orientation and with the shell unchanged, read only those
+  /// candidates (KimParkContact::SetCandidateRadius; exact, only faster); 0 = scan every query.
+  double candidateRadiusVoxels = 2.0;
 };
 
 /// One frame's result.

@@ -90,6 +90,28 @@ ToolDistanceField::ToolDistanceField(const ToolModel& tool, int resolution, int 
         D_[size_t(i) + size_t(Dims_[0]) * (size_t(j) + size_t(Dims_[1]) * k)] =
             float(table(std::hypot(x, y), z));
       }
+  const size_t sy = size_t(Dims_[0]), sz = sy * size_t(Dims_[1]);
+  double maxDiff[3] = {0, 0, 0};
+  for (int k = 0; k < Dims_[2]; ++k)
+    for (int j = 0; j < Dims_[1]; ++j)
+      for (int i = 0; i < Dims_[0]; ++i) {
+        const size_t v = size_t(i) + sy * size_t(j) + sz * size_t(k);
+        const double d = D_[v];
+        if (i + 1 < Dims_[0])
+          maxDiff[0] = std::max(maxDiff[0], std::abs(double(D_[v + 1]) - d));
+        if (j + 1 < Dims_[1])
+          maxDiff[1] = std::max(maxDiff[1], std::abs(double(D_[v + sy]) - d));
+        if (k + 1 < Dims_[2])
+          maxDiff[2] = std::max(maxDiff[2], std::abs(double(D_[v + sz]) - d));
+      }
+  Lipschitz_ =
+      std::sqrt(maxDiff[0] * maxDiff[0] + maxDiff[1] * maxDiff[1] + maxDiff[2] * maxDiff[2]) / H_;
+}
+
+bool ToolDistanceField::InGrid(const Eigen::Vector3d& q) const {
+  const Eigen::Vector3d g = (q - Lo_) / H_;
+  return g(0) >= 0 && g(1) >= 0 && g(2) >= 0 && g(0) < Dims_[0] - 1 && g(1) < Dims_[1] - 1 &&
+         g(2) < Dims_[2] - 1;
 }
 
 size_t ToolDistanceField::Nearest(double rho, double z, double& dist2) const {
@@ -165,6 +187,23 @@ double ToolDistanceField::Sample(const Eigen::Vector3d& q, Eigen::Vector3d& grad
   grad(0) = ((1 - c) * dx0 + c * dx1) / H_;
   grad(1) = ((1 - c) * (v10 - v00) + c * (v11 - v01)) / H_;
   grad(2) = (v1 - v0) / H_;
+  return v0 + c * (v1 - v0);
+}
+
+double ToolDistanceField::Value(const Eigen::Vector3d& q) const {
+  const Eigen::Vector3d g = (q - Lo_) / H_;
+  if (!(g(0) >= 0 && g(1) >= 0 && g(2) >= 0 && g(0) < Dims_[0] - 1 && g(1) < Dims_[1] - 1 &&
+        g(2) < Dims_[2] - 1))
+    return Far_;
+  const int i = int(g(0)), j = int(g(1)), k = int(g(2));
+  const double a = g(0) - i, b = g(1) - j, c = g(2) - k;
+  const size_t sx = 1, sy = size_t(Dims_[0]), sz = size_t(Dims_[0]) * Dims_[1];
+  const float* p = &D_[size_t(i) + sy * j + sz * k];
+  const double v000 = p[0], v100 = p[sx], v010 = p[sy], v110 = p[sx + sy];
+  const double v001 = p[sz], v101 = p[sx + sz], v011 = p[sy + sz], v111 = p[sx + sy + sz];
+  const double v00 = v000 + a * (v100 - v000), v10 = v010 + a * (v110 - v010);
+  const double v01 = v001 + a * (v101 - v001), v11 = v011 + a * (v111 - v011);
+  const double v0 = v00 + b * (v10 - v00), v1 = v01 + b * (v11 - v01);
   return v0 + c * (v1 - v0);
 }
 

@@ -44,8 +44,19 @@ public:
   /// Signed distance (mm, < 0 inside the tool) at tool-frame point q (mm), trilinear; gradient
   /// (unit-less) in `grad`. Outside the grid: returns Far() and a zero gradient.
   double Sample(const Eigen::Vector3d& q, Eigen::Vector3d& grad) const;
+  /// Sample's value alone (mm), without the gradient: equal to it up to rounding (the arithmetic
+  /// may contract differently), for bounds that keep a margin.
+  double Value(const Eigen::Vector3d& q) const;
   /// The value reported outside the grid (the margin), mm.
   double Far() const { return Far_; }
+  /// Whether Sample interpolates at tool-frame point q (mm) rather than reporting Far().
+  bool InGrid(const Eigen::Vector3d& q) const;
+  /// Lipschitz bound of Sample inside the grid (unit-less, mm per mm): |Sample(q) - Sample(q')| <=
+  /// LipschitzBound() |q - q'| for q, q' both InGrid (the grid is a box, so the segment between
+  /// them is too). Each component of the trilinear gradient is a convex combination of the cells'
+  /// edge differences along that axis, so the bound is the norm of the largest edge difference per
+  /// axis over the spacing, taken from the grid at construction.
+  double LipschitzBound() const { return Lipschitz_; }
   /// Exact signed distance from the outline (mm) at radius rho and height z (for tests).
   double Exact(double rho, double z) const;
   /// Whether the outline nearest to tool-frame point q (mm) belongs to `part` (nearest node of a
@@ -76,7 +87,7 @@ private:
   double TableStep_ = 0, TableZ0_ = 0;
   int TableNr_ = 0, TableNz_ = 0;
   const ToolModel* Tool_ = nullptr;
-  double H_ = 0, Far_ = 0;
+  double H_ = 0, Far_ = 0, Lipschitz_ = 0;
   Eigen::Vector3d Lo_ = Eigen::Vector3d::Zero(), Hi_ = Eigen::Vector3d::Zero();
   std::array<int, 3> Dims_{0, 0, 0};
   std::vector<float> D_;

@@ -1,0 +1,77 @@
+// KimParkContact's candidate points (SetCandidateRadius) are exact: along a wandering path of
+// tool poses, with and without dead band, for the whole tool and for the reamer's leading part,
+// across changes of orientation and of the shell (Boolean cuts), every query equals, bit for bit,
+// the full scan of a contact without candidates on the same shell and field.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "bmKimParkContact.h"
+#include "bmMachiningSetup.h"
+#include "bmSessionTestUtil.h"
+
+namespace {
+
+void ExpectSame(const bm::ContactResult& a, const bm::ContactResult& b) {
+  EXPECT_EQ(a.points, b.points);
+  EXPECT_EQ(a.force, b.force);
+  EXPECT_EQ(a.jacobian, b.jacobian);
+  EXPECT_EQ(a.maxDepthMm, b.maxDepthMm);
+  EXPECT_EQ(a.normal, b.normal);
+}
+
+TEST(ContactCandidates, QueriesEqualTheFullScan) {
+  nlohmann::json j = bm::Scene::Builtin("drilling").ToJson();
+  j["tool"] = {{"type", "reamer"},         {"arc_radius_mm", 1.0},    {"arc_centre_offset_mm", 0.0},
+               {"alpha_deg", 0.0},         {"outer_radius_mm", 1.0},  {"lips", 5},
+               {"nipple_radius_mm", 0.25}, {"nipple_length_mm", 0.3}, {"head_thickness_mm", 0.2},
+               {"shaft_radius_mm", 0.4},   {"shaft_length_mm", 1.0}};
+  j["bone"]["size_mm"] = {2.4, 2.4, 1.2};
+  j["voxmap_resolution"] = 48;
+  j["shell_resolution"] = 64;
+  j["threads"] = 1;
+  j.erase("force_model");
+  const bm::Scene scene = bm::Scene::FromJson(j);
+  bm::MachiningSetup setup(scene, bm::MakeSceneBlock(scene));
+  const double h = setup.Bone().Spacing();
+  const bm::ToolDistanceField sdf(setup.Tool(), 64);
+  bm::BoneSurfaceShell shell(setup.Bone());
+  bm::KimParkContact full(sdf, shell), cached(sdf, shell);
+  cached.SetCandidateRadius(2 * h);
+  EXPECT_GE(sdf.LipschitzBound(), 1.0 - 1e-6); // a distance field has slope 1 somewhere
+
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> step(-0.5 * h, 0.5 * h);
+  Eigen::Vector3d p(0, 0, 0.05);
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  int touching = 0, partTouching = 0;
+  for (int it = 0; it < 600; ++it) {
+    p += Eigen::Vector3d(step(rng), step(rng), step(rng) - 0.05 * h); // sinking slowly
+    p(2) = std::max(p(2), -0.6);
+    if (it % 150 == 75) // a new orientation: the candidates are gathered again
+      R = Eigen::AngleAxisd(0.05 * (it / 150 + 1), Eigen::Vector3d(1, 1, 0).normalized())
+              .toRotationMatrix();
+    if (it % 100 == 50) { // the shell changes under the candidates
+      int64_t fill = 0;
+      cached.Cut(R, p, 0.5 * h, fill);
+    }
+    for (double band : {0.0, h}) {
+      const bm::ContactResult a = full.Query(R, p, band), b = cached.Query(R, p, band);
+      ExpectSame(a, b);
+      touching += a.points > 0;
+      const bm::ContactResult c = full.Query(R, p, band, bm::ToolPart::NonCuttingLeading, h),
+                              d = cached.Query(R, p, band, bm::ToolPart::NonCuttingLeading, h);
+      ExpectSame(c, d);
+      partTouching += c.points > 0;
+    }
+    if (HasFailure())
+      break;
+  }
+  std::cout << "[candidates] " << touching << " whole-tool and " << partTouching
+            << " leading-part queries in contact; " << full.Scans() << " full scans, "
+            << cached.Scans() << " gathers\n";
+  EXPECT_GT(touching, 100); // the path does press into the bone
+  EXPECT_LT(cached.Scans(), full.Scans() / 4);
+}
+
+} // namespace
