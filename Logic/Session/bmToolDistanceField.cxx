@@ -166,24 +166,35 @@ double ToolDistanceField::Signed(double rho, double z, size_t& segment) const {
   return inside ? -d : d;
 }
 
-double ToolDistanceField::Sample(const Eigen::Vector3d& q, Eigen::Vector3d& grad) const {
+bool ToolDistanceField::Corners(const Eigen::Vector3d& q, double v[8], double& a, double& b,
+                                double& c) const {
   const Eigen::Vector3d g = (q - Lo_) / H_;
   if (!(g(0) >= 0 && g(1) >= 0 && g(2) >= 0 && g(0) < Dims_[0] - 1 && g(1) < Dims_[1] - 1 &&
-        g(2) < Dims_[2] - 1)) {
+        g(2) < Dims_[2] - 1))
+    return false;
+  const int i = int(g(0)), j = int(g(1)), k = int(g(2));
+  a = g(0) - i;
+  b = g(1) - j;
+  c = g(2) - k;
+  const size_t sx = 1, sy = size_t(Dims_[0]), sz = size_t(Dims_[0]) * Dims_[1];
+  const float* p = &D_[size_t(i) + sy * j + sz * k];
+  // v[x + 2 y + 4 z] is the corner (x, y, z) of the cell.
+  v[0] = p[0], v[1] = p[sx], v[2] = p[sy], v[3] = p[sx + sy];
+  v[4] = p[sz], v[5] = p[sx + sz], v[6] = p[sy + sz], v[7] = p[sx + sy + sz];
+  return true;
+}
+
+double ToolDistanceField::Sample(const Eigen::Vector3d& q, Eigen::Vector3d& grad) const {
+  double v[8], a, b, c;
+  if (!Corners(q, v, a, b, c)) {
     grad.setZero();
     return Far_;
   }
-  const int i = int(g(0)), j = int(g(1)), k = int(g(2));
-  const double a = g(0) - i, b = g(1) - j, c = g(2) - k;
-  const size_t sx = 1, sy = size_t(Dims_[0]), sz = size_t(Dims_[0]) * Dims_[1];
-  const float* p = &D_[size_t(i) + sy * j + sz * k];
-  const double v000 = p[0], v100 = p[sx], v010 = p[sy], v110 = p[sx + sy];
-  const double v001 = p[sz], v101 = p[sx + sz], v011 = p[sy + sz], v111 = p[sx + sy + sz];
-  const double v00 = v000 + a * (v100 - v000), v10 = v010 + a * (v110 - v010);
-  const double v01 = v001 + a * (v101 - v001), v11 = v011 + a * (v111 - v011);
+  const double v00 = v[0] + a * (v[1] - v[0]), v10 = v[2] + a * (v[3] - v[2]);
+  const double v01 = v[4] + a * (v[5] - v[4]), v11 = v[6] + a * (v[7] - v[6]);
   const double v0 = v00 + b * (v10 - v00), v1 = v01 + b * (v11 - v01);
-  const double dx0 = (1 - b) * (v100 - v000) + b * (v110 - v010),
-               dx1 = (1 - b) * (v101 - v001) + b * (v111 - v011);
+  const double dx0 = (1 - b) * (v[1] - v[0]) + b * (v[3] - v[2]),
+               dx1 = (1 - b) * (v[5] - v[4]) + b * (v[7] - v[6]);
   grad(0) = ((1 - c) * dx0 + c * dx1) / H_;
   grad(1) = ((1 - c) * (v10 - v00) + c * (v11 - v01)) / H_;
   grad(2) = (v1 - v0) / H_;
@@ -191,18 +202,11 @@ double ToolDistanceField::Sample(const Eigen::Vector3d& q, Eigen::Vector3d& grad
 }
 
 double ToolDistanceField::Value(const Eigen::Vector3d& q) const {
-  const Eigen::Vector3d g = (q - Lo_) / H_;
-  if (!(g(0) >= 0 && g(1) >= 0 && g(2) >= 0 && g(0) < Dims_[0] - 1 && g(1) < Dims_[1] - 1 &&
-        g(2) < Dims_[2] - 1))
+  double v[8], a, b, c;
+  if (!Corners(q, v, a, b, c))
     return Far_;
-  const int i = int(g(0)), j = int(g(1)), k = int(g(2));
-  const double a = g(0) - i, b = g(1) - j, c = g(2) - k;
-  const size_t sx = 1, sy = size_t(Dims_[0]), sz = size_t(Dims_[0]) * Dims_[1];
-  const float* p = &D_[size_t(i) + sy * j + sz * k];
-  const double v000 = p[0], v100 = p[sx], v010 = p[sy], v110 = p[sx + sy];
-  const double v001 = p[sz], v101 = p[sx + sz], v011 = p[sy + sz], v111 = p[sx + sy + sz];
-  const double v00 = v000 + a * (v100 - v000), v10 = v010 + a * (v110 - v010);
-  const double v01 = v001 + a * (v101 - v001), v11 = v011 + a * (v111 - v011);
+  const double v00 = v[0] + a * (v[1] - v[0]), v10 = v[2] + a * (v[3] - v[2]);
+  const double v01 = v[4] + a * (v[5] - v[4]), v11 = v[6] + a * (v[7] - v[6]);
   const double v0 = v00 + b * (v10 - v00), v1 = v01 + b * (v11 - v01);
   return v0 + c * (v1 - v0);
 }

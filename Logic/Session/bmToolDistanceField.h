@@ -74,6 +74,9 @@ public:
   bool Has(ToolPart part) const;
 
 private:
+  /// The eight samples of the grid cell holding tool-frame point q (mm) and q's fractions in it;
+  /// false outside the grid.
+  bool Corners(const Eigen::Vector3d& q, double v[8], double& a, double& b, double& c) const;
   /// Index of the outline segment nearest to (rho, z) and its squared distance (mm^2).
   size_t Nearest(double rho, double z, double& dist2) const;
   /// Exact(rho, z), with the nearest segment's index in `segment`.
