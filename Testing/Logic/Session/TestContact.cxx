@@ -136,24 +136,7 @@ struct NippleRun {
 /// wall lie up to half a voxel inside holeR.
 NippleRun RunNippleIntoPilotHole(double nippleRadiusMm, double holeR = 0.35, double holeDepth = 0.6,
                                  bool partialWall = false) {
-  nlohmann::json j = bm::Scene::Builtin("drilling").ToJson();
-  j["tool"] = {{"type", "reamer"},
-               {"arc_radius_mm", 1.0},
-               {"arc_centre_offset_mm", 0.0},
-               {"alpha_deg", 0.0},
-               {"outer_radius_mm", 1.0},
-               {"lips", 5},
-               {"nipple_radius_mm", nippleRadiusMm},
-               {"nipple_length_mm", 0.3},
-               {"head_thickness_mm", 0.2},
-               {"shaft_radius_mm", 0.4},
-               {"shaft_length_mm", 1.0}};
-  j["bone"]["size_mm"] = {2.4, 2.4, 1.2};
-  j["voxmap_resolution"] = 64;
-  j["shell_resolution"] = 64;
-  j["threads"] = 1;
-  j.erase("force_model");
-  const bm::Scene scene = bm::Scene::FromJson(j);
+  const bm::Scene scene = bm::test::GuidedReamerScene(nippleRadiusMm, 64);
   bm::MachiningSetup setup(scene, bm::MakeSceneBlock(scene));
   bm::Voxmap& bone = setup.Bone();
   const auto d = bone.Dims();

@@ -35,6 +35,30 @@ inline Scene BurrScene(double radiusMm, std::array<double, 3> blockMm, int voxma
   return Scene::FromJson(j);
 }
 
+/// A small guided reamer (hemispherical head of radius 1 mm, 5 lips; guide nipple of radius
+/// nippleRadiusMm, 0 = none, 0.3 mm ahead of the face) over a 2.4 x 2.4 x 1.2 mm block at
+/// voxmapRes cells along its longest side, shell 64.
+inline Scene GuidedReamerScene(double nippleRadiusMm, int voxmapRes) {
+  nlohmann::json j = Scene::Builtin("drilling").ToJson();
+  j["tool"] = {{"type", "reamer"},
+               {"arc_radius_mm", 1.0},
+               {"arc_centre_offset_mm", 0.0},
+               {"alpha_deg", 0.0},
+               {"outer_radius_mm", 1.0},
+               {"lips", 5},
+               {"nipple_radius_mm", nippleRadiusMm},
+               {"nipple_length_mm", 0.3},
+               {"head_thickness_mm", 0.2},
+               {"shaft_radius_mm", 0.4},
+               {"shaft_length_mm", 1.0}};
+  j["bone"]["size_mm"] = {2.4, 2.4, 1.2};
+  j["voxmap_resolution"] = voxmapRes;
+  j["shell_resolution"] = 64;
+  j["threads"] = 1;
+  j.erase("force_model");
+  return Scene::FromJson(j);
+}
+
 /// The reference drill over a block.
 inline Scene DrillScene(std::array<double, 3> blockMm, int voxmapRes, int shellRes) {
   nlohmann::json j = Scene::Builtin("drilling").ToJson();
