@@ -12,19 +12,17 @@
 
 #include <vtkCellArray.h>
 #include <vtkFloatArray.h>
-#include <vtkFlyingEdges3D.h>
-#include <vtkImageData.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkTypeInt32Array.h>
-#include <vtkTypeInt64Array.h>
 
 namespace bm {
 
-// The padded lattice: sample p = i + 1 for voxel i, plus one void sample before and after the
-// grid on each axis, so there are Dims + 2 samples and Dims + 1 cells per axis. Brick b holds
-// the cells [b B, (b + 1) B) and so the samples [b B, (b + 1) B] (the last plane shared).
+// The padded lattice, in voxel coordinates (bmBrickMarchingCubes.h): samples -1 .. Dims (the two
+// ends void), cells -1 .. Dims - 1, cell c spanning the samples c and c + 1. Brick b holds the
+// cells [b B - 2, (b + 1) B - 2): shifted by two so that the cells a voxmap brick's voxels reach
+// fall into two of our bricks per axis when B = Voxmap::kBrick (see Reset).
 
 namespace {
 using Clock = std::chrono::steady_clock;
@@ -56,20 +54,7 @@ template <class ArrayT> void SetLength(ArrayT* a, int64_t values) {
 
 BoneSurface::BoneSurface(int brickVoxels, double iso)
     : Brick_(brickVoxels), Iso_(iso), Output_(vtkSmartPointer<vtkPolyData>::New()),
-      Image_(vtkSmartPointer<vtkImageData>::New()), Values_(vtkSmartPointer<vtkFloatArray>::New()),
-      Edges_(vtkSmartPointer<vtkFlyingEdges3D>::New()) {
-  if (brickVoxels < 2)
-    throw std::invalid_argument("BoneSurface: brickVoxels must be >= 2");
-  if (!(iso > 0.0 && iso < 1.0))
-    throw std::invalid_argument("BoneSurface: iso must be in (0, 1)");
-  Values_->SetName("BoneFraction");
-  Image_->GetPointData()->SetScalars(Values_);
-  Edges_->SetInputData(Image_);
-  Edges_->SetValue(0, Iso_);
-  Edges_->ComputeNormalsOn();
-  Edges_->ComputeGradientsOff();
-  Edges_->ComputeScalarsOff();
-}
+      Cubes_(brickVoxels, iso) {}
 
 BoneSurface::~BoneSurface() = default;
 
@@ -89,15 +74,15 @@ void BoneSurface::MarkDirty(const Box3& box) {
       return;
   std::array<int, 3> lo, hi;
   for (int a = 0; a < 3; ++a) {
-    // Padded sample index of the box's ends, widened by one sample.
-    const double plo = (box.lo[a] - Origin_[a]) / Spacing_ + 1.0;
-    const double phi = (box.hi[a] - Origin_[a]) / Spacing_ + 1.0;
-    const double cells = double(Dims_[a]) + 1.0;
-    const int slo = int(std::floor(std::clamp(plo, 0.0, cells))) - 1;
-    const int shi = int(std::ceil(std::clamp(phi, 0.0, cells))) + 1;
-    // A sample on a brick boundary belongs to both bricks that share it.
-    lo[a] = std::clamp((slo - 1) / Brick_, 0, BrickDims_[a] - 1);
-    hi[a] = std::clamp(shi / Brick_, 0, BrickDims_[a] - 1);
+    // The voxels the box touches, widened by one; a voxel i reaches the cells i - 2 .. i + 1
+    // (i - 1 and i through its value, the other two through the gradients at its neighbours).
+    const double glo = (box.lo[a] - Origin_[a]) / Spacing_,
+                 ghi = (box.hi[a] - Origin_[a]) / Spacing_;
+    const double end = double(Dims_[a]);
+    const int ilo = int(std::floor(std::clamp(glo, -1.0, end))) - 1;
+    const int ihi = int(std::ceil(std::clamp(ghi, -1.0, end))) + 1;
+    lo[a] = std::clamp((ilo - 2 + 2) / Brick_, 0, BrickDims_[a] - 1);
+    hi[a] = std::clamp((ihi + 1 + 2) / Brick_, 0, BrickDims_[a] - 1);
   }
   for (int k = lo[2]; k <= hi[2]; ++k)
     for (int j = lo[1]; j <= hi[1]; ++j)
@@ -110,7 +95,7 @@ void BoneSurface::Reset(const Voxmap& bone) {
   Spacing_ = bone.Spacing();
   Origin_ = bone.Origin();
   for (int a = 0; a < 3; ++a)
-    BrickDims_[a] = (Dims_[a] + 1 + Brick_ - 1) / Brick_;
+    BrickDims_[a] = (Dims_[a] + 1) / Brick_ + 1; // the last holds cell Dims - 1
   const size_t n = size_t(NumBricks());
   Bricks_.assign(n, BrickMesh{});
   Dirty_.assign(n, 1);
@@ -119,15 +104,16 @@ void BoneSurface::Reset(const Voxmap& bone) {
   Cursor_ = 0;
   AllDirty_ = false;
   // Our bricks that each of the voxmap's bricks reaches, per axis: voxmap brick v holds the voxels
-  // [v kBrick, v kBrick + kBrick - 1], i.e. the samples p0..p1 below; sample p lies in our bricks
-  // (p - 1) / B .. p / B.
+  // i0..i1 below; voxel i reaches the cells i - 2 .. i + 1 (the cells around it through its value,
+  // one further through the central-difference normals of the vertices next to it), and cell c
+  // lies in our brick (c + 2) / B. With B = kBrick that is our bricks v and v + 1.
   const auto& vbd = bone.BrickDims();
   for (int a = 0; a < 3; ++a) {
     VoxBrickRange_[a].resize(size_t(vbd[a]));
     for (int v = 0; v < vbd[a]; ++v) {
-      const int p0 = v * Voxmap::kBrick + 1;
-      const int p1 = std::min((v + 1) * Voxmap::kBrick, Dims_[a]);
-      VoxBrickRange_[a][size_t(v)] = {(p0 - 1) / Brick_, std::min(p1 / Brick_, BrickDims_[a] - 1)};
+      const int i0 = v * Voxmap::kBrick;
+      const int i1 = std::min(i0 + Voxmap::kBrick, Dims_[a]) - 1;
+      VoxBrickRange_[a][size_t(v)] = {i0 / Brick_, std::min((i1 + 3) / Brick_, BrickDims_[a] - 1)};
     }
   }
   // Everything is extracted now: mark every voxmap brick seen first.
@@ -157,85 +143,10 @@ void BoneSurface::ScanGenerations(const Voxmap& bone) {
 }
 
 void BoneSurface::ExtractBrick(const Voxmap& bone, int64_t b, BrickMesh& mesh) {
-  const std::array<int, 3> bijk{int(b % BrickDims_[0]), int((b / BrickDims_[0]) % BrickDims_[1]),
-                                int(b / (int64_t(BrickDims_[0]) * BrickDims_[1]))};
-  std::array<int, 3> p0, n;
-  for (int a = 0; a < 3; ++a) {
-    p0[a] = bijk[a] * Brick_;
-    n[a] = std::min(p0[a] + Brick_, Dims_[a] + 1) - p0[a] + 1; // samples, shared planes included
-  }
-  Values_->SetNumberOfValues(vtkIdType(n[0]) * n[1] * n[2]);
-  float* v = Values_->GetPointer(0);
-  float lo = 1.0f, hi = 0.0f;
-  constexpr float kScale = 1.0f / float(Voxmap::kFull); // a power of two: exact
-  // Voxels gi of the row that lie in the grid: i in [iLo, iHi).
-  const int iLo = std::max(0, 1 - p0[0]), iHi = std::min(n[0], Dims_[0] + 1 - p0[0]);
-  for (int k = 0; k < n[2]; ++k) {
-    const int gk = p0[2] + k - 1;
-    for (int j = 0; j < n[1]; ++j, v += n[0]) {
-      const int gj = p0[1] + j - 1;
-      if (gk < 0 || gk >= Dims_[2] || gj < 0 || gj >= Dims_[1] || iLo >= iHi) {
-        std::fill(v, v + n[0], 0.0f);
-        lo = 0.0f;
-        continue;
-      }
-      std::fill(v, v + iLo, 0.0f);
-      std::fill(v + iHi, v + n[0], 0.0f);
-      if (iLo > 0 || iHi < n[0])
-        lo = 0.0f;
-      const int64_t base = bone.Index(p0[0] - 1, gj, gk);
-      for (int i = iLo; i < iHi; ++i) {
-        const Voxmap::Fill f = bone.LoadFill(base + i);
-        const float x = f <= 0 ? 0.0f : float(f) * kScale;
-        v[i] = x;
-        lo = std::min(lo, x);
-        hi = std::max(hi, x);
-      }
-    }
-  }
-  mesh.points.clear();
-  mesh.normals.clear();
-  mesh.triangles.clear();
-  if (hi < Iso_ || lo >= Iso_)
-    return; // all void or all bone: no surface in this brick
-
-  Image_->SetDimensions(n[0], n[1], n[2]);
-  Image_->SetSpacing(Spacing_, Spacing_, Spacing_);
-  Image_->SetOrigin(Origin_[0] + (p0[0] - 1) * Spacing_, Origin_[1] + (p0[1] - 1) * Spacing_,
-                    Origin_[2] + (p0[2] - 1) * Spacing_);
-  Values_->Modified();
-  Image_->Modified();
-  Edges_->Update();
-  vtkPolyData* out = Edges_->GetOutput();
-  vtkCellArray* polys = out->GetPolys();
-  const int64_t np = out->GetNumberOfPoints(), nt = polys ? polys->GetNumberOfCells() : 0;
-  if (nt == 0)
-    return;
-  if (polys->GetNumberOfConnectivityIds() != 3 * nt)
-    throw std::logic_error("BoneSurface: flying edges made a cell that is not a triangle");
-  mesh.points.resize(size_t(3 * np));
-  vtkDataArray* pts = out->GetPoints()->GetData();
-  if (auto* f = vtkFloatArray::FastDownCast(pts))
-    std::memcpy(mesh.points.data(), f->GetPointer(0), size_t(3 * np) * sizeof(float));
-  else
-    for (int64_t i = 0; i < 3 * np; ++i)
-      mesh.points[size_t(i)] = float(pts->GetComponent(i / 3, int(i % 3)));
-  mesh.normals.resize(size_t(3 * np));
-  vtkDataArray* nrm = out->GetPointData()->GetNormals();
-  if (auto* f = vtkFloatArray::FastDownCast(nrm))
-    std::memcpy(mesh.normals.data(), f->GetPointer(0), size_t(3 * np) * sizeof(float));
-  else if (nrm)
-    for (int64_t i = 0; i < 3 * np; ++i)
-      mesh.normals[size_t(i)] = float(nrm->GetComponent(i / 3, int(i % 3)));
-  mesh.triangles.resize(size_t(3 * nt));
-  if (polys->IsStorage64Bit()) {
-    const vtkTypeInt64* c = polys->GetConnectivityArray64()->GetPointer(0);
-    for (int64_t i = 0; i < 3 * nt; ++i)
-      mesh.triangles[size_t(i)] = int32_t(c[i]);
-  } else {
-    std::memcpy(mesh.triangles.data(), polys->GetConnectivityArray32()->GetPointer(0),
-                size_t(3 * nt) * sizeof(int32_t));
-  }
+  const std::array<int, 3> first{int(b % BrickDims_[0]) * Brick_ - 2,
+                                 int((b / BrickDims_[0]) % BrickDims_[1]) * Brick_ - 2,
+                                 int(b / (int64_t(BrickDims_[0]) * BrickDims_[1])) * Brick_ - 2};
+  Cubes_.Extract(bone, first, mesh);
 }
 
 void BoneSurface::RemoveBrick(int64_t b) {

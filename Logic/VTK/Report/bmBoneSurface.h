@@ -1,20 +1,25 @@
 // bmBoneSurface.h - the bone's surface from its voxmap, re-extracted only where the bone changed.
 //
-// The iso-surface (default fill fraction 0.5) of the voxmap's fill fractions (bmVoxmap.h), made
-// with VTK's flying edges (vtkFlyingEdges3D). The grid is cut into bricks of BrickVoxels^3 cells;
-// each brick's triangles are cached, and Update() re-extracts only the bricks whose samples
-// changed since the last update: the voxmap's per-brick change generations say which (so no tool
-// box is needed and nothing that changed is missed), and MarkDirty() adds bricks by hand.
-// Neighbouring bricks share their boundary plane of samples, so their triangles meet without
-// gaps (points on the shared planes are duplicated, triangles are not). Samples outside the grid
-// count as void, so bone touching the grid's faces is closed. Normals come from the fill gradient
-// inside each brick (one-sided on the brick's faces).
+// The iso-surface (default fill fraction 0.5) of the voxmap's fills (bmVoxmap.h), made brick by
+// brick with a sparse marching cubes (bmBrickMarchingCubes.h: VTK's case table, no pipeline; a
+// brick costs about the reading of its samples plus its triangles, so a thin cut costs its
+// surface, not the volume around it). The grid, padded by one void sample on each side (so bone
+// touching the grid's faces is closed), is cut into bricks of BrickVoxels^3 cells (default 8, the
+// voxmap's occupancy brick); each brick's triangles are cached, and Update() re-extracts only the
+// bricks that changed since the last update: the voxmap's per-brick change generations say which
+// (a changed voxmap brick marks our bricks v and v + 1 on each axis, the cells its voxels reach
+// through their values and through the gradient normals next to them; so no tool box is needed
+// and nothing that changed is missed), and MarkDirty() adds bricks by hand. Bricks read a
+// one-sample halo, so their triangles and normals meet those of their neighbours exactly: the
+// bricks together make vtkFlyingEdges3D's surface of the whole padded grid (same triangles, points
+// and normals to float rounding), with the points on shared brick faces duplicated.
 //
 // Live use: Update() may run while another thread cuts the voxmap (Voxmap::Remove): it reads the
 // fills with atomic loads after marking the bricks seen (Voxmap::SeenBrickGeneration), so a brick
-// cut during its extraction is extracted again at the next Update(), and the cutting thread never
-// waits. A time budget (SetTimeBudgetMs) bounds one update: the bricks left over stay pending and
-// go first next time, so a view keeps its frame rate and catches up within a few refreshes.
+// cut during its extraction is extracted again at the next Update() (every voxel a brick reads,
+// halo included, reaches the brick's cells, so its voxmap brick marks it), and the cutting thread
+// never waits. A time budget (SetTimeBudgetMs) bounds one update: the bricks left over stay pending
+// and go first next time, so a view keeps its frame rate and catches up within a few refreshes.
 //
 // The output is one vtkPolyData whose arrays are patched, not rebuilt, so an update costs the
 // triangles it changed, not the whole surface: a brick's old triangles are removed by moving the
@@ -23,7 +28,7 @@
 // arrays are written whole, in order, when a quarter of the surface or more changed (in place),
 // or when they must grow or are half unused points (new arrays). One polydata rather than a
 // composite of per-brick pieces: the BM Session source's port stays a vtkPolyData, and the mapper
-// draws one buffer instead of thousands of blocks (a 512^3 voxmap holds 4913 bricks of 32).
+// draws one buffer instead of thousands of blocks (a 512^3 voxmap holds 274625 bricks of 8).
 //
 // Units: world mm (points are in the voxmap's world frame); times in ms.
 #pragma once
@@ -34,11 +39,10 @@
 
 #include <vtkSmartPointer.h>
 
+#include "bmBrickMarchingCubes.h"
 #include "bmVoxmap.h"
 
-class vtkFlyingEdges3D;
 class vtkFloatArray;
-class vtkImageData;
 class vtkPolyData;
 class vtkTypeInt32Array;
 
@@ -46,11 +50,11 @@ namespace bm {
 
 class BoneSurface {
 public:
-  /// brickVoxels: edge of a brick in cells (>= 2; default 32: one flying-edges run costs about
-  /// the same at 16 and 32, so fewer, larger bricks re-extract a cut faster); iso: fill fraction
-  /// of the surface in (0, 1) (default 0.5, where the partial-volume fill says half the voxel is
-  /// bone).
-  explicit BoneSurface(int brickVoxels = 32, double iso = 0.5);
+  /// brickVoxels: edge of a brick in cells (2..256; default Voxmap::kBrick = 8: a changed voxmap
+  /// brick then re-extracts 8 bricks of 8^3 cells, where with 32 it re-extracts 1-8 bricks of 32^3,
+  /// reading up to 64 times the samples); iso: fill fraction of the surface in (0, 1) (default 0.5,
+  /// where the partial-volume fill says half the voxel is bone).
+  explicit BoneSurface(int brickVoxels = Voxmap::kBrick, double iso = 0.5);
   ~BoneSurface();
   BoneSurface(const BoneSurface&) = delete;
   BoneSurface& operator=(const BoneSurface&) = delete;
@@ -76,7 +80,7 @@ public:
     int extracted = 0;              ///< bricks re-extracted
     int pending = 0;                ///< bricks left for the next update (time budget)
     double scanMs = 0;              ///< reading the voxmap's change generations
-    double extractMs = 0;           ///< sampling the fills and flying edges
+    double extractMs = 0;           ///< reading the fills and marching cubes
     double assembleMs = 0;          ///< patching the output's arrays
     int64_t rewrittenTriangles = 0; ///< triangles written into the output
   };
@@ -93,12 +97,7 @@ public:
 
 private:
   /// One brick's triangles: points and normals (x, y, z each), vertex indices into its points.
-  struct BrickMesh {
-    std::vector<float> points, normals;
-    std::vector<int32_t> triangles;
-    int64_t NumPoints() const { return int64_t(points.size() / 3); }
-    int64_t NumTriangles() const { return int64_t(triangles.size() / 3); }
-  };
+  using BrickMesh = BrickMarchingCubes::Mesh;
 
   void Reset(const Voxmap& bone);
   void ScanGenerations(const Voxmap& bone);
@@ -140,10 +139,7 @@ private:
   vtkSmartPointer<vtkTypeInt32Array> Offsets_, Connectivity_;
   vtkSmartPointer<vtkPolyData> Output_;
 
-  // Reused for every brick's extraction.
-  vtkSmartPointer<vtkImageData> Image_;
-  vtkSmartPointer<vtkFloatArray> Values_;
-  vtkSmartPointer<vtkFlyingEdges3D> Edges_;
+  BrickMarchingCubes Cubes_; ///< extracts every brick (its scratch buffers reused)
 
   UpdateStats Stats_;
 };

@@ -90,7 +90,7 @@ std::string HtmlEscape(const std::string& in) {
 } // namespace
 
 vtkSmartPointer<vtkPolyData> CutBoneSurface(MachiningSetup& setup, const FeedTrial& trial) {
-  BoneSurface extractor(32, 0.5);
+  BoneSurface extractor;
   extractor.Update(setup.Bone());
   vtkSmartPointer<vtkPolyData> surface = vtkSmartPointer<vtkPolyData>::New();
   surface->ShallowCopy(extractor.GetOutput());
