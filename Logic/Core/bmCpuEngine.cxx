@@ -16,7 +16,8 @@ void FramePartial::Clear() {
   thrust = torque = fx = fy = 0;
   visited = engaged = engagedCutting = requested = 0;
   removedFill = removedVoxels = 0;
-  removals.clear();
+  for (auto& r : removals)
+    r.clear();
 }
 
 void FramePartial::Add(const FramePartial& o) {
@@ -95,8 +96,13 @@ CpuEngine::CpuEngine(Voxmap& bone, const ToolModel& tool, const PointShell& shel
       State_(Pool_.Threads() == 1 ? 1 : 2 * size_t(Pool_.Threads()),
              std::vector<ElementResidency>(shell.Size())),
       PrevWinner_(NumTasks(shell), 0),
-      RemovalCounts_((NumTasks(shell) + kTasksPerRemoval - 1) / kTasksPerRemoval),
       VoxelScratch_(size_t(Pool_.Threads()), std::vector<int64_t>(kBatch)) {
+  while (RemovalParts_ < Pool_.Threads())
+    RemovalParts_ *= 2;
+  for (FramePartial& p : Partials_)
+    p.removals.resize(size_t(RemovalParts_));
+  RemovalCounts_.resize(size_t(RemovalParts_));
+  Touched_.resize(size_t(RemovalParts_));
   Pool_.ReserveRedoable(int(NumTasks(shell)));
 }
 
@@ -147,7 +153,6 @@ FrameResult CpuEngine::Step(const FrameInput& in) {
   const FrameGeometry& G = job->G;
   if (G.cutting)
     UpdateForceTable(in.feedMmPerRev, in.speedRpm);
-  const Voxmap::Fill* fill = Bone_.FillData();
   const int nTasks = int(PrevWinner_.size());
   Pool_.RunRedoable(nTasks,
                     std::make_shared<const WorkerPool::RedoableFn>(
@@ -156,35 +161,32 @@ FrameResult CpuEngine::Step(const FrameInput& in) {
     PrevWinner_[size_t(t)] = uint8_t(Pool_.Winner(t));
 
   const bool remove = G.remove;
-  const int nRemoval = (nTasks + kTasksPerRemoval - 1) / kTasksPerRemoval;
   if (remove) {
-    Pool_.Run(nRemoval, [&](int task, int) {
-      int64_t removedFill = 0, removedVoxels = 0;
-      const int pEnd = std::min(nTasks, (task + 1) * kTasksPerRemoval);
-      for (int pi = task * kTasksPerRemoval; pi < pEnd; ++pi) {
-        const auto& req = Partials_[size_t(pi * T + PrevWinner_[size_t(pi)])].removals;
-        const size_t n = req.size();
-        constexpr size_t kAhead = 16; // requests whose fills are prefetched ahead
-        for (size_t i = 0; i < std::min(n, kAhead); ++i)
-          __builtin_prefetch(fill + req[i].first, 1);
-        for (size_t i = 0; i < n; ++i) {
-          if (i + kAhead < n)
-            __builtin_prefetch(fill + req[i + kAhead].first, 1);
-          bool voided = false;
-          removedFill += Bone_.Remove(req[i].first, req[i].second, voided);
-          removedVoxels += voided;
-        }
+    // One task per part: each applies, in task order, the requests for the voxels it owns.
+    Pool_.Run(RemovalParts_, [&](int part, int) {
+      Voxmap::RemovalTotals sum;
+      std::vector<int64_t>& touched = Touched_[size_t(part)];
+      touched.clear();
+      for (int pi = 0; pi < nTasks; ++pi) {
+        const auto& req =
+            Partials_[size_t(pi * T + PrevWinner_[size_t(pi)])].removals[size_t(part)];
+        if (req.empty())
+          continue;
+        const Voxmap::RemovalTotals r = Bone_.RemoveOwned(req.data(), req.size(), touched);
+        sum.fill += r.fill;
+        sum.voxels += r.voxels;
       }
-      RemovalCounts_[size_t(task)] = {removedFill, removedVoxels};
+      Bone_.MarkBricksChanged(touched);
+      RemovalCounts_[size_t(part)] = sum;
     });
   }
   FramePartial total;
   for (int t = 0; t < nTasks; ++t)
     total.Add(Partials_[size_t(t * T + PrevWinner_[size_t(t)])]);
   if (remove)
-    for (int t = 0; t < nRemoval; ++t) {
-      total.removedFill += RemovalCounts_[size_t(t)][0];
-      total.removedVoxels += RemovalCounts_[size_t(t)][1];
+    for (const Voxmap::RemovalTotals& r : RemovalCounts_) {
+      total.removedFill += r.fill;
+      total.removedVoxels += r.voxels;
     }
   FrameResult r = SumPartials({total}, Bone_.VoxelVolume());
   FrameGeometry::UnturnLateral(r, in, Shell_);
@@ -236,14 +238,15 @@ void CpuEngine::RunPassTask(const PassJob& job, int task, int thread) {
     const ShellBlock& blk = blocks[size_t(bi)];
     if (!blockVisible(blk))
       continue;
-    // Pass A: voxel of every element of the block, prefetching the fills (the voxel reads
-    // miss the cache: hiding that latency is most of the frame's cost).
+    // Pass A: voxel of every element of the block, prefetching the fills that pass B reads
+    // (the voxel reads miss the cache: hiding that latency is most of the frame's cost). An
+    // element that stays engaged in its voxel does not read the fill (ElementResidency::Stays).
     for (uint32_t base = blk.begin; base < blk.end; base += kBatch) {
       const uint32_t end = std::min(blk.end, base + kBatch);
       int64_t* vox = VoxelScratch_[size_t(thread)].data();
       for (uint32_t e = base; e < end; ++e) {
         const int64_t idx = G.VoxelOf(ElementCoords(codes[e]));
-        if (idx >= 0)
+        if (idx >= 0 && !LoadResidency(prev[e]).Stays(frameNo, idx))
           __builtin_prefetch(fill + idx);
         vox[e - base] = idx;
       }
@@ -252,7 +255,8 @@ void CpuEngine::RunPassTask(const PassJob& job, int task, int thread) {
         const int64_t idx = vox[e - base];
         ++P.visited;
         ElementResidency st = LoadResidency(prev[e]);
-        const bool engaged = st.Visit(frameNo, idx, idx >= 0 ? LoadRelaxed(fill[idx]) : 0);
+        const bool engaged = st.Visit(
+            frameNo, idx, idx >= 0 && !st.Stays(frameNo, idx) ? LoadRelaxed(fill[idx]) : 0);
         StoreResidency(cur[e], st);
         if (!engaged)
           continue;
@@ -261,10 +265,11 @@ void CpuEngine::RunPassTask(const PassJob& job, int task, int thread) {
           if (const int32_t units = G.RemovalUnits(an[e]); units > 0) {
             // Consecutive elements often share a voxel: one request per run (same result,
             // since the clamped decrement telescopes).
-            if (!P.removals.empty() && P.removals.back().first == idx)
-              P.removals.back().second += units;
+            auto& list = P.removals[size_t(Voxmap::LineOwner(idx, RemovalParts_ - 1))];
+            if (!list.empty() && list.back().first == idx)
+              list.back().second += units;
             else
-              P.removals.emplace_back(idx, units);
+              list.emplace_back(idx, units);
             P.requested += units;
           }
         }

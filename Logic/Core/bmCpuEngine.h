@@ -20,11 +20,15 @@
 // (results identical to one thread updating it in place). A losing run may go on after the frame:
 // it holds the frame's context (PassJob) and reads fills, residency and force table as relaxed
 // atomics, since the caller may be rewriting them.
-// Removal (after the pass: engagement is decided on the voxmap as the frame found it): the
-// requests of kTasksPerRemoval pass tasks per task of WorkerPool::Run (removal is not idempotent,
-// so the caller waits for removal tasks a worker has claimed: a few microseconds each), the
-// fills prefetched for writing a few requests ahead (the locked decrement would otherwise wait
-// for each cache miss in turn).
+// Removal (after the pass: engagement is decided on the voxmap as the frame found it): the pass
+// files each request under its voxel's owner, one of P parts (P = threads rounded up to a power
+// of two; Voxmap::LineOwner: the voxel's cache line modulo P), and a task of WorkerPool::Run per
+// part applies its requests with Voxmap::RemoveOwned: plain stores, no locked decrement, since
+// no other part writes those fills (removal is not idempotent, so the caller waits for a part a
+// worker has claimed). The fills are prefetched for writing a few requests ahead.
+// Elements that stay engaged in the voxel they were in (bmElementResidency.h) need not read its
+// fill: the pass prefetches and loads only the others' (at shell 1024^3 the prefetches' misses
+// were a third of the pass).
 // Elemental forces depend on the element's radius only: a table per force bin (averaged over the
 // bin's width, bmForceModel.h ForceTable) is evaluated once per (feed, speed) and each engaged
 // element adds delta x material x table[bin].
@@ -53,7 +57,9 @@ struct alignas(64) FramePartial {
   int64_t thrust = 0, torque = 0, fx = 0, fy = 0;
   int64_t visited = 0, engaged = 0, engagedCutting = 0, requested = 0;
   int64_t removedFill = 0, removedVoxels = 0;
-  std::vector<std::pair<int64_t, int32_t>> removals; ///< (voxel index, fill units)
+  /// Removal requests (voxel index, fill units), one list per removal part: the voxel's owner
+  /// (Voxmap::LineOwner).
+  std::vector<std::vector<std::pair<int64_t, int32_t>>> removals;
   void Clear();
   /// Adds o's counts and sums (not its removals).
   void Add(const FramePartial& o);
@@ -92,15 +98,16 @@ private:
   ForceModel Model_;
   CullingOptions Culling_;
   WorkerPool Pool_;
-  static constexpr int kBlocksPerTask = 4;   // shell blocks per pass task
-  static constexpr int kTasksPerRemoval = 8; // pass tasks' removal lists per removal task
-  std::vector<FramePartial> Partials_;       // per (pass task, thread)
+  static constexpr int kBlocksPerTask = 4; // shell blocks per pass task
+  int RemovalParts_ = 1;                   // power of two >= threads
+  std::vector<FramePartial> Partials_;     // per (pass task, thread)
   /// Element residency, one buffer per (thread, frame parity): a task's run reads the buffer of
   /// the thread that won the task in the previous frame and writes its own thread's. With one
   /// thread, one buffer updated in place (half the memory traffic).
   std::vector<std::vector<ElementResidency>> State_;
-  std::vector<uint8_t> PrevWinner_;                   // per pass task, the last frame's winner
-  std::vector<std::array<int64_t, 2>> RemovalCounts_; // per removal task: fill units, voxels
+  std::vector<uint8_t> PrevWinner_;                  // per pass task, the last frame's winner
+  std::vector<Voxmap::RemovalTotals> RemovalCounts_; // per removal part
+  std::vector<std::vector<int64_t>> Touched_;        // per removal part: bricks it changed
   uint32_t Frame_ = 0;
   static constexpr uint32_t kBatch = 64;           // elements whose voxels are fetched ahead
   std::vector<std::vector<int64_t>> VoxelScratch_; // per thread: the batch's voxel indices

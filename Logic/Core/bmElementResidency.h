@@ -21,10 +21,15 @@ struct ElementResidency {
   uint32_t frame = 0; ///< frame number of the last visit
   uint32_t engaged = 0;
 
+  /// Whether a visit in `frameNo` to voxel `idx` continues an engaged stay in that voxel: the
+  /// element cuts whatever the voxel's fill (Visit() does not read it).
+  bool Stays(uint32_t frameNo, int64_t idx) const {
+    return frame + 1 == frameNo && voxel == idx && engaged;
+  }
   /// Updates the state for a visit in `frameNo` to voxel `idx` (-1: outside) whose fill at the
-  /// frame's start was `fill`; returns whether the element cuts this frame.
+  /// frame's start was `fill` (not read when Stays()); returns whether the element cuts this frame.
   bool Visit(uint32_t frameNo, int64_t idx, Voxmap::Fill fill) {
-    const bool stayed = frame + 1 == frameNo && voxel == idx && engaged;
+    const bool stayed = Stays(frameNo, idx);
     const bool e = idx >= 0 && (fill > 0 || stayed);
     voxel = idx;
     frame = frameNo;

@@ -16,21 +16,19 @@ constexpr size_t kHugePage = size_t(2) << 20;
 } // namespace
 
 template <class T> T* HugePageAllocator<T>::allocate(size_t n) {
-  const size_t bytes = n * sizeof(T);
-  if (bytes < kHugeBytes)
-    return std::allocator<T>().allocate(n);
-  void* p = std::aligned_alloc(kHugePage, (bytes + kHugePage - 1) / kHugePage * kHugePage);
+  // Smaller blocks are aligned to a cache line (Voxmap::LineOwner's lines are the real ones).
+  const size_t bytes = std::max<size_t>(n * sizeof(T), 1);
+  const size_t align = bytes < kHugeBytes ? 64 : kHugePage;
+  void* p = std::aligned_alloc(align, (bytes + align - 1) / align * align);
   if (!p)
     throw std::bad_alloc();
-  ::madvise(p, bytes, MADV_HUGEPAGE); // advice only: ignored where huge pages are off
+  if (align == kHugePage)
+    ::madvise(p, bytes, MADV_HUGEPAGE); // advice only: ignored where huge pages are off
   return static_cast<T*>(p);
 }
 
-template <class T> void HugePageAllocator<T>::deallocate(T* p, size_t n) noexcept {
-  if (n * sizeof(T) < kHugeBytes)
-    std::allocator<T>().deallocate(p, n);
-  else
-    std::free(p);
+template <class T> void HugePageAllocator<T>::deallocate(T* p, size_t) noexcept {
+  std::free(p);
 }
 
 template struct HugePageAllocator<Voxmap::Fill>;
@@ -166,6 +164,45 @@ Voxmap::Fill Voxmap::Remove(int64_t idx, Fill amount, bool& becameVoid) {
     MarkBrickChanged(b);
   }
   return std::max(old, 0) - std::max(after, 0);
+}
+
+Voxmap::RemovalTotals Voxmap::RemoveOwned(const std::pair<int64_t, int32_t>* req, size_t n,
+                                          std::vector<int64_t>& touched) {
+  RemovalTotals t;
+  constexpr size_t kAhead = 16; // requests whose fills are prefetched ahead
+  for (size_t i = 0; i < std::min(n, kAhead); ++i)
+    __builtin_prefetch(&Fill_[size_t(req[i].first)], 1);
+  int64_t lastBrick = -1;
+  for (size_t i = 0; i < n; ++i) {
+    if (i + kAhead < n)
+      __builtin_prefetch(&Fill_[size_t(req[i + kAhead].first)], 1);
+    const int64_t idx = req[i].first;
+    // Only this thread writes the fill: a relaxed load and store (plain moves on x86-64),
+    // atomic because readers (the live view, a descheduled pass run) may load it meanwhile.
+    std::atomic_ref<Fill> cell(Fill_[size_t(idx)]);
+    const Fill old = cell.load(std::memory_order_relaxed);
+    const Fill after = old - req[i].second;
+    cell.store(after, std::memory_order_relaxed);
+    if (old <= 0)
+      continue;
+    t.fill += old - std::max(after, 0);
+    const int64_t b = BrickOfVoxel(idx);
+    if (after <= 0) {
+      ++t.voxels;
+      BrickCount_[size_t(b)].fetch_sub(1, std::memory_order_relaxed);
+    }
+    if (b != lastBrick) // requests come in runs within a brick: a few entries per brick
+      touched.push_back(lastBrick = b);
+  }
+  return t;
+}
+
+void Voxmap::MarkBricksChanged(const std::vector<int64_t>& bricks) {
+  // The fills were stored relaxed: the fence keeps a reader that marks a brick seen and then
+  // loads its fills (SeenBrickGeneration, LoadFill) from missing them (see the file comment).
+  std::atomic_thread_fence(std::memory_order_seq_cst);
+  for (int64_t b : bricks)
+    MarkBrickChanged(b);
 }
 
 double Voxmap::BoneVolume() const {

@@ -141,3 +141,121 @@ TEST(VoxmapGenerations, ReaderOnAnotherThreadMissesNoChange) {
     ASSERT_EQ(std::max(copy[size_t(i)], 0), std::max(v.GetFill(i), 0))
         << "voxel " << i << " after " << passes << " passes";
 }
+
+namespace {
+
+/// Random removal requests (voxel, units), in runs of neighbouring voxels as a pass makes them.
+std::vector<std::pair<int64_t, int32_t>> RandomRequests(const bm::Voxmap& v, int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int64_t> voxel(0, v.NumVoxels() - 4);
+  std::uniform_int_distribution<int> amount(1, bm::Voxmap::kFull / 3), run(1, 4);
+  std::vector<std::pair<int64_t, int32_t>> r;
+  while (int(r.size()) < n) {
+    const int64_t at = voxel(rng);
+    for (int q = run(rng); q > 0; --q)
+      r.emplace_back(at + q - 1, amount(rng));
+  }
+  return r;
+}
+
+} // namespace
+
+TEST(VoxmapRemoveOwned, SameFillsTotalsOccupancyAndGenerationsAsRemove) {
+  // Two owners (Voxmap::LineOwner with two parts) on two threads at once, against Remove() on
+  // every request in order on one: fills, removed units, voided voxels, brick counts, and the
+  // bricks that moved must all be equal.
+  bm::Voxmap a = FullBlock({40, 24, 24}), b = a;
+  SeeAll(a);
+  SeeAll(b);
+  const auto req = RandomRequests(a, 60000, 11);
+  int64_t fillA = 0, voxA = 0;
+  for (const auto& [idx, units] : req) {
+    bool voided = false;
+    fillA += a.Remove(idx, units, voided);
+    voxA += voided;
+  }
+  std::vector<std::pair<int64_t, int32_t>> parts[2];
+  for (const auto& r : req)
+    parts[bm::Voxmap::LineOwner(r.first, 1)].push_back(r);
+  ASSERT_FALSE(parts[0].empty());
+  ASSERT_FALSE(parts[1].empty());
+  bm::Voxmap::RemovalTotals totals[2];
+  std::vector<std::thread> owners;
+  for (int p = 0; p < 2; ++p)
+    owners.emplace_back([&, p] {
+      std::vector<int64_t> touched;
+      // In two batches, as the engine hands over one pass task's list after another.
+      const size_t half = parts[p].size() / 2;
+      const auto t1 = b.RemoveOwned(parts[p].data(), half, touched);
+      const auto t2 = b.RemoveOwned(parts[p].data() + half, parts[p].size() - half, touched);
+      b.MarkBricksChanged(touched);
+      totals[p] = {t1.fill + t2.fill, t1.voxels + t2.voxels};
+    });
+  for (auto& t : owners)
+    t.join();
+  EXPECT_EQ(fillA, totals[0].fill + totals[1].fill);
+  EXPECT_EQ(voxA, totals[0].voxels + totals[1].voxels);
+  EXPECT_GT(voxA, 0);
+  for (int64_t i = 0; i < a.NumVoxels(); ++i)
+    ASSERT_EQ(a.GetFill(i), b.GetFill(i)) << "voxel " << i;
+  const int64_t bricks = int64_t(a.BrickDims()[0]) * a.BrickDims()[1] * a.BrickDims()[2];
+  for (int64_t k = 0; k < bricks; ++k) {
+    EXPECT_EQ(a.BrickCount(k), b.BrickCount(k)) << "brick " << k;
+    EXPECT_EQ(a.BrickGeneration(k), b.BrickGeneration(k)) << "brick " << k;
+  }
+}
+
+TEST(VoxmapRemoveOwned, OwnersNeverShareACacheLine) {
+  bm::Voxmap v({64, 8, 8}, 0.1, {0, 0, 0});
+  ASSERT_EQ(reinterpret_cast<uintptr_t>(v.FillData()) % 64, 0u);
+  for (int64_t i = 0; i < v.NumVoxels(); ++i) {
+    const auto line = (reinterpret_cast<uintptr_t>(v.FillData() + i)) / 64;
+    const auto first = (reinterpret_cast<uintptr_t>(v.FillData() + i - i % 16)) / 64;
+    ASSERT_EQ(line, first);
+    ASSERT_EQ(bm::Voxmap::LineOwner(i, 3), bm::Voxmap::LineOwner(i - i % 16, 3));
+  }
+  EXPECT_EQ(bm::Voxmap::LineOwner(16, 1), 1);
+  EXPECT_EQ(bm::Voxmap::LineOwner(32, 1), 0);
+}
+
+TEST(VoxmapRemoveOwned, ReaderOnAnotherThreadMissesNoChange) {
+  // As ReaderOnAnotherThreadMissesNoChange above, with the cutter removing through owned
+  // batches (plain stores, one fence per batch) instead of a locked decrement per voxel.
+  bm::Voxmap v = FullBlock({40, 24, 24});
+  std::vector<bm::Voxmap::Fill> copy(size_t(v.NumVoxels()));
+  std::vector<uint32_t> seen = SeeAll(v);
+  for (int64_t i = 0; i < v.NumVoxels(); ++i)
+    copy[size_t(i)] = v.LoadFill(i);
+  auto refresh = [&] {
+    for (size_t b = 0; b < seen.size(); ++b) {
+      const uint32_t g = v.SeenBrickGeneration(int64_t(b));
+      if (g == seen[b])
+        continue;
+      seen[b] = g;
+      const int bi = int(b % size_t(v.BrickDims()[0]));
+      const int bj = int((b / size_t(v.BrickDims()[0])) % size_t(v.BrickDims()[1]));
+      const int bk = int(b / size_t(v.BrickDims()[0] * v.BrickDims()[1]));
+      for (int k = bk * 8; k < std::min(bk * 8 + 8, 24); ++k)
+        for (int j = bj * 8; j < std::min(bj * 8 + 8, 24); ++j)
+          for (int i = bi * 8; i < std::min(bi * 8 + 8, 40); ++i)
+            copy[size_t(v.Index(i, j, k))] = v.LoadFill(v.Index(i, j, k));
+    }
+  };
+  std::atomic<bool> stop{false};
+  std::thread cutter([&] {
+    std::vector<int64_t> touched;
+    for (unsigned batch = 0; batch < 400; ++batch) {
+      const auto req = RandomRequests(v, 1000, 100 + batch);
+      touched.clear();
+      v.RemoveOwned(req.data(), req.size(), touched);
+      v.MarkBricksChanged(touched);
+    }
+    stop.store(true);
+  });
+  while (!stop.load())
+    refresh();
+  cutter.join();
+  refresh();
+  for (int64_t i = 0; i < v.NumVoxels(); ++i)
+    ASSERT_EQ(std::max(copy[size_t(i)], 0), std::max(v.GetFill(i), 0)) << "voxel " << i;
+}
