@@ -142,34 +142,47 @@ void BoneSurface::ScanGenerations(const Voxmap& bone) {
       }
 }
 
-void BoneSurface::ExtractBrick(const Voxmap& bone, int64_t b, BrickMesh& mesh) {
-  const std::array<int, 3> first{int(b % BrickDims_[0]) * Brick_ - 2,
-                                 int((b / BrickDims_[0]) % BrickDims_[1]) * Brick_ - 2,
-                                 int(b / (int64_t(BrickDims_[0]) * BrickDims_[1])) * Brick_ - 2};
-  Cubes_.Extract(bone, first, mesh);
+std::array<int, 3> BoneSurface::FirstCell(int64_t b) const {
+  return {int(b % BrickDims_[0]) * Brick_ - 2,
+          int((b / BrickDims_[0]) % BrickDims_[1]) * Brick_ - 2,
+          int(b / (int64_t(BrickDims_[0]) * BrickDims_[1])) * Brick_ - 2};
 }
 
-void BoneSurface::RemoveBrick(int64_t b) {
-  std::vector<int32_t>& points = PointSlots_[size_t(b)];
-  FreePoints_.insert(FreePoints_.end(), points.begin(), points.end());
-  points.clear();
-  // Fill each of its triangle places, highest first, with the array's last triangle (never one
-  // of this brick's: those above the current place are gone already).
-  std::vector<int32_t>& tris = TriangleSlots_[size_t(b)];
-  std::sort(tris.begin(), tris.end(), std::greater<int32_t>());
-  int32_t* conn = Connectivity_->GetPointer(0);
-  for (int32_t slot : tris) {
-    const int32_t last = int32_t(--NumTriangles_);
-    if (slot == last)
-      continue;
-    std::memcpy(conn + 3 * int64_t(slot), conn + 3 * int64_t(last), 3 * sizeof(int32_t));
-    const int32_t owner = TriangleOwner_[size_t(last)], index = TriangleIndex_[size_t(last)];
-    TriangleOwner_[size_t(slot)] = owner;
-    TriangleIndex_[size_t(slot)] = index;
-    TriangleSlots_[size_t(owner)][size_t(index)] = slot;
-    ++Stats_.rewrittenTriangles;
+void BoneSurface::RemoveBricks(const std::vector<int64_t>& changed) {
+  // Free the bricks' points; mark their triangles' places empty.
+  int64_t removed = 0;
+  for (int64_t b : changed) {
+    std::vector<int32_t>& points = PointSlots_[size_t(b)];
+    FreePoints_.insert(FreePoints_.end(), points.begin(), points.end());
+    points.clear();
+    for (int32_t slot : TriangleSlots_[size_t(b)])
+      TriangleOwner_[size_t(slot)] = -1;
+    removed += int64_t(TriangleSlots_[size_t(b)].size());
   }
-  tris.clear();
+  // Fill the empty places below the new end with the triangles still above it. A view's cut
+  // changes much the same bricks from one update to the next, and those were appended last, so
+  // the triangles above the new end are mostly the removed ones: few moves.
+  const int64_t end = NumTriangles_ - removed;
+  int32_t* conn = Connectivity_->GetPointer(0);
+  int64_t from = end;
+  for (int64_t b : changed) {
+    std::vector<int32_t>& tris = TriangleSlots_[size_t(b)];
+    for (int32_t slot : tris) {
+      if (slot >= end)
+        continue;
+      while (TriangleOwner_[size_t(from)] < 0)
+        ++from;
+      std::memcpy(conn + 3 * int64_t(slot), conn + 3 * from, 3 * sizeof(int32_t));
+      const int32_t owner = TriangleOwner_[size_t(from)], index = TriangleIndex_[size_t(from)];
+      TriangleOwner_[size_t(slot)] = owner;
+      TriangleIndex_[size_t(slot)] = index;
+      TriangleSlots_[size_t(owner)][size_t(index)] = slot;
+      ++from;
+      ++Stats_.rewrittenTriangles;
+    }
+    tris.clear();
+  }
+  NumTriangles_ = end;
 }
 
 void BoneSurface::AddBrick(int64_t b) {
@@ -248,9 +261,8 @@ void BoneSurface::Reallocate(int64_t np, int64_t nt) {
 }
 
 void BoneSurface::Assemble(const std::vector<int64_t>& changed, bool full) {
-  // Patch in place when the arrays hold the result, no more than half of the points would be
-  // unused and the change is under a quarter of the surface (moving triangles one by one into
-  // holes costs more than a sequential rewrite past that); otherwise write everything again.
+  // Patch in place when the arrays hold the result and no more than half of the points would be
+  // unused; otherwise write everything again.
   int64_t oldPoints = 0, newPoints = 0, oldTriangles = 0, newTriangles = 0;
   for (int64_t b : changed) {
     oldPoints += int64_t(PointSlots_[size_t(b)].size());
@@ -263,12 +275,10 @@ void BoneSurface::Assemble(const std::vector<int64_t>& changed, bool full) {
   const int64_t triangles = NumTriangles_ - oldTriangles + newTriangles;
   const int64_t unusedAfter = std::max<int64_t>(0, unused - newPoints);
   if (full || !Points_ || points > PointCapacity_ || triangles > TriangleCapacity_ ||
-      (unusedAfter > 4096 && 2 * unusedAfter > points) ||
-      4 * (oldTriangles + newTriangles) > NumTriangles_ + newTriangles) {
+      (unusedAfter > 4096 && 2 * unusedAfter > points)) {
     Rebuild();
   } else {
-    for (int64_t b : changed)
-      RemoveBrick(b);
+    RemoveBricks(changed);
     for (int64_t b : changed)
       AddBrick(b);
   }
@@ -297,27 +307,35 @@ int BoneSurface::Update(const Voxmap& bone) {
     ScanGenerations(bone);
   const auto t1 = Clock::now();
 
-  std::vector<int64_t> changed;
+  // The dirty bricks, from where the last budgeted update stopped; each one's fills are asked of
+  // the memory one brick ahead (the voxmap's rows are cache misses: most of a brick's cost else).
+  Todo_.clear();
   const int64_t n = NumBricks();
+  const int64_t start = full ? 0 : Cursor_;
+  for (int64_t i = 0, b = start; i < n; ++i, b = b + 1 == n ? 0 : b + 1)
+    if (Dirty_[size_t(b)])
+      Todo_.push_back(b);
   const bool budget = BudgetMs_ > 0 && !full;
-  int64_t b = full ? 0 : Cursor_;
-  for (int64_t seen = 0; seen < n; ++seen, b = b + 1 == n ? 0 : b + 1) {
-    if (!Dirty_[size_t(b)])
-      continue;
-    if (budget && !changed.empty() && Ms(t1, Clock::now()) >= BudgetMs_)
+  size_t done = 0;
+  for (; done < Todo_.size(); ++done) {
+    if (budget && done > 0 && Ms(t1, Clock::now()) >= BudgetMs_)
       break;
-    ExtractBrick(bone, b, Bricks_[size_t(b)]);
+    if (done + 1 < Todo_.size())
+      Cubes_.Prefetch(bone, FirstCell(Todo_[done + 1]));
+    const int64_t b = Todo_[done];
+    Cubes_.Extract(bone, FirstCell(b), Bricks_[size_t(b)]);
+    Stats_.extractedTriangles += Bricks_[size_t(b)].NumTriangles();
     Dirty_[size_t(b)] = 0;
-    changed.push_back(b);
   }
-  Cursor_ = b;
+  Cursor_ = done < Todo_.size() ? Todo_[done] : start;
+  Changed_.assign(Todo_.begin(), Todo_.begin() + std::ptrdiff_t(done));
   const auto t2 = Clock::now();
-  if (!changed.empty() || !Points_)
-    Assemble(changed, full);
+  if (!Changed_.empty() || !Points_)
+    Assemble(Changed_, full);
   const auto t3 = Clock::now();
 
-  Stats_.extracted = int(changed.size());
-  Stats_.pending = int(std::count(Dirty_.begin(), Dirty_.end(), uint8_t(1)));
+  Stats_.extracted = int(done);
+  Stats_.pending = int(Todo_.size() - done);
   Stats_.scanMs = Ms(t0, t1);
   Stats_.extractMs = Ms(t1, t2);
   Stats_.assembleMs = Ms(t2, t3);

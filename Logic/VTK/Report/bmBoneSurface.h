@@ -22,13 +22,14 @@
 // and go first next time, so a view keeps its frame rate and catches up within a few refreshes.
 //
 // The output is one vtkPolyData whose arrays are patched, not rebuilt, so an update costs the
-// triangles it changed, not the whole surface: a brick's old triangles are removed by moving the
-// array's last triangles into their places (its points' places are freed for later bricks: the
-// points array may hold unused points, which no triangle references), its new ones appended. The
-// arrays are written whole, in order, when a quarter of the surface or more changed (in place),
-// or when they must grow or are half unused points (new arrays). One polydata rather than a
-// composite of per-brick pieces: the BM Session source's port stays a vtkPolyData, and the mapper
-// draws one buffer instead of thousands of blocks (a 512^3 voxmap holds 274625 bricks of 8).
+// triangles it changed, not the whole surface: the changed bricks' old triangles are removed
+// together, the places they leave below the new end filled with the triangles above it (a view's
+// cut changes much the same bricks each time, appended last time, so few move), and their points'
+// places freed for later bricks (the points array may hold unused points, which no triangle
+// references); the new triangles are appended. The arrays are written whole, in order, only when
+// they must grow or are half unused points (new arrays). One polydata rather than a composite of
+// per-brick pieces: the BM Session source's port stays a vtkPolyData, and the mapper draws one
+// buffer instead of thousands of blocks (a 512^3 voxmap holds 274625 bricks of 8).
 //
 // Units: world mm (points are in the voxmap's world frame); times in ms.
 #pragma once
@@ -83,6 +84,7 @@ public:
     double extractMs = 0;           ///< reading the fills and marching cubes
     double assembleMs = 0;          ///< patching the output's arrays
     int64_t rewrittenTriangles = 0; ///< triangles written into the output
+    int64_t extractedTriangles = 0; ///< triangles of the re-extracted bricks
   };
   const UpdateStats& LastUpdate() const { return Stats_; }
 
@@ -101,13 +103,16 @@ private:
 
   void Reset(const Voxmap& bone);
   void ScanGenerations(const Voxmap& bone);
-  void ExtractBrick(const Voxmap& bone, int64_t b, BrickMesh& mesh);
+  /// Brick b's first cell on each axis (voxel coordinates, bmBrickMarchingCubes.h).
+  std::array<int, 3> FirstCell(int64_t b) const;
   void Assemble(const std::vector<int64_t>& changed, bool full);
   void Rebuild();
   /// New output arrays for np points and nt triangles with a quarter to spare (the old arrays stay
   /// valid for whoever still holds them).
   void Reallocate(int64_t np, int64_t nt);
-  void RemoveBrick(int64_t b);
+  /// Takes the bricks' triangles out of the output (the places left filled from the end) and
+  /// frees their points' places.
+  void RemoveBricks(const std::vector<int64_t>& bricks);
   void AddBrick(int64_t b);
   int64_t BrickId(int i, int j, int k) const {
     return i + int64_t(BrickDims_[0]) * (j + int64_t(BrickDims_[1]) * k);
@@ -123,6 +128,7 @@ private:
   std::vector<BrickMesh> Bricks_;
   std::vector<uint8_t> Dirty_;
   int64_t Cursor_ = 0; ///< where the next budgeted update starts looking for dirty bricks
+  std::vector<int64_t> Todo_, Changed_; ///< an update's dirty bricks, those it extracted
   bool AllDirty_ = true;
   /// Last generation seen of each of the voxmap's bricks, and for each axis the range of our
   /// bricks that a voxmap brick's samples fall into.

@@ -24,15 +24,21 @@ constexpr int kEdgeAxis[12] = {0, 1, 0, 1, 0, 1, 0, 1, 2, 2, 2, 2};
 
 BrickMarchingCubes::BrickMarchingCubes(int cells, double iso)
     : B_(cells), N_(cells + 3), Iso_(iso) {
-  if (cells < 2 || cells > 256)
-    throw std::invalid_argument("BrickMarchingCubes: cells must be in 2..256");
+  if (cells < 2 || cells > 62)
+    throw std::invalid_argument("BrickMarchingCubes: cells must be in 2..62");
   if (!(iso > 0.0 && iso < 1.0))
     throw std::invalid_argument("BrickMarchingCubes: iso must be in (0, 1)");
-  const size_t n = size_t(N_) * N_ * N_;
+  const size_t n = size_t(N_) * N_ * N_, m = size_t(cells + 1);
   S_.assign(n, 0.0f);
-  Above_.assign(n, 0);
+  RowBits_.assign(size_t(N_) * N_, 0);
+  // The smallest fill whose fraction (fill / kFull, exact in double) is >= iso.
+  IsoFill_ = Voxmap::Fill(std::ceil(iso * double(Voxmap::kFull)));
+  Mask_.assign(m * m, 0);
   EdgeVertex_.assign(3 * n, 0);
-  EdgeStamp_.assign(3 * n, 0);
+  // At most one vertex per edge of the brick's samples, at most 5 triangles per cell.
+  Points_.assign(3 * 3 * m * m * m, 0.0f);
+  Normals_.assign(3 * 3 * m * m * m, 0.0f);
+  Triangles_.assign(3 * 5 * size_t(cells) * cells * cells, 0);
 }
 
 bool BrickMarchingCubes::AnyBone(const Voxmap& bone, const std::array<int, 3>& lo,
@@ -53,21 +59,45 @@ bool BrickMarchingCubes::AnyBone(const Voxmap& bone, const std::array<int, 3>& l
   return false;
 }
 
+void BrickMarchingCubes::Prefetch(const Voxmap& bone, const std::array<int, 3>& first) const {
+  // The box's rows lie a row (nx fills) or a slice apart: each one or two cache lines the
+  // hardware prefetcher does not guess. Asking for all of them ahead lets the misses overlap.
+  const auto& d = bone.Dims();
+  const int n = N_;
+  const std::array<int, 3> g0{first[0] - 1, first[1] - 1, first[2] - 1};
+  const int xLo = std::clamp(g0[0], 0, d[0] - 1), xHi = std::clamp(g0[0] + n - 1, 0, d[0] - 1);
+  if (g0[0] + n - 1 < 0 || g0[0] >= d[0] ||
+      !AnyBone(bone, g0, {g0[0] + n - 1, g0[1] + n - 1, g0[2] + n - 1}))
+    return; // Extract reads nothing (or only the pad)
+  const Voxmap::Fill* fill = bone.FillData();
+  for (int gz = std::max(g0[2], 0); gz < std::min(g0[2] + n, d[2]); ++gz)
+    for (int gy = std::max(g0[1], 0); gy < std::min(g0[1] + n, d[1]); ++gy) {
+      const Voxmap::Fill* row = fill + bone.Index(0, gy, gz);
+      __builtin_prefetch(row + xLo, 0, 3);
+      __builtin_prefetch(row + xHi, 0, 3);
+    }
+}
+
 void BrickMarchingCubes::Load(const Voxmap& bone, const std::array<int, 3>& first) {
   const auto& d = bone.Dims();
   const int n = N_;
   const std::array<int, 3> g0{first[0] - 1, first[1] - 1, first[2] - 1}; // box sample 0, voxels
   float* s = S_.data();
+  uint64_t* bits = RowBits_.data();
   constexpr float kScale = 1.0f / float(Voxmap::kFull); // a power of two: exact
-  // The box's samples in the grid; void elsewhere.
+  const Voxmap::Fill isoFill = IsoFill_;
+  // The box's samples in the grid; void elsewhere. Each row's samples >= iso as bits (bit = box
+  // x): a fill f is the fraction f / kFull exactly, which is >= iso exactly when f >= IsoFill_.
   const int xLo = std::clamp(-g0[0], 0, n), xHi = std::clamp(d[0] - g0[0], 0, n);
   for (int z = 0; z < n; ++z) {
     const int gz = g0[2] + z;
     for (int y = 0; y < n; ++y) {
       const int gy = g0[1] + y;
       float* row = s + int64_t(n) * (y + int64_t(n) * z);
+      uint64_t above = 0;
       if (gz < 0 || gz >= d[2] || gy < 0 || gy >= d[1] || xLo >= xHi) {
         std::fill(row, row + n, 0.0f);
+        bits[y + n * z] = 0;
         continue;
       }
       std::fill(row, row + xLo, 0.0f);
@@ -75,8 +105,10 @@ void BrickMarchingCubes::Load(const Voxmap& bone, const std::array<int, 3>& firs
       const int64_t base = bone.Index(0, gy, gz) + g0[0];
       for (int x = xLo; x < xHi; ++x) {
         const Voxmap::Fill f = bone.LoadFill(base + x);
-        row[x] = f <= 0 ? 0.0f : float(f) * kScale;
+        row[x] = float(std::max<Voxmap::Fill>(f, 0)) * kScale; // <= 0 is void
+        above |= uint64_t(f >= isoFill) << x;
       }
+      bits[y + n * z] = above;
     }
   }
   // Ghost samples one beyond the pad (-2 and Dims + 1 on one axis, the others within the padded
@@ -109,7 +141,8 @@ int64_t BrickMarchingCubes::Extract(const Voxmap& bone, const std::array<int, 3>
                                     Mesh& out) {
   out.Clear();
   const auto& d = bone.Dims();
-  // The brick's cells that exist (-1 .. Dims - 1), in brick-local cell coordinates [lo, hi).
+  // The brick's cells that exist (-1 .. Dims - 1), in brick-local cell coordinates [lo, hi); their
+  // samples are the local samples lo .. hi (box sample = local sample + 1).
   std::array<int, 3> lo, hi, sLo, sHi;
   for (int a = 0; a < 3; ++a) {
     lo[a] = std::max(0, -1 - first[a]);
@@ -123,92 +156,104 @@ int64_t BrickMarchingCubes::Extract(const Voxmap& bone, const std::array<int, 3>
     return 0; // all void: no surface, nothing read
   Load(bone, first);
 
-  // Classify the cells' samples (box coordinates: local sample l is box sample l + 1).
-  const int n = N_;
+  // Classify the cells' samples: one bit per sample along x (bit = local x), one mask per row
+  // (local y, z); bits outside lo .. hi are 0. Load made them (box x = local x + 1).
+  const int n = N_, m = B_ + 1;
   const int64_t sy = n, sz = int64_t(n) * n;
   const float* s = S_.data();
-  uint8_t* above = Above_.data();
+  uint64_t* mask = Mask_.data();
+  const uint64_t full = ((uint64_t(2) << hi[0]) - 1) & ~((uint64_t(1) << lo[0]) - 1);
   bool anyAbove = false, anyBelow = false;
-  for (int z = lo[2] + 1; z <= hi[2] + 1; ++z)
-    for (int y = lo[1] + 1; y <= hi[1] + 1; ++y) {
-      const int64_t row = sy * y + sz * z;
-      for (int x = lo[0] + 1; x <= hi[0] + 1; ++x) {
-        const bool up = double(s[row + x]) >= Iso_;
-        above[row + x] = uint8_t(up);
-        anyAbove |= up;
-        anyBelow |= !up;
-      }
+  for (int z = lo[2]; z <= hi[2]; ++z)
+    for (int y = lo[1]; y <= hi[1]; ++y) {
+      const uint64_t bits = (RowBits_[size_t((y + 1) + n * (z + 1))] >> 1) & full;
+      mask[y + m * z] = bits;
+      anyAbove |= bits != 0;
+      anyBelow |= bits != full;
     }
   if (!anyAbove || !anyBelow)
     return 0; // all void or all bone: no cell straddles the iso
 
-  if (++Stamp_ == 0) { // wrapped: forget every edge
-    std::fill(EdgeStamp_.begin(), EdgeStamp_.end(), 0u);
-    Stamp_ = 1;
-  }
+  // Every cut edge's vertex, once: edges along x, y, z from each sample (lower end), within the
+  // cells. vtkFlyingEdges3D's arithmetic on the padded grid (index p = voxel + 1, origin one voxel
+  // before the grid's): the point in index space as a float, then to world, so the points are
+  // flying edges' over the whole padded grid bit for bit; the normal is the negated gradient
+  // (central differences at the two samples, index space) interpolated along the edge.
   const int64_t st[3] = {1, sy, sz};
-  int64_t edgeOffset[12];
-  for (int e = 0; e < 12; ++e)
-    edgeOffset[e] = kEdgeCorner[e][0] + sy * kEdgeCorner[e][1] + sz * kEdgeCorner[e][2];
   const double h = bone.Spacing();
-  const auto& origin = bone.Origin();
-  const vtkMarchingCubesTriangleCases* cases = vtkMarchingCubesTriangleCases::GetCases();
-
-  // The vertex on edge e of the cell whose lower corner is box sample a (grid position g, voxel
-  // coordinates), made the first time the brick uses that edge.
-  auto vertex = [&](int64_t a, const std::array<int, 3>& g, int e) -> int32_t {
-    const int64_t s0i = a + edgeOffset[e];
-    const int axis = kEdgeAxis[e];
-    const int64_t key = 3 * s0i + axis;
-    if (EdgeStamp_[size_t(key)] == Stamp_)
-      return EdgeVertex_[size_t(key)];
-    const int64_t s1i = s0i + st[axis];
+  const std::array<double, 3> o{bone.Origin()[0] - h, bone.Origin()[1] - h, bone.Origin()[2] - h};
+  float* pts = Points_.data();
+  float* nrms = Normals_.data();
+  int32_t nv = 0;
+  auto vertex = [&](int x, int y, int z, int axis) {
+    const int64_t s0i = (x + 1) + (y + 1) * sy + (z + 1) * sz, s1i = s0i + st[axis];
     const float v0 = s[s0i], v1 = s[s1i];
     const double t = (Iso_ - v0) / double(v1 - v0);
-    const int32_t id = int32_t(out.points.size() / 3);
-    // vtkFlyingEdges3D's arithmetic on the padded grid (index p = voxel + 1, origin one voxel
-    // before the grid's): the point in index space as a float, then to world: the same points, bit
-    // for bit, as flying edges over the whole padded grid.
+    const int p[3] = {first[0] + x + 1, first[1] + y + 1, first[2] + z + 1};
+    float* xyz = pts + 3 * nv;
     for (int q = 0; q < 3; ++q) {
-      const int p = g[q] + kEdgeCorner[e][q] + 1;
-      const float x = q == axis ? float(double(p) + t) : float(p);
-      out.points.push_back(float((origin[q] - h) + h * double(x)));
+      const float xi = q == axis ? float(double(p[q]) + t) : float(p[q]);
+      xyz[q] = float(o[size_t(q)] + h * double(xi));
     }
-    // Gradients at the two samples (central differences, index space), interpolated; the
-    // normal points down the fill, out of the bone.
-    float nrm[3];
+    float* nrm = nrms + 3 * nv;
     for (int q = 0; q < 3; ++q) {
       const float g0 = 0.5f * (s[s0i + st[q]] - s[s0i - st[q]]);
       const float g1 = 0.5f * (s[s1i + st[q]] - s[s1i - st[q]]);
       nrm[q] = -float(g0 + t * (g1 - g0));
     }
     vtkMath::Normalize(nrm); // leaves a zero gradient zero
-    out.normals.insert(out.normals.end(), nrm, nrm + 3);
-    EdgeStamp_[size_t(key)] = Stamp_;
-    EdgeVertex_[size_t(key)] = id;
-    return id;
+    EdgeVertex_[size_t(3 * s0i + axis)] = nv++;
   };
+  const uint64_t xEdges = full & (full >> 1); // edges x .. x + 1 with both ends in lo .. hi
+  for (int z = lo[2]; z <= hi[2]; ++z)
+    for (int y = lo[1]; y <= hi[1]; ++y) {
+      const uint64_t r = mask[y + m * z];
+      for (uint64_t c = (r ^ (r >> 1)) & xEdges; c; c &= c - 1)
+        vertex(__builtin_ctzll(c), y, z, 0);
+      if (y < hi[1])
+        for (uint64_t c = r ^ mask[y + 1 + m * z]; c; c &= c - 1)
+          vertex(__builtin_ctzll(c), y, z, 1);
+      if (z < hi[2])
+        for (uint64_t c = r ^ mask[y + m * (z + 1)]; c; c &= c - 1)
+          vertex(__builtin_ctzll(c), y, z, 2);
+    }
 
+  // The cells' cases (VTK's corner order: (0,0,0), (1,0,0), (1,1,0), (0,1,0), then z + 1) and
+  // triangles; rows of cells whose four sample rows are all bone or all void are skipped.
+  int64_t edgeKey[12];
+  for (int e = 0; e < 12; ++e)
+    edgeKey[e] =
+        3 * (kEdgeCorner[e][0] + sy * kEdgeCorner[e][1] + sz * kEdgeCorner[e][2]) + kEdgeAxis[e];
+  const vtkMarchingCubesTriangleCases* cases = vtkMarchingCubesTriangleCases::GetCases();
+  const int32_t* ids = EdgeVertex_.data();
+  int32_t* tris = Triangles_.data();
+  int64_t nt = 0;
   for (int z = lo[2]; z < hi[2]; ++z)
     for (int y = lo[1]; y < hi[1]; ++y) {
-      const int64_t row = (y + 1) * sy + (z + 1) * sz + 1;
+      const uint64_t m00 = mask[y + m * z], m10 = mask[y + 1 + m * z], m01 = mask[y + m * (z + 1)],
+                     m11 = mask[y + 1 + m * (z + 1)];
+      if (m00 == m10 && m00 == m01 && m00 == m11 && (m00 == 0 || m00 == full))
+        continue;
+      const int64_t row = 3 * ((y + 1) * sy + (z + 1) * sz + 1);
       for (int x = lo[0]; x < hi[0]; ++x) {
-        const int64_t a = row + x;
-        const uint8_t* c = above + a;
-        const int index = c[0] | c[1] << 1 | c[1 + sy] << 2 | c[sy] << 3 | c[sz] << 4 |
-                          c[1 + sz] << 5 | c[1 + sy + sz] << 6 | c[sy + sz] << 7;
+        const int index = int((m00 >> x) & 1) | int((m00 >> x) & 2) | int((m10 >> x) & 2) << 1 |
+                          int((m10 >> x) & 1) << 3 | int((m01 >> x) & 1) << 4 |
+                          int((m01 >> x) & 2) << 4 | int((m11 >> x) & 2) << 5 |
+                          int((m11 >> x) & 1) << 7;
         if (index == 0 || index == 255)
           continue;
-        const std::array<int, 3> g{first[0] + x, first[1] + y, first[2] + z};
-        for (const int* e = cases[index].edges; e[0] >= 0; e += 3) {
-          const int32_t p0 = vertex(a, g, e[0]), p1 = vertex(a, g, e[1]), p2 = vertex(a, g, e[2]);
-          out.triangles.push_back(p0);
-          out.triangles.push_back(p1);
-          out.triangles.push_back(p2);
+        const int32_t* cell = ids + row + 3 * x;
+        for (const int* e = cases[index].edges; e[0] >= 0; e += 3, nt += 3) {
+          tris[nt] = cell[edgeKey[e[0]]];
+          tris[nt + 1] = cell[edgeKey[e[1]]];
+          tris[nt + 2] = cell[edgeKey[e[2]]];
         }
       }
     }
-  return out.NumTriangles();
+  out.points.assign(pts, pts + 3 * nv);
+  out.normals.assign(nrms, nrms + 3 * nv);
+  out.triangles.assign(tris, tris + nt);
+  return nt / 3;
 }
 
 } // namespace bm
