@@ -12,6 +12,8 @@
 #include <sstream>
 #include <thread>
 
+#include <time.h>
+
 #include <vtkNew.h>
 #include <vtkPolyData.h>
 
@@ -68,6 +70,9 @@ const char* kUsage = R"(usage: bmsim bench [options]
                          (default out/bench-view).
   --scene NAME|FILE      --view: the scene (default glenoid; in builds without CT import, the
                          glenoid phantom's analytic bone is sampled straight into the voxmap)
+  --shells LIST          --view: the tool's point-shell resolutions to run each voxmap with
+                         (default: the scene's own; e.g. 906 puts the glenoid reamer's shell
+                         2:1 on voxmap 512's voxels)
   --interval MS          --view: refresh period, ms (default 33)
   --repeats N            --view: runs per voxmap and mode (default 1)
   --real-time            --view: the haptic thread at the scene's frame rate (1 kHz, sleeping
@@ -75,7 +80,8 @@ const char* kUsage = R"(usage: bmsim bench [options]
   --frames N             --view: stop after N haptic frames (default: the scene's whole trial)
   --budget MS            --view: the surface's extraction time budget per refresh, ms (default
                          8, as the BM Session source; 0 = every changed brick every refresh)
-  --brick N              --view: the surface's brick edge, voxels (default 32, as the source)
+  --brick N              --view: the surface's brick edge, voxels (default 8, the voxmap's
+                         occupancy brick, BoneSurface's default)
 )";
 
 std::vector<int> Resolutions(const bm::cli::ParsedArgs& p, const std::string& name,
@@ -113,6 +119,13 @@ std::string MachineName() {
 }
 
 using Clock = std::chrono::steady_clock;
+
+/// CPU time of the calling thread, ms.
+double ThreadCpuMs() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
+}
 
 #ifndef BM_WITH_IO
 /// The glenoid phantom's bone (bmPhantom.h's analytic geometry: face centre (-60, 20, 40) mm,
@@ -163,12 +176,15 @@ bm::Voxmap AnalyticGlenoid(int resolution) {
 struct ViewRun {
   std::vector<double> refreshMs;             ///< refreshes while bone was cut
   std::vector<int> bricks;                   ///< bricks re-extracted by those refreshes
+  std::vector<double> extractedTriangles;    ///< the triangles those bricks hold now
   std::vector<double> extractMs, assembleMs; ///< their parts (bm::BoneSurface::UpdateStats)
-  std::vector<double> pending;               ///< changed bricks each left for the next
-  double firstMs = 0;                        ///< the first refresh (the whole surface)
-  int refreshes = 0;                         ///< all refreshes after the first
-  double cutS = 0;        ///< wall time from the first to the last cutting refresh
-  bm::TimingStats haptic; ///< the session's frame time
+  std::vector<double> cpuMs;   ///< the view thread's CPU time in those refreshes (wall time less
+                               ///< what other processes took of its core)
+  std::vector<double> pending; ///< changed bricks each left for the next
+  double firstMs = 0;          ///< the first refresh (the whole surface)
+  int refreshes = 0;           ///< all refreshes after the first
+  double cutS = 0;             ///< wall time from the first to the last cutting refresh
+  bm::TimingStats haptic;      ///< the session's frame time
   double removedMm3 = 0;
   vtkIdType triangles = 0; ///< of the final surface
 };
@@ -235,11 +251,13 @@ ViewRun RunViewSession(const bm::Scene& scene, bool view, double intervalMs, boo
     const bool done = finished.load();
     if (view) {
       const double removed = removedMm3.load(std::memory_order_relaxed);
+      const double c0 = ThreadCpuMs();
       const auto t0 = Clock::now();
       const int n = surface.Update(setup.Bone());
       port->ShallowCopy(surface.GetOutput());
       const auto t1 = Clock::now();
       const double ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+      const double cpu = ThreadCpuMs() - c0;
       if (first) {
         r.firstMs = ms;
         first = false;
@@ -250,7 +268,9 @@ ViewRun RunViewSession(const bm::Scene& scene, bool view, double intervalMs, boo
             firstCut = t0;
           lastCut = t1;
           r.refreshMs.push_back(ms);
+          r.cpuMs.push_back(cpu);
           r.bricks.push_back(n);
+          r.extractedTriangles.push_back(double(surface.LastUpdate().extractedTriangles));
           r.extractMs.push_back(surface.LastUpdate().extractMs);
           r.assembleMs.push_back(surface.LastUpdate().assembleMs);
           r.pending.push_back(surface.LastUpdate().pending);
@@ -288,7 +308,7 @@ int ViewBench(const bm::cli::ParsedArgs& p) {
   const bool realTime = p.Has("real-time");
   const int64_t frames = p.GetInt("frames", 1, 100000000).value_or(0);
   const double budget = p.GetDouble("budget", 0, 10000).value_or(8.0);
-  const int brick = int(p.GetInt("brick", 2, 1024).value_or(32));
+  const int brick = int(p.GetInt("brick", 2, 256).value_or(bm::Voxmap::kBrick));
   const std::string sceneName = p.Get("scene", "glenoid");
   const std::string out = p.Get("out", "out/bench-view");
   bm::Scene base = (std::filesystem::path(sceneName).extension() == ".json" ||
@@ -296,8 +316,12 @@ int ViewBench(const bm::cli::ParsedArgs& p) {
                        ? bm::Scene::Load(sceneName)
                        : bm::Scene::Builtin(sceneName);
   std::ostringstream csv;
-  csv << "voxmap,run,view,refresh_ms_median,refresh_ms_p99,fps_median,fps_p99,refreshes_cutting,"
-         "refreshes_per_s,bricks_median,pending_median,pending_max,extract_ms_median,"
+  const std::vector<int> shells = Resolutions(p, "shells", {base.shellResolution});
+  csv << "voxmap,shell,run,view,refresh_ms_median,refresh_ms_p99,refresh_cpu_ms_median,fps_median,"
+         "fps_p99,refreshes_"
+         "cutting,"
+         "refreshes_per_s,bricks_median,triangles_extracted_median,pending_median,pending_max,"
+         "extract_ms_median,"
          "assemble_ms_median,first_extract_ms,triangles,haptic_ms_mean,haptic_ms_p50,haptic_ms_p99,"
          "haptic_ms_max,haptic_frames,removed_mm3\n";
   std::cout << std::fixed << std::setprecision(2);
@@ -305,43 +329,50 @@ int ViewBench(const bm::cli::ParsedArgs& p) {
             << (realTime ? "real-time 1 kHz" : "frames back to back") << ", refresh every "
             << interval << " ms, extraction budget " << budget << " ms, bricks of " << brick
             << " voxels; machine: " << MachineName() << "\n";
-  for (int v : voxmaps) {
-    nlohmann::json j = base.ToJson();
-    j["voxmap_resolution"] = v;
-    j["threads"] = threads;
-    bm::Scene scene = bm::Scene::FromJson(j);
-    scene.baseDir = base.baseDir;
-    for (int run = 1; run <= repeats; ++run)
-      for (bool view : {false, true}) {
-        const ViewRun r = RunViewSession(scene, view, interval, realTime, frames, budget, brick);
-        const double med = bm::Percentile(r.refreshMs, 50), p99 = bm::Percentile(r.refreshMs, 99);
-        std::vector<double> bricks(r.bricks.begin(), r.bricks.end());
-        std::cout << "voxmap " << v << " run " << run << (view ? " view on: " : " view off: ");
-        if (view)
-          std::cout << "refresh median " << med << " ms, p99 " << p99 << " ms ("
-                    << (med > 0 ? 1000 / med : 0) << " / " << (p99 > 0 ? 1000 / p99 : 0)
-                    << " FPS), " << r.refreshMs.size() << " refreshes while cutting ("
-                    << (r.cutS > 0 ? double(r.refreshMs.size()) / r.cutS : 0.0)
-                    << " per s), bricks median " << bm::Percentile(bricks, 50)
-                    << ", left pending median " << bm::Percentile(r.pending, 50) << " max "
-                    << bm::Percentile(r.pending, 100) << "; extract median "
-                    << bm::Percentile(r.extractMs, 50) << " ms, assemble median "
-                    << bm::Percentile(r.assembleMs, 50) << " ms; first " << r.firstMs << " ms, "
-                    << r.triangles << " triangles; ";
-        std::cout << "haptic mean " << r.haptic.meanMs << " ms, p50 " << r.haptic.p50Ms
-                  << " ms, p99 " << r.haptic.p99Ms << " ms, max " << r.haptic.maxMs << " ms over "
-                  << r.haptic.frames << " frames; removed " << r.removedMm3 << " mm^3\n"
-                  << std::flush;
-        csv << v << "," << run << "," << (view ? 1 : 0) << "," << med << "," << p99 << ","
-            << (med > 0 ? 1000 / med : 0) << "," << (p99 > 0 ? 1000 / p99 : 0) << ","
-            << r.refreshMs.size() << "," << (r.cutS > 0 ? double(r.refreshMs.size()) / r.cutS : 0.0)
-            << "," << bm::Percentile(bricks, 50) << "," << bm::Percentile(r.pending, 50) << ","
-            << bm::Percentile(r.pending, 100) << "," << bm::Percentile(r.extractMs, 50) << ","
-            << bm::Percentile(r.assembleMs, 50) << "," << r.firstMs << "," << r.triangles << ","
-            << r.haptic.meanMs << "," << r.haptic.p50Ms << "," << r.haptic.p99Ms << ","
-            << r.haptic.maxMs << "," << r.haptic.frames << "," << r.removedMm3 << "\n";
-      }
-  }
+  for (int v : voxmaps)
+    for (int shell : shells) {
+      nlohmann::json j = base.ToJson();
+      j["voxmap_resolution"] = v;
+      j["shell_resolution"] = shell;
+      j["threads"] = threads;
+      bm::Scene scene = bm::Scene::FromJson(j);
+      scene.baseDir = base.baseDir;
+      for (int run = 1; run <= repeats; ++run)
+        for (bool view : {false, true}) {
+          const ViewRun r = RunViewSession(scene, view, interval, realTime, frames, budget, brick);
+          const double med = bm::Percentile(r.refreshMs, 50), p99 = bm::Percentile(r.refreshMs, 99);
+          std::vector<double> bricks(r.bricks.begin(), r.bricks.end());
+          std::cout << "voxmap " << v << " shell " << shell << " run " << run
+                    << (view ? " view on: " : " view off: ");
+          if (view)
+            std::cout << "refresh median " << med << " ms, p99 " << p99 << " ms ("
+                      << (med > 0 ? 1000 / med : 0) << " / " << (p99 > 0 ? 1000 / p99 : 0)
+                      << " FPS; view thread CPU median " << bm::Percentile(r.cpuMs, 50) << " ms), "
+                      << r.refreshMs.size() << " refreshes while cutting ("
+                      << (r.cutS > 0 ? double(r.refreshMs.size()) / r.cutS : 0.0)
+                      << " per s), bricks median " << bm::Percentile(bricks, 50) << " ("
+                      << bm::Percentile(r.extractedTriangles, 50)
+                      << " triangles), left pending median " << bm::Percentile(r.pending, 50)
+                      << " max " << bm::Percentile(r.pending, 100) << "; extract median "
+                      << bm::Percentile(r.extractMs, 50) << " ms, assemble median "
+                      << bm::Percentile(r.assembleMs, 50) << " ms; first " << r.firstMs << " ms, "
+                      << r.triangles << " triangles; ";
+          std::cout << "haptic mean " << r.haptic.meanMs << " ms, p50 " << r.haptic.p50Ms
+                    << " ms, p99 " << r.haptic.p99Ms << " ms, max " << r.haptic.maxMs << " ms over "
+                    << r.haptic.frames << " frames; removed " << r.removedMm3 << " mm^3\n"
+                    << std::flush;
+          csv << v << "," << shell << "," << run << "," << (view ? 1 : 0) << "," << med << ","
+              << p99 << "," << bm::Percentile(r.cpuMs, 50) << "," << (med > 0 ? 1000 / med : 0)
+              << "," << (p99 > 0 ? 1000 / p99 : 0) << "," << r.refreshMs.size() << ","
+              << (r.cutS > 0 ? double(r.refreshMs.size()) / r.cutS : 0.0) << ","
+              << bm::Percentile(bricks, 50) << "," << bm::Percentile(r.extractedTriangles, 50)
+              << "," << bm::Percentile(r.pending, 50) << "," << bm::Percentile(r.pending, 100)
+              << "," << bm::Percentile(r.extractMs, 50) << "," << bm::Percentile(r.assembleMs, 50)
+              << "," << r.firstMs << "," << r.triangles << "," << r.haptic.meanMs << ","
+              << r.haptic.p50Ms << "," << r.haptic.p99Ms << "," << r.haptic.maxMs << ","
+              << r.haptic.frames << "," << r.removedMm3 << "\n";
+        }
+    }
   std::filesystem::create_directories(out);
   bm::WriteFileAtomic(out + "/view.csv", csv.str());
   std::cout << "wrote " << out << "/view.csv\n";

@@ -96,6 +96,8 @@ void BoneSurface::Reset(const Voxmap& bone) {
   Origin_ = bone.Origin();
   for (int a = 0; a < 3; ++a)
     BrickDims_[a] = (Dims_[a] + 1) / Brick_ + 1; // the last holds cell Dims - 1
+  if (NumBricks() > INT32_MAX)
+    throw std::length_error("BoneSurface: more than 2^31 bricks");
   const size_t n = size_t(NumBricks());
   Bricks_.assign(n, BrickMesh{});
   Dirty_.assign(n, 1);
@@ -143,9 +145,10 @@ void BoneSurface::ScanGenerations(const Voxmap& bone) {
 }
 
 std::array<int, 3> BoneSurface::FirstCell(int64_t b) const {
-  return {int(b % BrickDims_[0]) * Brick_ - 2,
-          int((b / BrickDims_[0]) % BrickDims_[1]) * Brick_ - 2,
-          int(b / (int64_t(BrickDims_[0]) * BrickDims_[1])) * Brick_ - 2};
+  // 32-bit divisions (Reset keeps the brick count below 2^31): this runs twice per brick.
+  const uint32_t i = uint32_t(b), nx = uint32_t(BrickDims_[0]), ny = uint32_t(BrickDims_[1]);
+  const uint32_t row = i / nx;
+  return {int(i - row * nx) * Brick_ - 2, int(row % ny) * Brick_ - 2, int(row / ny) * Brick_ - 2};
 }
 
 void BoneSurface::RemoveBricks(const std::vector<int64_t>& changed) {

@@ -31,6 +31,7 @@ BrickMarchingCubes::BrickMarchingCubes(int cells, double iso)
   const size_t n = size_t(N_) * N_ * N_, m = size_t(cells + 1);
   S_.assign(n, 0.0f);
   RowBits_.assign(size_t(N_) * N_, 0);
+  Fills_.assign(size_t(N_), 0);
   // The smallest fill whose fraction (fill / kFull, exact in double) is >= iso.
   IsoFill_ = Voxmap::Fill(std::ceil(iso * double(Voxmap::kFull)));
   Mask_.assign(m * m, 0);
@@ -100,14 +101,18 @@ void BrickMarchingCubes::Load(const Voxmap& bone, const std::array<int, 3>& firs
         bits[y + n * z] = 0;
         continue;
       }
+      // The fills with atomic loads (plain moves on x86-64, but never merged or vectorized: a
+      // loop of its own), then converted and classified in passes the compiler vectorizes.
+      const int64_t base = bone.Index(0, gy, gz) + g0[0];
+      Voxmap::Fill* f = Fills_.data();
+      for (int x = xLo; x < xHi; ++x)
+        f[x] = bone.LoadFill(base + x);
       std::fill(row, row + xLo, 0.0f);
       std::fill(row + xHi, row + n, 0.0f);
-      const int64_t base = bone.Index(0, gy, gz) + g0[0];
-      for (int x = xLo; x < xHi; ++x) {
-        const Voxmap::Fill f = bone.LoadFill(base + x);
-        row[x] = float(std::max<Voxmap::Fill>(f, 0)) * kScale; // <= 0 is void
-        above |= uint64_t(f >= isoFill) << x;
-      }
+      for (int x = xLo; x < xHi; ++x)
+        row[x] = float(std::max<Voxmap::Fill>(f[x], 0)) * kScale; // <= 0 is void
+      for (int x = xLo; x < xHi; ++x)
+        above |= uint64_t(f[x] >= isoFill) << x;
       bits[y + n * z] = above;
     }
   }

@@ -88,6 +88,7 @@ private:
   std::vector<float> S_;                ///< the box's samples, index x + N (y + N z)
   Voxmap::Fill IsoFill_;                ///< fills >= this are >= iso
   std::vector<uint64_t> RowBits_;       ///< per box row: bit x set where sample x >= iso
+  std::vector<Voxmap::Fill> Fills_;     ///< one row's fills as loaded
   std::vector<uint64_t> Mask_;          ///< per row of the cells' samples: bit x set where >= iso
   std::vector<int32_t> EdgeVertex_;     ///< per (box sample, axis): the vertex on its cut edge
   std::vector<float> Points_, Normals_; ///< the brick's vertices as made...
