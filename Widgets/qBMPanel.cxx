@@ -344,6 +344,10 @@ void qBMPanelPrivate::updateExpectedCost() {
     scene = std::find(builtin.begin(), builtin.end(), name) != builtin.end()
                 ? bm::Scene::Builtin(name)
                 : bm::Scene::Load(name);
+    // The resolutions a session would run at (vtkBMSessionSource: a voxmap set alone scales the
+    // scene's shell alike).
+    if (q->voxmapResolution() > 0 && q->shellResolution() <= 0)
+      scene = scene.WithVoxmapResolution(q->voxmapResolution());
   } catch (const std::exception& e) {
     this->ResolutionCostLabel->setText(
         qBMPanel::tr("Expected cost unknown: %1").arg(QString::fromUtf8(e.what())));

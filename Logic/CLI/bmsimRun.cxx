@@ -36,8 +36,9 @@ const char* kUsage = R"(usage: bmsim run SCENE [options]
   --out DIR                output folder (default out/<scene>); gets forces.csv, summary.json
   --feed F                 feed per revolution, mm/rev (drilling default 0.02)
   --speed N                spindle speed, rpm (default 1000)
-  --voxmap-resolution N    cells along the bone's longest side (default 256)
-  --shell-resolution N     cells along the tool's longest side (default 1024)
+  --voxmap-resolution N    cells along the bone's longest side (default: the scene's); alone,
+                           it scales the scene's shell alike (the grids keep their ratio)
+  --shell-resolution N     cells along the tool's longest side (default: the scene's)
   --method lazar|zheng     force model and pipeline (default lazar)
   --threads N              CPU threads (default 2)
   --backend cpu|opencl     compute backend (default cpu)
@@ -74,10 +75,12 @@ int RunCommand(const bm::cli::Args& args) {
       j["trial"]["feed_mm_per_rev"] = *v;
     if (auto v = p.GetDouble("speed", 1.0, 100000.0))
       j["trial"]["speed_rpm"] = *v;
-    if (auto v = p.GetInt("voxmap-resolution", 8, 4096))
-      j["voxmap_resolution"] = *v;
-    if (auto v = p.GetInt("shell-resolution", 8, 4096))
-      j["shell_resolution"] = *v;
+    const auto voxmap = p.GetInt("voxmap-resolution", 8, 4096);
+    const auto shell = p.GetInt("shell-resolution", 8, 4096);
+    if (voxmap && shell)
+      j["voxmap_resolution"] = *voxmap;
+    if (shell)
+      j["shell_resolution"] = *shell;
     if (auto v = p.Get("method")) {
       j["method"] = *v;
       j.erase("force_model");
@@ -89,6 +92,8 @@ int RunCommand(const bm::cli::Args& args) {
     if (auto v = p.Get("lips"))
       j["lips"] = *v;
     scene = bm::Scene::FromJson(j);
+    if (voxmap && !shell)
+      scene = scene.WithVoxmapResolution(int(*voxmap));
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }

@@ -1,6 +1,7 @@
 #include "bmScene.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -95,6 +96,17 @@ Scene Scene::FromJson(const json& j) {
   if (j.contains("force_model"))
     s.forceModel = j.at("force_model");
   s.Validate();
+  return s;
+}
+
+Scene Scene::WithVoxmapResolution(int cells) const {
+  if (cells < 8 || cells > 4096)
+    throw std::invalid_argument("voxmap resolution must be in [8, 4096], got " +
+                                std::to_string(cells));
+  Scene s = *this;
+  s.voxmapResolution = cells;
+  s.shellResolution = std::clamp(
+      int(std::lround(double(shellResolution) * cells / double(voxmapResolution))), 8, 4096);
   return s;
 }
 

@@ -75,6 +75,13 @@ struct Scene {
 
   /// Parse and validate; throws std::invalid_argument naming the bad field.
   static Scene FromJson(const nlohmann::json& j);
+  /// This scene at another voxmap resolution (cells, in [8, 4096]) with the point shell scaled
+  /// alike (rounded, clamped to [8, 4096]), so the two grids keep the scene's ratio: the built-in
+  /// scenes put them 2:1 (shell spacing half the voxel). A shell coarser than that leaves voxels
+  /// that no element visits standing in the cut and removes less than the tool sweeps (glenoid at
+  /// voxmap 512 with its shell of 340: half the volume). Throws std::invalid_argument on a
+  /// resolution out of range.
+  Scene WithVoxmapResolution(int cells) const;
   /// Folder that relative paths in the scene (CT, voxmap) are taken from; "" = current folder.
   std::string baseDir;
 

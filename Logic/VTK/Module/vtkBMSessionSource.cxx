@@ -236,6 +236,16 @@ const char* vtkBMSessionSource::GetLastError() {
   return this->Internals->Error.c_str();
 }
 
+int vtkBMSessionSource::GetSessionVoxmapResolution() {
+  const auto& setup = this->Internals->Setup;
+  return setup ? setup->GetScene().voxmapResolution : 0;
+}
+
+int vtkBMSessionSource::GetSessionShellResolution() {
+  const auto& setup = this->Internals->Setup;
+  return setup ? setup->GetScene().shellResolution : 0;
+}
+
 bool vtkBMSessionSource::Start() {
   vtkInternals& in = *this->Internals;
   this->Stop();
@@ -248,8 +258,6 @@ bool vtkBMSessionSource::Start() {
             ? bm::Scene::Load(name)
             : bm::Scene::Builtin(name);
     nlohmann::json j = scene.ToJson();
-    if (this->VoxmapResolution > 0)
-      j["voxmap_resolution"] = this->VoxmapResolution;
     if (this->ShellResolution > 0)
       j["shell_resolution"] = this->ShellResolution;
     if (this->Tool && *this->Tool) {
@@ -297,6 +305,13 @@ bool vtkBMSessionSource::Start() {
     const std::string baseDir = scene.baseDir;
     scene = bm::Scene::FromJson(j);
     scene.baseDir = baseDir;
+    // A finer voxmap takes a finer shell along (the scene's grid ratio), unless both are set.
+    if (this->VoxmapResolution > 0) {
+      if (this->ShellResolution > 0)
+        scene.voxmapResolution = this->VoxmapResolution;
+      else
+        scene = scene.WithVoxmapResolution(this->VoxmapResolution);
+    }
 #ifdef BM_WITH_IO
     bm::Voxmap bone =
         scene.bone.type == "block"

@@ -60,6 +60,8 @@ public:
   ///@}
   ///@{
   /// Voxmap and shell resolutions (cells along the longest side); 0 (default) keeps the scene's.
+  /// A voxmap resolution set without a shell resolution scales the scene's shell alike
+  /// (bm::Scene::WithVoxmapResolution: the grids keep their ratio, 2:1 in the built-in scenes).
   vtkSetClampMacro(VoxmapResolution, int, 0, 4096);
   vtkGetMacro(VoxmapResolution, int);
   vtkSetClampMacro(ShellResolution, int, 0, 4096);
@@ -142,6 +144,11 @@ public:
   void SetToolDepth(double depthMm);
   vtkGetMacro(ToolDepth, double);
   ///@}
+
+  /// Voxmap and point-shell resolutions (cells along the longest side) of the session last
+  /// started: what the scene, VoxmapResolution and ShellResolution came to. 0 before Start().
+  int GetSessionVoxmapResolution();
+  int GetSessionShellResolution();
 
   /// Builds the scene (imports its bone), starts the session. Errors go to vtkErrorMacro and
   /// GetLastError(); returns false then.

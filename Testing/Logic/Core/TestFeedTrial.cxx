@@ -114,6 +114,29 @@ TEST(FeedTrial, RemovedVolumeEqualsSweptVolume) {
   (void)s;
 }
 
+// A finer voxmap needs a finer shell: Scene::WithVoxmapResolution keeps the grids' ratio. The
+// drilling scene at 128/32 (2:1) taken to voxmap 128 gets shell 512 and removes what the drill
+// sweeps; keeping shell 128 at voxmap 128 (element spacing two voxels, as the glenoid's shell 340
+// at voxmap 512 is 1.3) leaves voxels that no element visits standing.
+TEST(FeedTrial, AFinerVoxmapKeepsTheShellRatioAndTheRemovedVolume) {
+  const bm::Scene base = DrillingScene({128, 32});
+  const bm::Scene scaled = base.WithVoxmapResolution(128);
+  EXPECT_EQ(scaled.voxmapResolution, 128);
+  EXPECT_EQ(scaled.shellResolution, 512);
+  EXPECT_EQ(base.WithVoxmapResolution(4096).shellResolution, 4096); // clamped
+  EXPECT_THROW(base.WithVoxmapResolution(4), std::invalid_argument);
+  bm::Scene coarse = scaled;
+  coarse.shellResolution = base.shellResolution;
+  const TrialResult a = RunTrial(scaled), b = RunTrial(coarse);
+  const double analytic = Get(a, "analytic_removed_volume_mm3");
+  const double ea = Get(a, "removed_volume_mm3") / analytic - 1,
+               eb = Get(b, "removed_volume_mm3") / analytic - 1;
+  std::printf("removed vs analytic: shell 512 at voxmap 128 %+.2f %%, shell 128 %+.2f %%\n",
+              100 * ea, 100 * eb);
+  EXPECT_NEAR(ea, 0.0, 0.08);
+  EXPECT_LT(eb, ea - 0.05);
+}
+
 // Zheng et al.'s baseline through the same harness: finite, positive, near its own reference.
 TEST(FeedTrial, ZhengRunsThroughTheSameHarness) {
   const TrialResult r = RunTrial(DrillingScene({256, 64}, bm::Method::Zheng));

@@ -187,3 +187,23 @@ TEST(SessionSource, UnavailableTouchSaysWhy) {
   EXPECT_NE(std::string(s->GetLastError()).find("/nonexistent/libHD.so"), std::string::npos);
   unsetenv("BM_LIBHD");
 }
+
+TEST(SessionSource, AVoxmapResolutionSetAloneScalesTheShellAlike) {
+  // The drilling scene is 256 / 1024 (grids 2:1): voxmap 64 alone runs with shell 256; both set
+  // run as set; neither keeps the scene's.
+  vtkNew<vtkBMSessionSource> s;
+  s->SetScene("drilling");
+  s->RealTimeOff();
+  s->SetMaxFrames(5);
+  EXPECT_EQ(s->GetSessionShellResolution(), 0);
+  s->SetVoxmapResolution(64);
+  ASSERT_TRUE(s->Start()) << s->GetLastError();
+  s->Stop();
+  EXPECT_EQ(s->GetSessionVoxmapResolution(), 64);
+  EXPECT_EQ(s->GetSessionShellResolution(), 256);
+  s->SetShellResolution(128);
+  ASSERT_TRUE(s->Start()) << s->GetLastError();
+  s->Stop();
+  EXPECT_EQ(s->GetSessionVoxmapResolution(), 64);
+  EXPECT_EQ(s->GetSessionShellResolution(), 128);
+}
