@@ -229,7 +229,7 @@ void BoneSurface::Rebuild() {
     nt += m.NumTriangles();
   }
   if (!Points_ || np > PointCapacity_ || nt > TriangleCapacity_)
-    Reallocate(np, nt);
+    Reallocate(np, nt, false);
   // Rewrite the arrays in place, in order.
   FreePoints_.clear();
   NumPoints_ = NumTriangles_ = 0;
@@ -240,18 +240,34 @@ void BoneSurface::Rebuild() {
   }
 }
 
-void BoneSurface::Reallocate(int64_t np, int64_t nt) {
+void BoneSurface::Reallocate(int64_t np, int64_t nt, bool keep) {
   // New arrays with room to grow; the old ones stay valid for whoever still holds them.
-  PointCapacity_ = std::max<int64_t>(np + np / 4, 1024);
-  TriangleCapacity_ = std::max<int64_t>(nt + nt / 4, 1024);
+  const vtkSmartPointer<vtkFloatArray> oldPoints = Points_, oldNormals = Normals_;
+  const vtkSmartPointer<vtkTypeInt32Array> oldConnectivity = Connectivity_;
+  keep = keep && Points_;
+  const int64_t spare = keep ? 2 : 4; // growing while cutting: a half to spare, else a quarter
+  PointCapacity_ = std::max<int64_t>(np + np / spare, 1024);
+  TriangleCapacity_ = std::max<int64_t>(nt + nt / spare, 1024);
   if (PointCapacity_ > INT32_MAX || 3 * TriangleCapacity_ > INT32_MAX)
     throw std::length_error("BoneSurface: surface too large for 32-bit connectivity");
   Points_ = MakeArray<vtkFloatArray>(3, 3 * PointCapacity_, nullptr);
   Normals_ = MakeArray<vtkFloatArray>(3, 3 * PointCapacity_, "Normals");
   Offsets_ = MakeArray<vtkTypeInt32Array>(1, TriangleCapacity_ + 1, nullptr);
   Connectivity_ = MakeArray<vtkTypeInt32Array>(1, 3 * TriangleCapacity_, nullptr);
-  TriangleOwner_.assign(size_t(TriangleCapacity_), 0);
-  TriangleIndex_.assign(size_t(TriangleCapacity_), 0);
+  if (keep) {
+    // Everything stays where it was: copy the arrays, the slot lists stay right.
+    std::memcpy(Points_->GetPointer(0), oldPoints->GetPointer(0),
+                size_t(3 * NumPoints_) * sizeof(float));
+    std::memcpy(Normals_->GetPointer(0), oldNormals->GetPointer(0),
+                size_t(3 * NumPoints_) * sizeof(float));
+    std::memcpy(Connectivity_->GetPointer(0), oldConnectivity->GetPointer(0),
+                size_t(3 * NumTriangles_) * sizeof(int32_t));
+    TriangleOwner_.resize(size_t(TriangleCapacity_), 0);
+    TriangleIndex_.resize(size_t(TriangleCapacity_), 0);
+  } else {
+    TriangleOwner_.assign(size_t(TriangleCapacity_), 0);
+    TriangleIndex_.assign(size_t(TriangleCapacity_), 0);
+  }
   OffsetsWritten_ = 0;
   Offsets_->GetPointer(0)[0] = 0;
   vtkNew<vtkPoints> points;
@@ -264,8 +280,9 @@ void BoneSurface::Reallocate(int64_t np, int64_t nt) {
 }
 
 void BoneSurface::Assemble(const std::vector<int64_t>& changed, bool full) {
-  // Patch in place when the arrays hold the result and no more than half of the points would be
-  // unused; otherwise write everything again.
+  // Patch in place when no more than half of the points would be unused (in larger arrays, the
+  // contents copied, when these do not hold the result: a cut that grows the surface costs a copy,
+  // not a rewrite from every brick); otherwise write everything again.
   int64_t oldPoints = 0, newPoints = 0, oldTriangles = 0, newTriangles = 0;
   for (int64_t b : changed) {
     oldPoints += int64_t(PointSlots_[size_t(b)].size());
@@ -277,10 +294,11 @@ void BoneSurface::Assemble(const std::vector<int64_t>& changed, bool full) {
   const int64_t points = NumPoints_ + std::max<int64_t>(0, newPoints - unused);
   const int64_t triangles = NumTriangles_ - oldTriangles + newTriangles;
   const int64_t unusedAfter = std::max<int64_t>(0, unused - newPoints);
-  if (full || !Points_ || points > PointCapacity_ || triangles > TriangleCapacity_ ||
-      (unusedAfter > 4096 && 2 * unusedAfter > points)) {
+  if (full || !Points_ || (unusedAfter > 4096 && 2 * unusedAfter > points)) {
     Rebuild();
   } else {
+    if (points > PointCapacity_ || triangles > TriangleCapacity_)
+      Reallocate(std::max(points, NumPoints_), std::max(triangles, NumTriangles_), true);
     RemoveBricks(changed);
     for (int64_t b : changed)
       AddBrick(b);

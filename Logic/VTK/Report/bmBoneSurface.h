@@ -26,10 +26,11 @@
 // together, the places they leave below the new end filled with the triangles above it (a view's
 // cut changes much the same bricks each time, appended last time, so few move), and their points'
 // places freed for later bricks (the points array may hold unused points, which no triangle
-// references); the new triangles are appended. The arrays are written whole, in order, only when
-// they must grow or are half unused points (new arrays). One polydata rather than a composite of
-// per-brick pieces: the BM Session source's port stays a vtkPolyData, and the mapper draws one
-// buffer instead of thousands of blocks (a 512^3 voxmap holds 274625 bricks of 8).
+// references); the new triangles are appended. Arrays that must grow are copied into larger ones
+// (half again); they are written whole, in order, only when half their points are unused. One
+// polydata rather than a composite of per-brick pieces: the BM Session source's port stays a
+// vtkPolyData, and the mapper draws one buffer instead of thousands of blocks (a 512^3 voxmap holds
+// 274625 bricks of 8).
 //
 // Units: world mm (points are in the voxmap's world frame); times in ms.
 #pragma once
@@ -107,9 +108,10 @@ private:
   std::array<int, 3> FirstCell(int64_t b) const;
   void Assemble(const std::vector<int64_t>& changed, bool full);
   void Rebuild();
-  /// New output arrays for np points and nt triangles with a quarter to spare (the old arrays stay
-  /// valid for whoever still holds them).
-  void Reallocate(int64_t np, int64_t nt);
+  /// New output arrays for np points and nt triangles with a quarter to spare, or with keep their
+  /// current contents copied and a half to spare (the old arrays stay valid for whoever still
+  /// holds them).
+  void Reallocate(int64_t np, int64_t nt, bool keep);
   /// Takes the bricks' triangles out of the output (the places left filled from the end) and
   /// frees their points' places.
   void RemoveBricks(const std::vector<int64_t>& bricks);

@@ -34,11 +34,14 @@ constexpr double kH = 0.2; // voxel spacing, mm
 const std::array<int, 3> kDims{45, 38, 33};
 const std::array<double, 3> kOrigin{-3.0, 1.0, 2.0};
 
-/// Partial-volume fill of a signed distance d (mm, > 0 inside), never exactly the iso (so no
-/// vertex falls on a sample and the surfaces compare point for point).
+/// Fills this close to the iso (0.5) are kept out: their vertices would lie within float
+/// rounding of a sample, on top of their neighbours', and points could not be matched one to one.
+constexpr bm::Voxmap::Fill kHalf = bm::Voxmap::kFull / 2, kMargin = 1024;
+
+/// Partial-volume fill of a signed distance d (mm, > 0 inside), kMargin off the iso.
 bm::Voxmap::Fill FillOf(double d) {
-  auto f = bm::Voxmap::Fill(std::clamp(0.5 + d / kH, 0.0, 1.0) * bm::Voxmap::kFull);
-  return f == bm::Voxmap::kFull / 2 ? f + 1 : f;
+  const auto f = bm::Voxmap::Fill(std::clamp(0.5 + d / kH, 0.0, 1.0) * bm::Voxmap::kFull);
+  return std::abs(f - kHalf) >= kMargin ? f : f >= kHalf ? kHalf + kMargin : kHalf - kMargin;
 }
 
 /// A ball of bone on a slab that reaches the grid's x = 0 face, with two bars reaching the +y and
@@ -84,8 +87,9 @@ void Cut(bm::Voxmap& v, const std::array<double, 3>& centre, double r, double sh
         bool voided = false;
         if (units > 0 && v.GetFill(idx) > 0) {
           v.Remove(idx, units, voided);
-          if (v.GetFill(idx) == bm::Voxmap::kFull / 2) // keep samples off the iso (see FillOf)
-            v.Remove(idx, 1, voided);
+          const bm::Voxmap::Fill f = v.GetFill(idx);
+          if (std::abs(f - kHalf) < kMargin) // keep samples off the iso (see kMargin)
+            v.Remove(idx, f - (kHalf - kMargin), voided);
         }
       }
 }
@@ -378,4 +382,30 @@ TEST(BrickMarchingCubes, IncrementalAfterCutsIsFlyingEdgesAndTheFreshSurface) {
   fresh.Update(bone);
   EXPECT_TRUE(PointsAndNormals(live.GetOutput()) == PointsAndNormals(fresh.GetOutput()))
       << "the patched surface's triangles, points or normals differ from a fresh extraction's";
+}
+
+TEST(BrickMarchingCubes, GrowingSurfaceIsCopiedIntoLargerArraysNotRewritten) {
+  // Tunnels drilled through the bone add surface until the output's arrays must grow: they are
+  // copied into larger ones and patched (not rewritten from every brick), and stay right.
+  bm::Voxmap bone = MakePhantom();
+  bm::BoneSurface live;
+  live.Update(bone);
+  vtkDataArray* first = live.GetOutput()->GetPoints()->GetData();
+  bool grew = false;
+  for (int t = 0; t < 40 && !grew; ++t) {
+    const double y = 1.0 + (8 + 3 * (t % 8)) * kH, z = 2.0 + (8 + 3 * (t / 8)) * kH;
+    for (int s = 0; s < 20; ++s)
+      Cut(bone, {-3.0 + (14 + 1.5 * s) * kH, y, z}, 0.25, 1.0);
+    live.Update(bone);
+    EXPECT_LT(live.LastUpdate().rewrittenTriangles, live.GetOutput()->GetNumberOfCells())
+        << "tunnel " << t << ": patched, not rewritten";
+    grew = live.GetOutput()->GetPoints()->GetData() != first;
+  }
+  ASSERT_TRUE(grew) << "the tunnels did not grow the arrays: the test needs more of them";
+  Cut(bone, {-3.0 + 24 * kH, 1.0 + 19 * kH, 2.0 + 16 * kH}, 0.6, 1.0);
+  live.Update(bone);
+  ExpectFlyingEdgesSurface(live.GetOutput(), FlyingEdges(bone));
+  bm::BoneSurface fresh;
+  fresh.Update(bone);
+  EXPECT_TRUE(PointsAndNormals(live.GetOutput()) == PointsAndNormals(fresh.GetOutput()));
 }
