@@ -169,7 +169,7 @@ Voxmap::Fill Voxmap::Remove(int64_t idx, Fill amount, bool& becameVoid) {
 Voxmap::RemovalTotals Voxmap::RemoveOwned(const std::pair<int64_t, int32_t>* req, size_t n,
                                           std::vector<int64_t>& touched) {
   RemovalTotals t;
-  constexpr size_t kAhead = 16; // requests whose fills are prefetched ahead
+  constexpr size_t kAhead = 32; // requests whose fills are prefetched ahead (runs share lines)
   for (size_t i = 0; i < std::min(n, kAhead); ++i)
     __builtin_prefetch(&Fill_[size_t(req[i].first)], 1);
   int64_t lastBrick = -1;

@@ -1,6 +1,7 @@
 // vtkBMSessionSource.cxx - see vtkBMSessionSource.h.
 #include "vtkBMSessionSource.h"
 
+#include "bmBoneFractionImage.h"
 #include "bmBoneSurface.h"
 #ifdef BM_WITH_IO
 #include "bmCTVoxmap.h"
@@ -17,7 +18,6 @@
 
 #include "vtkDataObject.h"
 #include "vtkDoubleArray.h"
-#include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -82,7 +82,8 @@ public:
   double NextHistoryS = 0;
   std::vector<bm::FrameRecord> Records; ///< drained from the session, reused
   vtkNew<vtkTable> HistoryTable;
-  vtkNew<vtkImageData> BoneImage;
+  /// The cut bone's fill fractions for volume rendering, copied per changed brick.
+  bm::BoneFractionImage Fraction;
 
   /// Depth (mm) of the foremost cutting point of a tool at (pos, rot) below the entry point.
   double Depth(const Eigen::Vector3d& pos, const Eigen::Matrix3d& rot) const {
@@ -119,28 +120,6 @@ public:
       table->AddColumn(column);
     }
     this->HistoryTable->ShallowCopy(table);
-  }
-
-  /// The bone's fill fractions (0..1) as an image at the voxel centres, read while the haptic
-  /// thread cuts (atomic loads; a brick being cut shows that frame half done).
-  void FillBoneImage() {
-    const bm::Voxmap& v = this->Setup->Bone();
-    const std::array<int, 3>& d = v.Dims();
-    vtkNew<vtkImageData> image;
-    image->SetDimensions(d[0], d[1], d[2]);
-    image->SetSpacing(v.Spacing(), v.Spacing(), v.Spacing());
-    image->SetOrigin(v.Origin()[0], v.Origin()[1], v.Origin()[2]);
-    vtkNew<vtkFloatArray> fraction;
-    fraction->SetName("BoneFraction");
-    fraction->SetNumberOfTuples(v.NumVoxels());
-    float* out = fraction->GetPointer(0);
-    constexpr double scale = 1.0 / bm::Voxmap::kFull;
-    for (int64_t i = 0; i < v.NumVoxels(); ++i) {
-      const bm::Voxmap::Fill f = v.LoadFill(i);
-      out[i] = f <= 0 ? 0.0f : float(f * scale);
-    }
-    image->GetPointData()->SetScalars(fraction);
-    this->BoneImage->ShallowCopy(image);
   }
 
   /// The mouse device's pose for a depth (mm) of the foremost cutting point below the entry.
@@ -503,8 +482,8 @@ int vtkBMSessionSource::RequestData(vtkInformation*, vtkInformationVector**,
   in.DrainHistory(s.toolRotation, this->HistoryStepS, this->HistorySeconds);
   vtkTable::GetData(outputVector, 2)->ShallowCopy(in.HistoryTable);
   if (this->VolumeOutput) {
-    in.FillBoneImage();
-    vtkImageData::GetData(outputVector, 3)->ShallowCopy(in.BoneImage);
+    in.Fraction.Update(in.Setup->Bone());
+    vtkImageData::GetData(outputVector, 3)->ShallowCopy(in.Fraction.GetOutput());
   }
   this->FrameMsP50 = s.timing.p50Ms;
   this->FrameMsP99 = s.timing.p99Ms;

@@ -114,7 +114,8 @@ public:
   ///@}
   ///@{
   /// Output port 3 (the cut bone as an image for volume rendering) on or off (default off: the
-  /// copy costs one float per voxel at every update).
+  /// image holds one float per voxel; an update copies the voxmap's changed 8^3 bricks,
+  /// bm::BoneFractionImage).
   vtkSetMacro(VolumeOutput, bool);
   vtkGetMacro(VolumeOutput, bool);
   vtkBooleanMacro(VolumeOutput, bool);
