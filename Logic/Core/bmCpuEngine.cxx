@@ -96,7 +96,8 @@ CpuEngine::CpuEngine(Voxmap& bone, const ToolModel& tool, const PointShell& shel
       State_(Pool_.Threads() == 1 ? 1 : 2 * size_t(Pool_.Threads()),
              std::vector<ElementResidency>(shell.Size())),
       PrevWinner_(NumTasks(shell), 0),
-      VoxelScratch_(size_t(Pool_.Threads()), std::vector<int64_t>(kBatch)) {
+      VoxelScratch_(size_t(Pool_.Threads()), std::vector<int64_t>(kBatch)),
+      BrickScratch_(size_t(Pool_.Threads()), std::vector<int32_t>(kBatch)) {
   while (RemovalParts_ < Pool_.Threads())
     RemovalParts_ *= 2;
   for (FramePartial& p : Partials_)
@@ -244,8 +245,9 @@ void CpuEngine::RunPassTask(const PassJob& job, int task, int thread) {
     for (uint32_t base = blk.begin; base < blk.end; base += kBatch) {
       const uint32_t end = std::min(blk.end, base + kBatch);
       int64_t* vox = VoxelScratch_[size_t(thread)].data();
+      int32_t* brick = BrickScratch_[size_t(thread)].data();
       for (uint32_t e = base; e < end; ++e) {
-        const int64_t idx = G.VoxelOf(ElementCoords(codes[e]));
+        const int64_t idx = G.VoxelOf(ElementCoords(codes[e]), brick[e - base]);
         if (idx >= 0 && !LoadResidency(prev[e]).Stays(frameNo, idx))
           __builtin_prefetch(fill + idx);
         vox[e - base] = idx;
@@ -266,10 +268,10 @@ void CpuEngine::RunPassTask(const PassJob& job, int task, int thread) {
             // Consecutive elements often share a voxel: one request per run (same result,
             // since the clamped decrement telescopes).
             auto& list = P.removals[size_t(Voxmap::LineOwner(idx, RemovalParts_ - 1))];
-            if (!list.empty() && list.back().first == idx)
-              list.back().second += units;
+            if (!list.empty() && list.back().voxel == idx)
+              list.back().units += units;
             else
-              list.emplace_back(idx, units);
+              list.push_back({idx, units, brick[e - base]});
             P.requested += units;
           }
         }

@@ -59,7 +59,7 @@ struct alignas(64) FramePartial {
   int64_t removedFill = 0, removedVoxels = 0;
   /// Removal requests (voxel index, fill units), one list per removal part: the voxel's owner
   /// (Voxmap::LineOwner).
-  std::vector<std::vector<std::pair<int64_t, int32_t>>> removals;
+  std::vector<std::vector<Voxmap::RemovalRequest>> removals;
   void Clear();
   /// Adds o's counts and sums (not its removals).
   void Add(const FramePartial& o);
@@ -111,6 +111,7 @@ private:
   uint32_t Frame_ = 0;
   static constexpr uint32_t kBatch = 64;           // elements whose voxels are fetched ahead
   std::vector<std::vector<int64_t>> VoxelScratch_; // per thread: the batch's voxel indices
+  std::vector<std::vector<int32_t>> BrickScratch_; // per thread: and their occupancy bricks
   std::vector<BinForce> Table_;                    // per force bin, per mm of delta
   double TableFeed_ = -1, TableSpeed_ = -1;
 };

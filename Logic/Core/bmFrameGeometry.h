@@ -29,12 +29,13 @@ struct FrameGeometry {
   Eigen::Vector3d position; ///< world mm of the tool frame's origin
   std::array<float, 9> A{}; ///< tool grid -> voxmap grid, row-major
   std::array<float, 3> b{};
-  Eigen::Vector3d motionTool; ///< this frame's motion in the (turned) tool frame, mm
-  double unitsPerMm3 = 0;     ///< fill units per mm^3 removed
-  double maxUnits = 0;        ///< most units one element may take from its voxel this frame
-  bool remove = false;        ///< material is removed this frame (asked for and moving)
-  bool cutting = false;       ///< spindle turning and feed > 0: cutting forces this frame
-  std::array<int, 3> dims{};  ///< voxmap dimensions
+  Eigen::Vector3d motionTool;     ///< this frame's motion in the (turned) tool frame, mm
+  double unitsPerMm3 = 0;         ///< fill units per mm^3 removed
+  double maxUnits = 0;            ///< most units one element may take from its voxel this frame
+  bool remove = false;            ///< material is removed this frame (asked for and moving)
+  bool cutting = false;           ///< spindle turning and feed > 0: cutting forces this frame
+  std::array<int, 3> dims{};      ///< voxmap dimensions
+  std::array<int, 3> brickDims{}; ///< voxmap occupancy bricks along each axis
 
   /// Voxel index holding the element at tool-grid coordinates ijk, or -1 outside the voxmap.
   int64_t VoxelOf(const std::array<uint32_t, 3>& ijk) const {
@@ -46,6 +47,21 @@ struct FrameGeometry {
               vk = int(std::floor(gz + 0.5f));
     if (vi < 0 || vj < 0 || vk < 0 || vi >= dims[0] || vj >= dims[1] || vk >= dims[2])
       return -1;
+    return vi + int64_t(dims[0]) * (vj + int64_t(dims[1]) * vk);
+  }
+  /// VoxelOf(), also giving the voxel's occupancy brick (Voxmap::BrickOfVoxel) from its
+  /// coordinates, which costs less than working it out from the index later.
+  int64_t VoxelOf(const std::array<uint32_t, 3>& ijk, int32_t& brick) const {
+    const float x = float(ijk[0]), y = float(ijk[1]), z = float(ijk[2]);
+    const float gx = A[0] * x + A[1] * y + A[2] * z + b[0];
+    const float gy = A[3] * x + A[4] * y + A[5] * z + b[1];
+    const float gz = A[6] * x + A[7] * y + A[8] * z + b[2];
+    const int vi = int(std::floor(gx + 0.5f)), vj = int(std::floor(gy + 0.5f)),
+              vk = int(std::floor(gz + 0.5f));
+    if (vi < 0 || vj < 0 || vk < 0 || vi >= dims[0] || vj >= dims[1] || vk >= dims[2])
+      return -1;
+    brick = int32_t((vi / Voxmap::kBrick) +
+                    brickDims[0] * ((vj / Voxmap::kBrick) + brickDims[1] * (vk / Voxmap::kBrick)));
     return vi + int64_t(dims[0]) * (vj + int64_t(dims[1]) * vk);
   }
   /// Voxel coordinates of an in-grid voxel index.

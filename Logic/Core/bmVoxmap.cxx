@@ -166,27 +166,27 @@ Voxmap::Fill Voxmap::Remove(int64_t idx, Fill amount, bool& becameVoid) {
   return std::max(old, 0) - std::max(after, 0);
 }
 
-Voxmap::RemovalTotals Voxmap::RemoveOwned(const std::pair<int64_t, int32_t>* req, size_t n,
+Voxmap::RemovalTotals Voxmap::RemoveOwned(const RemovalRequest* req, size_t n,
                                           std::vector<int64_t>& touched) {
   RemovalTotals t;
   constexpr size_t kAhead = 32; // requests whose fills are prefetched ahead (runs share lines)
   for (size_t i = 0; i < std::min(n, kAhead); ++i)
-    __builtin_prefetch(&Fill_[size_t(req[i].first)], 1);
+    __builtin_prefetch(&Fill_[size_t(req[i].voxel)], 1);
   int64_t lastBrick = -1;
   for (size_t i = 0; i < n; ++i) {
     if (i + kAhead < n)
-      __builtin_prefetch(&Fill_[size_t(req[i + kAhead].first)], 1);
-    const int64_t idx = req[i].first;
+      __builtin_prefetch(&Fill_[size_t(req[i + kAhead].voxel)], 1);
+    const int64_t idx = req[i].voxel;
     // Only this thread writes the fill: a relaxed load and store (plain moves on x86-64),
     // atomic because readers (the live view, a descheduled pass run) may load it meanwhile.
     std::atomic_ref<Fill> cell(Fill_[size_t(idx)]);
     const Fill old = cell.load(std::memory_order_relaxed);
-    const Fill after = old - req[i].second;
+    const Fill after = old - req[i].units;
     cell.store(after, std::memory_order_relaxed);
     if (old <= 0)
       continue;
     t.fill += old - std::max(after, 0);
-    const int64_t b = BrickOfVoxel(idx);
+    const int64_t b = req[i].brick;
     if (after <= 0) {
       ++t.voxels;
       BrickCount_[size_t(b)].fetch_sub(1, std::memory_order_relaxed);

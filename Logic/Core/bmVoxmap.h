@@ -130,6 +130,13 @@ public:
   static int LineOwner(int64_t idx, int partsMask) {
     return int((uint64_t(idx) / kFillsPerLine) & uint64_t(partsMask));
   }
+  /// A removal request: `units` (> 0) of fill from voxel index `voxel`, whose occupancy brick
+  /// (BrickOfVoxel) is `brick`.
+  struct RemovalRequest {
+    int64_t voxel = 0;
+    int32_t units = 0;
+    int32_t brick = 0;
+  };
   /// Fill units and voxels that a batch of removals took.
   struct RemovalTotals {
     int64_t fill = 0;   ///< fill units removed (clamped at void, as Remove() returns them)
@@ -137,12 +144,12 @@ public:
   };
   /// Removal by a thread that OWNS the requests' voxels: no other thread writes those fills
   /// during the call (as LineOwner partitions them; other owners may work on other voxels at the
-  /// same time, readers may load). Same fills, totals and occupancy as Remove() on each request
-  /// (voxel index, fill units > 0), in any order, a voxel any number of times; but with plain
-  /// loads and stores instead of a locked decrement per request, which costs most of a removal
-  /// when the fills are in cache. Appends to `touched` the bricks of voxels that held bone:
-  /// pass them to MarkBricksChanged() once the owner's last batch of the frame is done.
-  RemovalTotals RemoveOwned(const std::pair<int64_t, int32_t>* requests, size_t n,
+  /// same time, readers may load). Same fills, totals and occupancy as Remove() on each request,
+  /// in any order, a voxel any number of times; but with plain loads and stores instead of a
+  /// locked decrement per request, which costs most of a removal when the fills are in cache.
+  /// Appends to `touched` the bricks of voxels that held bone: pass them to MarkBricksChanged()
+  /// once the owner's last batch of the frame is done.
+  RemovalTotals RemoveOwned(const RemovalRequest* requests, size_t n,
                             std::vector<int64_t>& touched);
   /// Marks the bricks changed (generations odd) after a fence that orders every fill written
   /// by this thread before it (the ordering Remove() gets from its locked decrement).

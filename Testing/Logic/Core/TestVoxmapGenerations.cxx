@@ -145,15 +145,15 @@ TEST(VoxmapGenerations, ReaderOnAnotherThreadMissesNoChange) {
 namespace {
 
 /// Random removal requests (voxel, units), in runs of neighbouring voxels as a pass makes them.
-std::vector<std::pair<int64_t, int32_t>> RandomRequests(const bm::Voxmap& v, int n, unsigned seed) {
+std::vector<bm::Voxmap::RemovalRequest> RandomRequests(const bm::Voxmap& v, int n, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_int_distribution<int64_t> voxel(0, v.NumVoxels() - 4);
   std::uniform_int_distribution<int> amount(1, bm::Voxmap::kFull / 3), run(1, 4);
-  std::vector<std::pair<int64_t, int32_t>> r;
+  std::vector<bm::Voxmap::RemovalRequest> r;
   while (int(r.size()) < n) {
     const int64_t at = voxel(rng);
     for (int q = run(rng); q > 0; --q)
-      r.emplace_back(at + q - 1, amount(rng));
+      r.push_back({at + q - 1, amount(rng), int32_t(v.BrickOfVoxel(at + q - 1))});
   }
   return r;
 }
@@ -169,14 +169,14 @@ TEST(VoxmapRemoveOwned, SameFillsTotalsOccupancyAndGenerationsAsRemove) {
   SeeAll(b);
   const auto req = RandomRequests(a, 60000, 11);
   int64_t fillA = 0, voxA = 0;
-  for (const auto& [idx, units] : req) {
+  for (const auto& r : req) {
     bool voided = false;
-    fillA += a.Remove(idx, units, voided);
+    fillA += a.Remove(r.voxel, r.units, voided);
     voxA += voided;
   }
-  std::vector<std::pair<int64_t, int32_t>> parts[2];
+  std::vector<bm::Voxmap::RemovalRequest> parts[2];
   for (const auto& r : req)
-    parts[bm::Voxmap::LineOwner(r.first, 1)].push_back(r);
+    parts[bm::Voxmap::LineOwner(r.voxel, 1)].push_back(r);
   ASSERT_FALSE(parts[0].empty());
   ASSERT_FALSE(parts[1].empty());
   bm::Voxmap::RemovalTotals totals[2];
