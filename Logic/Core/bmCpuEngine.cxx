@@ -246,11 +246,18 @@ void CpuEngine::RunPassTask(const PassJob& job, int task, int thread) {
       const uint32_t end = std::min(blk.end, base + kBatch);
       int64_t* vox = VoxelScratch_[size_t(thread)].data();
       int32_t* brick = BrickScratch_[size_t(thread)].data();
+      alignas(64) float gx[kBatch], gy[kBatch], gz[kBatch];
       for (uint32_t e = base; e < end; ++e) {
-        const int64_t idx = G.VoxelOf(ElementCoords(codes[e]), brick[e - base]);
+        const auto c = ElementCoords(codes[e]);
+        gx[e - base] = float(c[0]);
+        gy[e - base] = float(c[1]);
+        gz[e - base] = float(c[2]);
+      }
+      G.VoxelsOf(gx, gy, gz, int(end - base), vox, brick);
+      for (uint32_t e = base; e < end; ++e) {
+        const int64_t idx = vox[e - base];
         if (idx >= 0 && !LoadResidency(prev[e]).Stays(frameNo, idx))
           __builtin_prefetch(fill + idx);
-        vox[e - base] = idx;
       }
       // Pass B: engagement, removal requests, elemental forces.
       for (uint32_t e = base; e < end; ++e) {

@@ -64,6 +64,28 @@ struct FrameGeometry {
                     brickDims[0] * ((vj / Voxmap::kBrick) + brickDims[1] * (vk / Voxmap::kBrick)));
     return vi + int64_t(dims[0]) * (vj + int64_t(dims[1]) * vk);
   }
+  /// VoxelOf() with its brick for n elements at tool-grid coordinates (x[q], y[q], z[q]) (exact
+  /// integers as floats): the same arithmetic in a loop the compiler vectorises (with
+  /// -fno-trapping-math for floor(); bmCpuEngine.cxx has it). idx[q] = -1 (brick[q] = 0) for an
+  /// element outside the voxmap.
+  void VoxelsOf(const float* __restrict x, const float* __restrict y, const float* __restrict z,
+                int n, int64_t* __restrict idx, int32_t* __restrict brick) const {
+    const float a0 = A[0], a1 = A[1], a2 = A[2], a3 = A[3], a4 = A[4], a5 = A[5], a6 = A[6],
+                a7 = A[7], a8 = A[8], b0 = b[0], b1 = b[1], b2 = b[2];
+    const int nx = dims[0], ny = dims[1], nz = dims[2], bx = brickDims[0], by = brickDims[1];
+    for (int q = 0; q < n; ++q) { // an int index: GCC 12 does not vectorise an unsigned one
+      const float gx = a0 * x[q] + a1 * y[q] + a2 * z[q] + b0;
+      const float gy = a3 * x[q] + a4 * y[q] + a5 * z[q] + b1;
+      const float gz = a6 * x[q] + a7 * y[q] + a8 * z[q] + b2;
+      const int vi = int(std::floor(gx + 0.5f)), vj = int(std::floor(gy + 0.5f)),
+                vk = int(std::floor(gz + 0.5f));
+      const bool in = (unsigned(vi) < unsigned(nx)) & (unsigned(vj) < unsigned(ny)) &
+                      (unsigned(vk) < unsigned(nz));
+      const int64_t v = vi + int64_t(nx) * (vj + int64_t(ny) * vk);
+      idx[q] = in ? v : -1;
+      brick[q] = in ? (vi >> 3) + bx * ((vj >> 3) + by * (vk >> 3)) : 0;
+    }
+  }
   /// Voxel coordinates of an in-grid voxel index.
   std::array<int, 3> Coords(int64_t idx) const {
     return {int(idx % dims[0]), int((idx / dims[0]) % dims[1]),
