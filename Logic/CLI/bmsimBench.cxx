@@ -71,8 +71,8 @@ const char* kUsage = R"(usage: bmsim bench [options]
   --scene NAME|FILE      --view: the scene (default glenoid; in builds without CT import, the
                          glenoid phantom's analytic bone is sampled straight into the voxmap)
   --shells LIST          --view: the tool's point-shell resolutions to run each voxmap with
-                         (default: the scene's own; e.g. 906 puts the glenoid reamer's shell
-                         2:1 on voxmap 512's voxels)
+                         (default: the scene's shell scaled with the voxmap, as a session at
+                         that voxmap runs: glenoid 340 at 192, 906 at 512, grids 2:1)
   --interval MS          --view: refresh period, ms (default 33)
   --repeats N            --view: runs per voxmap and mode (default 1)
   --real-time            --view: the haptic thread at the scene's frame rate (1 kHz, sleeping
@@ -316,7 +316,8 @@ int ViewBench(const bm::cli::ParsedArgs& p) {
                        ? bm::Scene::Load(sceneName)
                        : bm::Scene::Builtin(sceneName);
   std::ostringstream csv;
-  const std::vector<int> shells = Resolutions(p, "shells", {base.shellResolution});
+  // 0: the scene's shell scaled with the voxmap (bm::Scene::WithVoxmapResolution).
+  const std::vector<int> shells = Resolutions(p, "shells", {0});
   csv << "voxmap,shell,run,view,refresh_ms_median,refresh_ms_p99,refresh_cpu_ms_median,fps_median,"
          "fps_p99,refreshes_"
          "cutting,"
@@ -330,7 +331,8 @@ int ViewBench(const bm::cli::ParsedArgs& p) {
             << interval << " ms, extraction budget " << budget << " ms, bricks of " << brick
             << " voxels; machine: " << MachineName() << "\n";
   for (int v : voxmaps)
-    for (int shell : shells) {
+    for (int shellAsked : shells) {
+      const int shell = shellAsked > 0 ? shellAsked : base.WithVoxmapResolution(v).shellResolution;
       nlohmann::json j = base.ToJson();
       j["voxmap_resolution"] = v;
       j["shell_resolution"] = shell;

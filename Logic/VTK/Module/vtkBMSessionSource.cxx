@@ -68,9 +68,9 @@ public:
   std::unique_ptr<bm::MachiningSetup> Setup;
   std::shared_ptr<bm::ProgrammableDevice> Mouse;
   std::unique_ptr<bm::HapticSession> Session;
-  /// The cut bone's surface, in bricks of 32 voxels (one flying-edges run costs about the same
-  /// at 16 and 32 voxels: fewer, larger bricks re-extract a cut faster).
-  bm::BoneSurface Surface{32, 0.5};
+  /// The cut bone's surface, in BoneSurface's default bricks of 8 voxels (one per voxmap
+  /// generation brick: a cut re-extracts only the thin layer it changed).
+  bm::BoneSurface Surface;
   vtkNew<vtkBMToolSource> Tool;
   int64_t LastFrame = -1;
   std::string Error;
