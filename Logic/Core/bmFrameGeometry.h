@@ -49,25 +49,11 @@ struct FrameGeometry {
       return -1;
     return vi + int64_t(dims[0]) * (vj + int64_t(dims[1]) * vk);
   }
-  /// VoxelOf(), also giving the voxel's occupancy brick (Voxmap::BrickOfVoxel) from its
-  /// coordinates, which costs less than working it out from the index later.
-  int64_t VoxelOf(const std::array<uint32_t, 3>& ijk, int32_t& brick) const {
-    const float x = float(ijk[0]), y = float(ijk[1]), z = float(ijk[2]);
-    const float gx = A[0] * x + A[1] * y + A[2] * z + b[0];
-    const float gy = A[3] * x + A[4] * y + A[5] * z + b[1];
-    const float gz = A[6] * x + A[7] * y + A[8] * z + b[2];
-    const int vi = int(std::floor(gx + 0.5f)), vj = int(std::floor(gy + 0.5f)),
-              vk = int(std::floor(gz + 0.5f));
-    if (vi < 0 || vj < 0 || vk < 0 || vi >= dims[0] || vj >= dims[1] || vk >= dims[2])
-      return -1;
-    brick = int32_t((vi / Voxmap::kBrick) +
-                    brickDims[0] * ((vj / Voxmap::kBrick) + brickDims[1] * (vk / Voxmap::kBrick)));
-    return vi + int64_t(dims[0]) * (vj + int64_t(dims[1]) * vk);
-  }
-  /// VoxelOf() with its brick for n elements at tool-grid coordinates (x[q], y[q], z[q]) (exact
-  /// integers as floats): the same arithmetic in a loop the compiler vectorises (with
-  /// -fno-trapping-math for floor(); bmCpuEngine.cxx has it). idx[q] = -1 (brick[q] = 0) for an
-  /// element outside the voxmap.
+  /// VoxelOf() for n elements at tool-grid coordinates (x[q], y[q], z[q]) (exact integers as
+  /// floats), with each voxel's occupancy brick (Voxmap::BrickOfVoxel, cheaper here from the
+  /// coordinates than later from the index): the same arithmetic in a loop the compiler vectorises
+  /// (with -fno-trapping-math for floor(); bmCpuEngine.cxx has it). idx[q] = -1 (brick[q] = 0) for
+  /// an element outside the voxmap.
   void VoxelsOf(const float* __restrict x, const float* __restrict y, const float* __restrict z,
                 int n, int64_t* __restrict idx, int32_t* __restrict brick) const {
     const float a0 = A[0], a1 = A[1], a2 = A[2], a3 = A[3], a4 = A[4], a5 = A[5], a6 = A[6],

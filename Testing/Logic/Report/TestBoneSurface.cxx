@@ -12,7 +12,6 @@
 
 #include <vtkCellArray.h>
 #include <vtkFloatArray.h>
-#include <vtkFlyingEdges3D.h>
 #include <vtkIdList.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
@@ -21,6 +20,7 @@
 #include <vtkPolyData.h>
 
 #include "bmBoneSurface.h"
+#include "bmTestFlyingEdges.h"
 #include "bmVoxmap.h"
 
 namespace {
@@ -119,31 +119,6 @@ double Area(vtkPolyData* pd) {
   return area;
 }
 
-/// The whole grid through one flying-edges filter (padded by a void sample on each side, as
-/// BoneSurface pads it): the reference the bricks must add up to.
-vtkSmartPointer<vtkPolyData> WholeGrid(const bm::Voxmap& v) {
-  const auto& d = v.Dims();
-  vtkNew<vtkImageData> image;
-  image->SetDimensions(d[0] + 2, d[1] + 2, d[2] + 2);
-  image->SetSpacing(v.Spacing(), v.Spacing(), v.Spacing());
-  image->SetOrigin(v.Origin()[0] - v.Spacing(), v.Origin()[1] - v.Spacing(),
-                   v.Origin()[2] - v.Spacing());
-  vtkNew<vtkFloatArray> values;
-  values->SetNumberOfValues(vtkIdType(d[0] + 2) * (d[1] + 2) * (d[2] + 2));
-  vtkIdType n = 0;
-  for (int k = -1; k <= d[2]; ++k)
-    for (int j = -1; j <= d[1]; ++j)
-      for (int i = -1; i <= d[0]; ++i)
-        values->SetValue(n++, v.Contains(i, j, k) ? float(v.Fraction(v.Index(i, j, k))) : 0.0f);
-  image->GetPointData()->SetScalars(values);
-  vtkNew<vtkFlyingEdges3D> edges;
-  edges->SetInputData(image);
-  edges->SetValue(0, 0.5);
-  edges->Update();
-  vtkSmartPointer<vtkPolyData> out = edges->GetOutput();
-  return out;
-}
-
 void ExpectSameSurface(vtkPolyData* live, const bm::Voxmap& bone, int brick) {
   bm::BoneSurface fresh(brick);
   fresh.Update(bone);
@@ -153,7 +128,7 @@ void ExpectSameSurface(vtkPolyData* live, const bm::Voxmap& bone, int brick) {
       << "the incremental surface's triangles differ from a fresh extraction's";
   // Against one filter over the whole grid: the bricks add up to it (same triangles, the points
   // computed from other origins: equal to float rounding).
-  vtkSmartPointer<vtkPolyData> whole = WholeGrid(bone);
+  vtkSmartPointer<vtkPolyData> whole = bm::test::WholeGridFlyingEdges(bone, false);
   EXPECT_EQ(live->GetNumberOfCells(), whole->GetNumberOfCells());
   EXPECT_NEAR(Area(live), Area(whole), 1e-5 * Area(whole));
   ASSERT_NE(live->GetPointData()->GetNormals(), nullptr);

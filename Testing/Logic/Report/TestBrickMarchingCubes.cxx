@@ -15,7 +15,6 @@
 #include <vtkCellArray.h>
 #include <vtkDataArray.h>
 #include <vtkFloatArray.h>
-#include <vtkFlyingEdges3D.h>
 #include <vtkIdList.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
@@ -26,6 +25,7 @@
 
 #include "bmBoneSurface.h"
 #include "bmBrickMarchingCubes.h"
+#include "bmTestFlyingEdges.h"
 #include "bmVoxmap.h"
 
 namespace {
@@ -92,31 +92,6 @@ void Cut(bm::Voxmap& v, const std::array<double, 3>& centre, double r, double sh
             v.Remove(idx, f - (kHalf - kMargin), voided);
         }
       }
-}
-
-/// vtkFlyingEdges3D over the whole grid padded by a void sample on each side: the reference.
-vtkSmartPointer<vtkPolyData> FlyingEdges(const bm::Voxmap& v) {
-  const auto& d = v.Dims();
-  vtkNew<vtkImageData> image;
-  image->SetDimensions(d[0] + 2, d[1] + 2, d[2] + 2);
-  image->SetSpacing(v.Spacing(), v.Spacing(), v.Spacing());
-  image->SetOrigin(v.Origin()[0] - v.Spacing(), v.Origin()[1] - v.Spacing(),
-                   v.Origin()[2] - v.Spacing());
-  vtkNew<vtkFloatArray> values;
-  values->SetNumberOfValues(vtkIdType(d[0] + 2) * (d[1] + 2) * (d[2] + 2));
-  vtkIdType n = 0;
-  for (int k = -1; k <= d[2]; ++k)
-    for (int j = -1; j <= d[1]; ++j)
-      for (int i = -1; i <= d[0]; ++i)
-        values->SetValue(n++, v.Contains(i, j, k) ? float(v.Fraction(v.Index(i, j, k))) : 0.0f);
-  image->GetPointData()->SetScalars(values);
-  vtkNew<vtkFlyingEdges3D> edges;
-  edges->SetInputData(image);
-  edges->SetValue(0, 0.5);
-  edges->ComputeNormalsOn();
-  edges->Update();
-  vtkSmartPointer<vtkPolyData> out = edges->GetOutput();
-  return out;
 }
 
 using Tri = std::array<vtkIdType, 3>;
@@ -265,7 +240,7 @@ std::vector<std::array<float, 18>> PointsAndNormals(vtkPolyData* pd) {
 
 TEST(BrickMarchingCubes, BricksMakeFlyingEdgesSurfaceOfTheWholeGrid) {
   const bm::Voxmap bone = MakePhantom();
-  const vtkSmartPointer<vtkPolyData> ref = FlyingEdges(bone);
+  const vtkSmartPointer<vtkPolyData> ref = bm::test::WholeGridFlyingEdges(bone, true);
   // The enclosed volume is the bone's, roughly (partial-volume fills), and positive: the
   // triangles wind counter-clockwise seen from the void, as the normals point.
   const double volume = AreaAndVolume(ref).second;
@@ -371,13 +346,13 @@ TEST(BrickMarchingCubes, IncrementalAfterCutsIsFlyingEdgesAndTheFreshSurface) {
     EXPECT_LT(n, live.NumBricks() / 2) << "step " << s << ": only the cut's bricks";
     if (s % 4 == 3) {
       SCOPED_TRACE("after step " + std::to_string(s));
-      ExpectFlyingEdgesSurface(live.GetOutput(), FlyingEdges(bone));
+      ExpectFlyingEdgesSurface(live.GetOutput(), bm::test::WholeGridFlyingEdges(bone, true));
     }
   }
   for (int s = 0; s < 25; ++s)
     Cut(bone, {top[0], top[1], top[2] - 0.35 * s}, 0.8, 1.0); // a tunnel down through the ball
   live.Update(bone);
-  ExpectFlyingEdgesSurface(live.GetOutput(), FlyingEdges(bone));
+  ExpectFlyingEdgesSurface(live.GetOutput(), bm::test::WholeGridFlyingEdges(bone, true));
   bm::BoneSurface fresh;
   fresh.Update(bone);
   EXPECT_TRUE(PointsAndNormals(live.GetOutput()) == PointsAndNormals(fresh.GetOutput()))
@@ -404,7 +379,7 @@ TEST(BrickMarchingCubes, GrowingSurfaceIsCopiedIntoLargerArraysNotRewritten) {
   ASSERT_TRUE(grew) << "the tunnels did not grow the arrays: the test needs more of them";
   Cut(bone, {-3.0 + 24 * kH, 1.0 + 19 * kH, 2.0 + 16 * kH}, 0.6, 1.0);
   live.Update(bone);
-  ExpectFlyingEdgesSurface(live.GetOutput(), FlyingEdges(bone));
+  ExpectFlyingEdgesSurface(live.GetOutput(), bm::test::WholeGridFlyingEdges(bone, true));
   bm::BoneSurface fresh;
   fresh.Update(bone);
   EXPECT_TRUE(PointsAndNormals(live.GetOutput()) == PointsAndNormals(fresh.GetOutput()));
