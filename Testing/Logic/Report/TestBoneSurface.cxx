@@ -49,24 +49,6 @@ bm::Voxmap MakeBone() {
   return v;
 }
 
-/// One cut: a ball tool of radius r at `centre` takes `share` of the bone it overlaps.
-void Cut(bm::Voxmap& v, const std::array<double, 3>& centre, double r, double share) {
-  for (int k = 0; k < v.Dims()[2]; ++k)
-    for (int j = 0; j < v.Dims()[1]; ++j)
-      for (int i = 0; i < v.Dims()[0]; ++i) {
-        const auto p = v.GridToWorld({double(i), double(j), double(k)});
-        const double d = std::sqrt((p[0] - centre[0]) * (p[0] - centre[0]) +
-                                   (p[1] - centre[1]) * (p[1] - centre[1]) +
-                                   (p[2] - centre[2]) * (p[2] - centre[2]));
-        const double overlap = std::clamp(0.5 + (r - d) / kH, 0.0, 1.0);
-        const auto units = bm::Voxmap::Fill(overlap * share * bm::Voxmap::kFull);
-        const int64_t idx = v.Index(i, j, k);
-        bool voided = false;
-        if (units > 0 && v.GetFill(idx) > 0)
-          v.Remove(idx, units, voided);
-      }
-}
-
 /// The tool's centre at step s of a pass across the ball's top.
 std::array<double, 3> ToolAt(int s) {
   return {-3.0 + (18 + s) * kH, 1.0 + 19 * kH, 2.0 + 16 * kH + 4.6};
@@ -145,7 +127,7 @@ TEST(BoneSurface, IncrementalEqualsFromScratchAfterCuts) {
   const double before = Area(live.GetOutput());
   EXPECT_EQ(live.Update(bone), 0) << "nothing changed";
   for (int s = 0; s < 10; ++s) {
-    Cut(bone, ToolAt(s), 1.5, 0.35);
+    bm::test::CutBall(bone, ToolAt(s), 1.5, 0.35, kH);
     const int n = live.Update(bone);
     EXPECT_GT(n, 0) << "step " << s;
     EXPECT_LT(n, live.NumBricks() / 4) << "step " << s << ": only the cut's bricks";
@@ -163,7 +145,7 @@ TEST(BoneSurface, ManualMarksAndBrickSizes) {
   bm::BoneSurface a(16), b(5);
   a.Update(bone);
   b.Update(bone);
-  Cut(bone, ToolAt(3), 2.0, 1.0);
+  bm::test::CutBall(bone, ToolAt(3), 2.0, 1.0, kH);
   a.Update(bone);
   b.Update(bone);
   EXPECT_EQ(a.GetOutput()->GetNumberOfCells(), b.GetOutput()->GetNumberOfCells());
@@ -179,7 +161,7 @@ TEST(BoneSurface, TimeBudgetCatchesUp) {
   bm::BoneSurface live(8);
   live.Update(bone);
   live.SetTimeBudgetMs(1e-6); // one brick per update
-  Cut(bone, ToolAt(0), 2.0, 0.5);
+  bm::test::CutBall(bone, ToolAt(0), 2.0, 0.5, kH);
   EXPECT_EQ(live.Update(bone), 1);
   const int pending = live.LastUpdate().pending;
   EXPECT_GT(pending, 3);
@@ -204,7 +186,7 @@ TEST(BoneSurface, UpdatesWhileAnotherThreadCuts) {
     for (int s = 0; s < 16; ++s) {
       while (updates.load() < s) // keep the two interleaved on a busy machine
         std::this_thread::yield();
-      Cut(bone, ToolAt(s), 1.5, 0.2);
+      bm::test::CutBall(bone, ToolAt(s), 1.5, 0.2, kH);
     }
     done.store(true);
   });

@@ -72,28 +72,6 @@ bm::Voxmap MakePhantom() {
   return v;
 }
 
-/// One cut: a ball tool of radius r (mm) at `centre` takes `share` of the bone it overlaps.
-void Cut(bm::Voxmap& v, const std::array<double, 3>& centre, double r, double share) {
-  for (int k = 0; k < v.Dims()[2]; ++k)
-    for (int j = 0; j < v.Dims()[1]; ++j)
-      for (int i = 0; i < v.Dims()[0]; ++i) {
-        const auto p = v.GridToWorld({double(i), double(j), double(k)});
-        const double d = std::sqrt((p[0] - centre[0]) * (p[0] - centre[0]) +
-                                   (p[1] - centre[1]) * (p[1] - centre[1]) +
-                                   (p[2] - centre[2]) * (p[2] - centre[2]));
-        const double overlap = std::clamp(0.5 + (r - d) / kH, 0.0, 1.0);
-        const auto units = bm::Voxmap::Fill(overlap * share * bm::Voxmap::kFull);
-        const int64_t idx = v.Index(i, j, k);
-        bool voided = false;
-        if (units > 0 && v.GetFill(idx) > 0) {
-          v.Remove(idx, units, voided);
-          const bm::Voxmap::Fill f = v.GetFill(idx);
-          if (std::abs(f - kHalf) < kMargin) // keep samples off the iso (see kMargin)
-            v.Remove(idx, f - (kHalf - kMargin), voided);
-        }
-      }
-}
-
 using Tri = std::array<vtkIdType, 3>;
 
 std::vector<Tri> TrianglesOf(vtkPolyData* pd) {
@@ -338,9 +316,12 @@ TEST(BrickMarchingCubes, IncrementalAfterCutsIsFlyingEdgesAndTheFreshSurface) {
   // grid's face), and one that cuts a tunnel through the ball; each update patches the output.
   const std::array<double, 3> top{-3.0 + 24.3 * kH, 1.0 + 19.2 * kH, 2.0 + 16.4 * kH + 4.0};
   for (int s = 0; s < 12; ++s) {
-    Cut(bone, {top[0] - 1.2 + 0.2 * s, top[1] + 0.05 * s, top[2]}, 1.3, 0.3);
-    Cut(bone, {-3.0 + (2 + s) * kH, 1.0 + 20 * kH, 2.0 + 27.0 * kH}, 1.0, 0.5);
-    Cut(bone, {-3.0 + 12.4 * kH, 1.0 + 30.1 * kH, 2.0 + (20 + s) * kH}, 0.9, 1.0);
+    bm::test::CutBall(bone, {top[0] - 1.2 + 0.2 * s, top[1] + 0.05 * s, top[2]}, 1.3, 0.3, kH,
+                      kMargin);
+    bm::test::CutBall(bone, {-3.0 + (2 + s) * kH, 1.0 + 20 * kH, 2.0 + 27.0 * kH}, 1.0, 0.5, kH,
+                      kMargin);
+    bm::test::CutBall(bone, {-3.0 + 12.4 * kH, 1.0 + 30.1 * kH, 2.0 + (20 + s) * kH}, 0.9, 1.0, kH,
+                      kMargin);
     const int n = live.Update(bone);
     EXPECT_GT(n, 0) << "step " << s;
     EXPECT_LT(n, live.NumBricks() / 2) << "step " << s << ": only the cut's bricks";
@@ -350,7 +331,8 @@ TEST(BrickMarchingCubes, IncrementalAfterCutsIsFlyingEdgesAndTheFreshSurface) {
     }
   }
   for (int s = 0; s < 25; ++s)
-    Cut(bone, {top[0], top[1], top[2] - 0.35 * s}, 0.8, 1.0); // a tunnel down through the ball
+    bm::test::CutBall(bone, {top[0], top[1], top[2] - 0.35 * s}, 0.8, 1.0, kH,
+                      kMargin); // a tunnel down through the ball
   live.Update(bone);
   ExpectFlyingEdgesSurface(live.GetOutput(), bm::test::WholeGridFlyingEdges(bone, true));
   bm::BoneSurface fresh;
@@ -370,14 +352,14 @@ TEST(BrickMarchingCubes, GrowingSurfaceIsCopiedIntoLargerArraysNotRewritten) {
   for (int t = 0; t < 40 && !grew; ++t) {
     const double y = 1.0 + (8 + 3 * (t % 8)) * kH, z = 2.0 + (8 + 3 * (t / 8)) * kH;
     for (int s = 0; s < 20; ++s)
-      Cut(bone, {-3.0 + (14 + 1.5 * s) * kH, y, z}, 0.25, 1.0);
+      bm::test::CutBall(bone, {-3.0 + (14 + 1.5 * s) * kH, y, z}, 0.25, 1.0, kH, kMargin);
     live.Update(bone);
     EXPECT_LT(live.LastUpdate().rewrittenTriangles, live.GetOutput()->GetNumberOfCells())
         << "tunnel " << t << ": patched, not rewritten";
     grew = live.GetOutput()->GetPoints()->GetData() != first;
   }
   ASSERT_TRUE(grew) << "the tunnels did not grow the arrays: the test needs more of them";
-  Cut(bone, {-3.0 + 24 * kH, 1.0 + 19 * kH, 2.0 + 16 * kH}, 0.6, 1.0);
+  bm::test::CutBall(bone, {-3.0 + 24 * kH, 1.0 + 19 * kH, 2.0 + 16 * kH}, 0.6, 1.0, kH, kMargin);
   live.Update(bone);
   ExpectFlyingEdgesSurface(live.GetOutput(), bm::test::WholeGridFlyingEdges(bone, true));
   bm::BoneSurface fresh;

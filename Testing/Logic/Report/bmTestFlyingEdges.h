@@ -1,7 +1,13 @@
-// bmTestFlyingEdges.h - the reference surface of the Report tests: vtkFlyingEdges3D run once over
-// a voxmap's whole grid, padded by a void sample on each side as bm::BoneSurface pads it, at fill
-// fraction 0.5. The surfaces the bricks add up to must equal it.
+// bmTestFlyingEdges.h - what the Report tests share: the reference surface (vtkFlyingEdges3D run
+// once over a voxmap's whole grid, padded by a void sample on each side as bm::BoneSurface pads
+// it, at fill fraction 0.5; the surfaces the bricks add up to must equal it) and the cut they
+// make with a ball tool.
 #pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
 
 #include <vtkFloatArray.h>
 #include <vtkFlyingEdges3D.h>
@@ -38,6 +44,33 @@ inline vtkSmartPointer<vtkPolyData> WholeGridFlyingEdges(const bm::Voxmap& v, bo
   edges->Update();
   vtkSmartPointer<vtkPolyData> out = edges->GetOutput();
   return out;
+}
+
+/// One cut: a ball tool of radius r (mm) at `centre` (world mm) takes `share` of the bone it
+/// overlaps (the overlap ramped over one voxel of `voxelMm`). offIso > 0: a fill left within
+/// offIso units of half a voxel is lowered to half a voxel less offIso (keeps samples off the
+/// iso, where float rounding could tip a sample either side).
+inline void CutBall(bm::Voxmap& v, const std::array<double, 3>& centre, double r, double share,
+                    double voxelMm, bm::Voxmap::Fill offIso = 0) {
+  constexpr bm::Voxmap::Fill kHalf = bm::Voxmap::kFull / 2;
+  for (int k = 0; k < v.Dims()[2]; ++k)
+    for (int j = 0; j < v.Dims()[1]; ++j)
+      for (int i = 0; i < v.Dims()[0]; ++i) {
+        const auto p = v.GridToWorld({double(i), double(j), double(k)});
+        const double d = std::sqrt((p[0] - centre[0]) * (p[0] - centre[0]) +
+                                   (p[1] - centre[1]) * (p[1] - centre[1]) +
+                                   (p[2] - centre[2]) * (p[2] - centre[2]));
+        const double overlap = std::clamp(0.5 + (r - d) / voxelMm, 0.0, 1.0);
+        const auto units = bm::Voxmap::Fill(overlap * share * bm::Voxmap::kFull);
+        const int64_t idx = v.Index(i, j, k);
+        bool voided = false;
+        if (units > 0 && v.GetFill(idx) > 0) {
+          v.Remove(idx, units, voided);
+          const bm::Voxmap::Fill f = v.GetFill(idx);
+          if (offIso > 0 && std::abs(f - kHalf) < offIso)
+            v.Remove(idx, f - (kHalf - offIso), voided);
+        }
+      }
 }
 
 } // namespace bm::test
