@@ -37,17 +37,14 @@ struct FrameGeometry {
   std::array<int, 3> dims{};      ///< voxmap dimensions
   std::array<int, 3> brickDims{}; ///< voxmap occupancy bricks along each axis
 
-  /// Voxel index holding the element at tool-grid coordinates ijk, or -1 outside the voxmap.
+  /// Voxel index holding the element at tool-grid coordinates ijk, or -1 outside the voxmap
+  /// (VoxelsOf() for one element: one copy of the arithmetic that the kernels mirror).
   int64_t VoxelOf(const std::array<uint32_t, 3>& ijk) const {
     const float x = float(ijk[0]), y = float(ijk[1]), z = float(ijk[2]);
-    const float gx = A[0] * x + A[1] * y + A[2] * z + b[0];
-    const float gy = A[3] * x + A[4] * y + A[5] * z + b[1];
-    const float gz = A[6] * x + A[7] * y + A[8] * z + b[2];
-    const int vi = int(std::floor(gx + 0.5f)), vj = int(std::floor(gy + 0.5f)),
-              vk = int(std::floor(gz + 0.5f));
-    if (vi < 0 || vj < 0 || vk < 0 || vi >= dims[0] || vj >= dims[1] || vk >= dims[2])
-      return -1;
-    return vi + int64_t(dims[0]) * (vj + int64_t(dims[1]) * vk);
+    int64_t idx = -1;
+    int32_t brick = 0;
+    VoxelsOf(&x, &y, &z, 1, &idx, &brick);
+    return idx;
   }
   /// VoxelOf() for n elements at tool-grid coordinates (x[q], y[q], z[q]) (exact integers as
   /// floats), with each voxel's occupancy brick (Voxmap::BrickOfVoxel, cheaper here from the
@@ -59,6 +56,7 @@ struct FrameGeometry {
     const float a0 = A[0], a1 = A[1], a2 = A[2], a3 = A[3], a4 = A[4], a5 = A[5], a6 = A[6],
                 a7 = A[7], a8 = A[8], b0 = b[0], b1 = b[1], b2 = b[2];
     const int nx = dims[0], ny = dims[1], nz = dims[2], bx = brickDims[0], by = brickDims[1];
+    static_assert(Voxmap::kBrick == 8, "the brick below is the voxel's coordinates >> 3");
     for (int q = 0; q < n; ++q) { // an int index: GCC 12 does not vectorise an unsigned one
       const float gx = a0 * x[q] + a1 * y[q] + a2 * z[q] + b0;
       const float gy = a3 * x[q] + a4 * y[q] + a5 * z[q] + b1;

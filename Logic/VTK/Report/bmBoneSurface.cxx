@@ -330,33 +330,33 @@ int BoneSurface::Update(const Voxmap& bone) {
 
   // The dirty bricks, from where the last budgeted update stopped; each one's fills are asked of
   // the memory one brick ahead (the voxmap's rows are cache misses: most of a brick's cost else).
-  Todo_.clear();
+  DirtyList_.clear();
   const int64_t n = NumBricks();
   const int64_t start = full ? 0 : Cursor_;
   for (int64_t i = 0, b = start; i < n; ++i, b = b + 1 == n ? 0 : b + 1)
     if (Dirty_[size_t(b)])
-      Todo_.push_back(b);
+      DirtyList_.push_back(b);
   const bool budget = BudgetMs_ > 0 && !full;
   size_t done = 0;
-  for (; done < Todo_.size(); ++done) {
+  for (; done < DirtyList_.size(); ++done) {
     if (budget && done > 0 && Ms(t1, Clock::now()) >= BudgetMs_)
       break;
-    if (done + 1 < Todo_.size())
-      Cubes_.Prefetch(bone, FirstCell(Todo_[done + 1]));
-    const int64_t b = Todo_[done];
+    if (done + 1 < DirtyList_.size())
+      Cubes_.Prefetch(bone, FirstCell(DirtyList_[done + 1]));
+    const int64_t b = DirtyList_[done];
     Cubes_.Extract(bone, FirstCell(b), Bricks_[size_t(b)]);
     Stats_.extractedTriangles += Bricks_[size_t(b)].NumTriangles();
     Dirty_[size_t(b)] = 0;
   }
-  Cursor_ = done < Todo_.size() ? Todo_[done] : start;
-  Changed_.assign(Todo_.begin(), Todo_.begin() + std::ptrdiff_t(done));
+  Cursor_ = done < DirtyList_.size() ? DirtyList_[done] : start;
+  Stats_.extracted = int(done);
+  Stats_.pending = int(DirtyList_.size() - done);
+  DirtyList_.resize(done); // now the bricks this update extracted
   const auto t2 = Clock::now();
-  if (!Changed_.empty() || !Points_)
-    Assemble(Changed_, full);
+  if (!DirtyList_.empty() || !Points_)
+    Assemble(DirtyList_, full);
   const auto t3 = Clock::now();
 
-  Stats_.extracted = int(done);
-  Stats_.pending = int(Todo_.size() - done);
   Stats_.scanMs = Ms(t0, t1);
   Stats_.extractMs = Ms(t1, t2);
   Stats_.assembleMs = Ms(t2, t3);

@@ -130,7 +130,8 @@ private:
   std::vector<BrickMesh> Bricks_;
   std::vector<uint8_t> Dirty_;
   int64_t Cursor_ = 0; ///< where the next budgeted update starts looking for dirty bricks
-  std::vector<int64_t> Todo_, Changed_; ///< an update's dirty bricks, those it extracted
+  /// An update's dirty bricks in the order it takes them; cut down to those it extracted.
+  std::vector<int64_t> DirtyList_;
   bool AllDirty_ = true;
   /// Last generation seen of each of the voxmap's bricks, and for each axis the range of our
   /// bricks that a voxmap brick's samples fall into.
