@@ -32,9 +32,13 @@ public:
   BoneFractionImage(const BoneFractionImage&) = delete;
   BoneFractionImage& operator=(const BoneFractionImage&) = delete;
 
-  /// Copies the bricks of `bone` that changed since the last update (all of them the first time
-  /// or when dims, spacing or origin changed). Returns the number of bricks copied.
+  /// Copies the bricks of `bone` that changed since the last update (all of them the first time,
+  /// after MarkAllDirty(), or when dims, spacing or origin changed). Returns the number of bricks
+  /// copied.
   int64_t Update(const Voxmap& bone);
+  /// The next Update() copies everything: call it when the image is to show another voxmap of the
+  /// same grid (a new session), whose generations say nothing about what this image holds.
+  void MarkAllDirty() { SeenGen_.clear(); }
   /// The image (dims = voxmap dims, spacing mm, origin = centre of voxel 0 in mm, point scalars
   /// "BoneFraction"). The same object and array across updates while the grid is unchanged.
   vtkImageData* GetOutput() const;

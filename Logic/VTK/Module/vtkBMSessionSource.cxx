@@ -350,6 +350,7 @@ bool vtkBMSessionSource::Start() {
     params.erase("type");
     in.Tool->SetParameters(params.dump().c_str());
     in.Surface.MarkAllDirty();
+    in.Fraction.MarkAllDirty();
     in.LastFrame = -1;
     in.History.clear();
     in.NextHistoryS = 0;

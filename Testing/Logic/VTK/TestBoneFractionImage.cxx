@@ -63,3 +63,19 @@ TEST(BoneFractionImage, CopiesOnlyTheChangedBricksAndStaysEqualToTheVoxmap) {
   EXPECT_EQ(image.Update(w), 8);
   ExpectSameAsVoxmap(image, w);
 }
+
+TEST(BoneFractionImage, AnotherVoxmapOfTheSameGridIsCopiedWholeAfterMarkAllDirty) {
+  // A new session's voxmap has the same grid and generations that may equal the ones this image
+  // kept from the last one: without MarkAllDirty() nothing would be copied.
+  bm::Voxmap first = Ball();
+  bm::BoneFractionImage image;
+  image.Update(first);
+  bm::Voxmap second = Ball();
+  bool voided = false;
+  second.Remove(second.Index(14, 9, 8), bm::Voxmap::kFull, voided);
+  image.MarkAllDirty();
+  const int64_t bricks =
+      int64_t(second.BrickDims()[0]) * second.BrickDims()[1] * second.BrickDims()[2];
+  EXPECT_EQ(image.Update(second), bricks);
+  ExpectSameAsVoxmap(image, second);
+}
