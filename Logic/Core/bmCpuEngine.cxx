@@ -247,12 +247,7 @@ void CpuEngine::RunPassTask(const PassJob& job, int task, int thread) {
       int64_t* vox = VoxelScratch_[size_t(thread)].data();
       int32_t* brick = BrickScratch_[size_t(thread)].data();
       alignas(64) float gx[kBatch], gy[kBatch], gz[kBatch];
-      for (uint32_t e = base; e < end; ++e) {
-        const auto c = ElementCoords(codes[e]);
-        gx[e - base] = float(c[0]);
-        gy[e - base] = float(c[1]);
-        gz[e - base] = float(c[2]);
-      }
+      ElementCoordsOf(codes.data() + base, int(end - base), gx, gy, gz);
       G.VoxelsOf(gx, gy, gz, int(end - base), vox, brick);
       for (uint32_t e = base; e < end; ++e) {
         const int64_t idx = vox[e - base];
