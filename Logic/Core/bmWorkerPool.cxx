@@ -61,6 +61,17 @@ void WorkerPool::Finish(int task, uint64_t run, int thread) {
       return;
 }
 
+void WorkerPool::CloseClaims(uint32_t tag) {
+  // A worker still draining the previous run holds its exhausted counter (index = its task
+  // count). Were the new, larger task count stored first, that worker could read it, find a task
+  // left and win its compare-and-swap against the unchanged counter: a claim past the previous
+  // run's end, calling its function after it returned. Changing the counter first makes that
+  // compare-and-swap fail: a worker that reads the new count (acquire, after the release store
+  // that follows) finds the counter changed. The closed counter (new tag, no task left) admits
+  // no claim until the run is published.
+  Claim_.store((uint64_t(tag) << kTaskBits) | kNoTask, std::memory_order_relaxed);
+}
+
 int WorkerPool::Drain(uint32_t tag, int thread, const RedoableFn* redoable) {
   int ran = 0;
   std::shared_ptr<const Published> job;  // a worker's hold on the redoable fn
@@ -70,8 +81,9 @@ int WorkerPool::Drain(uint32_t tag, int thread, const RedoableFn* redoable) {
     if (uint32_t((c & ~kRedoableBit) >> kTaskBits) != tag)
       break; // a newer run: this one is over
     const int task = int(uint32_t(c));
-    // Tasks_ may already be a newer run's; then the compare-and-swap below fails.
-    if (task >= Tasks_.load(std::memory_order_relaxed))
+    // Tasks_ may already be a newer run's (acquire: then this run's claims were closed before
+    // it, see CloseClaims, and the compare-and-swap below fails).
+    if (task >= Tasks_.load(std::memory_order_acquire))
       break;
     if (!Claim_.compare_exchange_weak(c, c + 1, std::memory_order_acq_rel,
                                       std::memory_order_acquire))
@@ -114,10 +126,11 @@ void WorkerPool::Run(int tasks, const std::function<void(int, int)>& fn) {
   // a redoable run's, which Done_ does not count), and a worker that read its counter late fails
   // its compare-and-swap against the new run number.
   ++Run_;
-  Fn_.store(&fn, std::memory_order_relaxed);
-  Tasks_.store(tasks, std::memory_order_relaxed);
-  Done_.store(0, std::memory_order_relaxed);
   const uint32_t tag = uint32_t(Run_) & kTagMask;
+  CloseClaims(tag);
+  Fn_.store(&fn, std::memory_order_relaxed);
+  Tasks_.store(tasks, std::memory_order_release);
+  Done_.store(0, std::memory_order_relaxed);
   Claim_.store(uint64_t(tag) << kTaskBits, std::memory_order_release);
   // seq_cst pairs with the worker's Sleepers_ increment then Wake_ check: either it sees the
   // new run or this sees it asleep and wakes it.
@@ -148,8 +161,9 @@ void WorkerPool::RunRedoable(int tasks, std::shared_ptr<const RedoableFn> fn) {
     std::lock_guard<std::mutex> lock(JobMutex_);
     Job_.swap(job);
   } // the previous run's job (in `job`) is released outside the lock
-  Tasks_.store(tasks, std::memory_order_relaxed);
   const uint32_t tag = uint32_t(Run_) & kTagMask;
+  CloseClaims(tag);
+  Tasks_.store(tasks, std::memory_order_release);
   Claim_.store(kRedoableBit | (uint64_t(tag) << kTaskBits), std::memory_order_release);
   Wake_.store(tag, std::memory_order_seq_cst);
   if (Sleepers_.load(std::memory_order_seq_cst) > 0)

@@ -75,10 +75,14 @@ private:
   /// passes the redoable run's fn; workers fetch it from Job_.
   /// `tag`: the run's number as in Claim_ (its low kTagBits bits).
   int Drain(uint32_t tag, int thread, const RedoableFn* redoable = nullptr);
+  /// Before a new run's task count is stored: sets the claim counter to the run `tag`, closed,
+  /// so that no worker late for the previous run can claim past its end.
+  void CloseClaims(uint32_t tag);
   /// Marks `task` finished in run `run` by `thread` unless a run of it finished already.
   void Finish(int task, uint64_t run, int thread);
 
   static constexpr int kTaskBits = 32;
+  static constexpr uint64_t kNoTask = 0xFFFFFFFF; ///< in Claim_: a closed run (no task to claim)
   static constexpr uint64_t kRedoableBit = uint64_t(1) << 63; ///< in Claim_: a RunRedoable()
   static constexpr uint32_t kTagMask = 0x7FFFFFFF; ///< run number bits in Claim_ and Wake_
   static constexpr uint64_t kThreadMask = 0xFF;    ///< TaskDone_: (run << 8) | winning thread
@@ -97,7 +101,7 @@ private:
   std::atomic<int> Sleepers_{0};         ///< workers asleep (or about to be) on Wake_
   alignas(64) std::atomic<int> Done_{0}; ///< the current run's tasks finished by workers
   std::atomic<bool> Stopping_{false};
-  std::atomic<int> Tasks_{0}; ///< tasks of the current run (published before Claim_)
+  std::atomic<int> Tasks_{0}; ///< tasks of the current run (stored after CloseClaims)
   std::atomic<const std::function<void(int, int)>*> Fn_{nullptr};
   uint32_t Run_ = 0; ///< the caller's run counter
   /// The current RunRedoable()'s fn, behind a mutex held only to copy or swap the pointer (GCC 12's

@@ -129,6 +129,27 @@ TEST(WorkerPool, RedoableNeverWaitsForABlockedWorker) {
   EXPECT_GT(n.load(), 0);
 }
 
+// A run with more tasks right after a shorter one (the engine's frame: the removal's two tasks,
+// then the next frame's pass): a worker still draining the short run must not claim a task of it
+// past its end when it reads the new, larger task count before the new run is published. It would
+// call the short run's function after that run returned (std::bad_function_call, or worse).
+TEST(WorkerPool, AWorkerLateForARunNeverClaimsPastItsEnd) {
+  bm::WorkerPool pool(2);
+  pool.ReserveRedoable(256);
+  std::atomic<int64_t> outOfRange{0}, ran{0};
+  for (int round = 0; round < 20000; ++round) {
+    pool.RunRedoable(256, std::make_shared<const bm::WorkerPool::RedoableFn>([](int, int) {}));
+    const int tasks = 1 + round % 2;
+    pool.Run(tasks, [&outOfRange, &ran, tasks](int task, int) {
+      ran.fetch_add(1);
+      if (task >= tasks)
+        outOfRange.fetch_add(1);
+    });
+  }
+  EXPECT_EQ(outOfRange.load(), 0);
+  EXPECT_EQ(ran.load(), 30000);
+}
+
 TEST(WorkerPool, RefusesZeroThreads) {
   EXPECT_THROW(bm::WorkerPool(0), std::invalid_argument);
 }
