@@ -4,6 +4,8 @@
 #include <atomic>
 #include <cmath>
 #include <memory>
+#include <stdexcept>
+#include <string>
 
 #include <Eigen/Geometry>
 
@@ -12,12 +14,24 @@
 
 namespace bm {
 
+void RequestList::Reserve(size_t n) {
+  if (Storage_ && Size_ + n <= Capacity_)
+    return;
+  const size_t cap = std::max(Size_ + n, Capacity_ + Capacity_ / 2);
+  std::unique_ptr<Voxmap::RemovalRequest[]> storage(new Voxmap::RemovalRequest[cap + 1]);
+  storage[0].voxel = kNoVoxel;
+  if (Storage_)
+    std::copy(Data(), Data() + Size_, storage.get() + 1);
+  Storage_ = std::move(storage);
+  Capacity_ = cap;
+}
+
 void FramePartial::Clear() {
   thrust = torque = fx = fy = 0;
   visited = engaged = engagedCutting = requested = 0;
   removedFill = removedVoxels = 0;
   for (auto& r : removals)
-    r.clear();
+    r.Clear();
 }
 
 void FramePartial::Add(const FramePartial& o) {
@@ -45,18 +59,6 @@ template <class T> T LoadRelaxed(const T& v) {
 template <class T> void StoreRelaxed(T& v, T x) {
   std::atomic_ref<T>(v).store(x, std::memory_order_relaxed);
 }
-ElementResidency LoadResidency(const ElementResidency& r) {
-  ElementResidency o;
-  o.voxel = LoadRelaxed(r.voxel);
-  o.frame = LoadRelaxed(r.frame);
-  o.engaged = LoadRelaxed(r.engaged);
-  return o;
-}
-void StoreResidency(ElementResidency& r, const ElementResidency& v) {
-  StoreRelaxed(r.voxel, v.voxel);
-  StoreRelaxed(r.frame, v.frame);
-  StoreRelaxed(r.engaged, v.engaged);
-}
 
 } // namespace
 
@@ -66,38 +68,31 @@ double MaxRemovalUnits(const Eigen::Vector3d& d, double voxelMm, double unitsPer
   return std::min(swept * unitsPerMm3, double(Voxmap::kFull));
 }
 
-FrameResult SumPartials(const std::vector<FramePartial>& parts, double voxelVolume) {
+FrameResult FrameResultOf(const FramePartial& p, double voxelVolume) {
   FrameResult r;
-  int64_t fx = 0, fy = 0, requested = 0;
-  for (const auto& p : parts) {
-    r.thrustFixed += p.thrust;
-    r.torqueFixed += p.torque;
-    fx += p.fx;
-    fy += p.fy;
-    r.visitedElements += p.visited;
-    r.engagedElements += p.engaged;
-    r.engagedCutting += p.engagedCutting;
-    r.removedFill += p.removedFill;
-    r.removedVoxels += p.removedVoxels;
-    requested += p.requested;
-  }
+  r.thrustFixed = p.thrust;
+  r.torqueFixed = p.torque;
+  r.visitedElements = p.visited;
+  r.engagedElements = p.engaged;
+  r.engagedCutting = p.engagedCutting;
+  r.removedFill = p.removedFill;
+  r.removedVoxels = p.removedVoxels;
   r.thrustN = double(r.thrustFixed) / kForceFixedScale;
   r.torqueNmm = double(r.torqueFixed) / kForceFixedScale;
-  r.forceTool = {double(fx) / kForceFixedScale, double(fy) / kForceFixedScale, r.thrustN};
+  r.forceTool = {double(p.fx) / kForceFixedScale, double(p.fy) / kForceFixedScale, r.thrustN};
   r.removedVolumeMm3 = double(r.removedFill) / Voxmap::kFull * voxelVolume;
-  r.sweptVolumeMm3 = double(requested) / Voxmap::kFull * voxelVolume;
+  r.sweptVolumeMm3 = double(p.requested) / Voxmap::kFull * voxelVolume;
   return r;
 }
 
 CpuEngine::CpuEngine(Voxmap& bone, const ToolModel& tool, const PointShell& shell,
                      const ForceModel& model, int threads, CullingOptions culling)
-    : Bone_(bone), Tool_(tool), Shell_(shell), Model_(model), Culling_(culling), Pool_(threads),
-      Partials_(NumTasks(shell) * size_t(Pool_.Threads())),
+    : Bone_(bone), Tool_(tool), Shell_(shell), Model_(model), Culling_(culling),
+      Pool_(ValidThreads(threads)), Partials_(NumTasks(shell) * size_t(Pool_.Threads())),
       State_(Pool_.Threads() == 1 ? 1 : 2 * size_t(Pool_.Threads()),
-             std::vector<ElementResidency>(shell.Size())),
-      PrevWinner_(NumTasks(shell), 0),
-      VoxelScratch_(size_t(Pool_.Threads()), std::vector<int64_t>(kBatch)),
-      BrickScratch_(size_t(Pool_.Threads()), std::vector<int32_t>(kBatch)) {
+             ResidencyBuffer{std::vector<uint64_t>(shell.Size(), 0),
+                             std::vector<uint32_t>(shell.Blocks().size(), 0)}),
+      PrevWinner_(NumTasks(shell), 0) {
   while (RemovalParts_ < Pool_.Threads())
     RemovalParts_ *= 2;
   for (FramePartial& p : Partials_)
@@ -105,6 +100,13 @@ CpuEngine::CpuEngine(Voxmap& bone, const ToolModel& tool, const PointShell& shel
   RemovalCounts_.resize(size_t(RemovalParts_));
   Touched_.resize(size_t(RemovalParts_));
   Pool_.ReserveRedoable(int(NumTasks(shell)));
+}
+
+int CpuEngine::ValidThreads(int threads) {
+  if (threads > kMaxThreads)
+    throw std::invalid_argument("CpuEngine: " + std::to_string(threads) + " threads, at most " +
+                                std::to_string(kMaxThreads));
+  return threads; // WorkerPool refuses fewer than 1
 }
 
 size_t CpuEngine::NumTasks(const PointShell& shell) {
@@ -115,7 +117,14 @@ void CpuEngine::UpdateForceTable(double f, double n) {
   if (f == TableFeed_ && n == TableSpeed_)
     return;
   // In place once sized: a worker still finishing a task of an earlier frame may read it.
-  const auto table = ForceTable(Tool_, Model_, ShellBinSpans(Shell_), f, n);
+  // Scaled to fixed point here, once, instead of per element (exact: a power of two).
+  auto table = ForceTable(Tool_, Model_, ShellBinSpans(Shell_), f, n);
+  for (BinForce& b : table) {
+    b.fx *= kForceFixedScale;
+    b.fy *= kForceFixedScale;
+    b.fz *= kForceFixedScale;
+    b.torque *= kForceFixedScale;
+  }
   if (Table_.size() == table.size()) {
     for (size_t i = 0; i < table.size(); ++i) {
       StoreRelaxed(Table_[i].fx, table[i].fx);
@@ -169,11 +178,11 @@ FrameResult CpuEngine::Step(const FrameInput& in) {
       std::vector<int64_t>& touched = Touched_[size_t(part)];
       touched.clear();
       for (int pi = 0; pi < nTasks; ++pi) {
-        const auto& req =
+        const RequestList& req =
             Partials_[size_t(pi * T + PrevWinner_[size_t(pi)])].removals[size_t(part)];
-        if (req.empty())
+        if (req.Size() == 0)
           continue;
-        const Voxmap::RemovalTotals r = Bone_.RemoveOwned(req.data(), req.size(), touched);
+        const Voxmap::RemovalTotals r = Bone_.RemoveOwned(req.Data(), req.Size(), touched);
         sum.fill += r.fill;
         sum.voxels += r.voxels;
       }
@@ -189,7 +198,7 @@ FrameResult CpuEngine::Step(const FrameInput& in) {
       total.removedFill += r.fill;
       total.removedVoxels += r.voxels;
     }
-  FrameResult r = SumPartials({total}, Bone_.VoxelVolume());
+  FrameResult r = FrameResultOf(total, Bone_.VoxelVolume());
   FrameGeometry::UnturnLateral(r, in, Shell_);
   return r;
 }
@@ -197,26 +206,29 @@ FrameResult CpuEngine::Step(const FrameInput& in) {
 void CpuEngine::RunPassTask(const PassJob& job, int task, int thread) {
   const FrameGeometry& G = job.G;
   const uint32_t frameNo = job.frame;
-  const bool cutting = G.cutting, remove = G.remove;
+  const bool cutting = G.cutting, remove = G.remove, envelope = job.envelopeRemoves;
   const Eigen::Vector3d& d = G.motionTool;
   const Voxmap::Fill* fill = Bone_.FillData();
   const float* material = Bone_.MaterialData();
-  const auto& codes = Shell_.Codes();
-  const auto& an = Shell_.AreaNormals();
-  const auto& bins = Shell_.Bins();
-  const auto& deltas = Shell_.Deltas();
+  const uint64_t* codes = Shell_.Codes().data();
+  const std::array<float, 3>* an = Shell_.AreaNormals().data();
+  const uint16_t* bins = Shell_.Bins().data();
+  const float* deltas = Shell_.Deltas().data();
+  const std::array<double, 2>* radial = Shell_.RadialDirs().data();
+  const BinForce* table = Table_.data();
   const auto& blocks = Shell_.Blocks();
-  const auto& radial = Shell_.RadialDirs();
   const size_t T = size_t(Pool_.Threads());
   // The residency as the previous frame's winning run of this task left it, and this run's own.
   // One thread (no run of a task can overlap another): one buffer, updated in place.
-  const ElementResidency* prev =
-      T == 1 ? State_[0].data()
-             : State_[(job.prevWinner[size_t(task)] % T) * 2 + ((frameNo - 1) & 1)].data();
-  ElementResidency* cur =
-      T == 1 ? State_[0].data() : State_[size_t(thread) * 2 + (frameNo & 1)].data();
+  const ResidencyBuffer& prev =
+      T == 1 ? State_[0] : State_[(job.prevWinner[size_t(task)] % T) * 2 + ((frameNo - 1) & 1)];
+  ResidencyBuffer& cur = T == 1 ? State_[0] : State_[size_t(thread) * 2 + (frameNo & 1)];
   FramePartial& P = Partials_[size_t(task) * T + size_t(thread)];
   P.Clear();
+  const int parts = RemovalParts_;
+  RequestList* lists = P.removals.data();
+  int64_t thrust = 0, torque = 0, fx = 0, fy = 0;
+  int64_t visited = 0, engagedCount = 0, engagedCutting = 0, requested = 0;
 
   auto blockVisible = [&](const ShellBlock& blk) {
     if (Culling_.motion && !blk.hasCutting) {
@@ -233,66 +245,95 @@ void CpuEngine::RunPassTask(const PassJob& job, int task, int thread) {
     return Bone_.AnyBoneIn(lo, hi);
   };
 
+  // The batch's voxels and bricks (on the stack, in L1).
+  alignas(64) float gx[kBatch], gy[kBatch], gz[kBatch];
+  alignas(64) int64_t vox[kBatch];
+  alignas(64) int32_t brick[kBatch];
+  Voxmap::RemovalRequest* ends[kMaxThreads]; // per removal part (at most one per thread)
+
   const int nBlocks = int(blocks.size());
   const int bEnd = std::min(nBlocks, (task + 1) * kBlocksPerTask);
   for (int bi = task * kBlocksPerTask; bi < bEnd; ++bi) {
     const ShellBlock& blk = blocks[size_t(bi)];
     if (!blockVisible(blk))
       continue;
-    // Pass A: voxel of every element of the block, prefetching the fills that pass B reads
-    // (the voxel reads miss the cache: hiding that latency is most of the frame's cost). An
-    // element that stays engaged in its voxel does not read the fill (ElementResidency::Stays).
+    // Whether the residency words of this block are the previous frame's (its elements were all
+    // visited then); this frame visits them all.
+    const bool fresh = LoadRelaxed(prev.blockFrame[size_t(bi)]) + 1 == frameNo;
+    StoreRelaxed(cur.blockFrame[size_t(bi)], frameNo);
+    const uint64_t* prevWords = prev.words.data() + blk.begin;
+    uint64_t* curWords = cur.words.data() + blk.begin;
     for (uint32_t base = blk.begin; base < blk.end; base += kBatch) {
-      const uint32_t end = std::min(blk.end, base + kBatch);
-      int64_t* vox = VoxelScratch_[size_t(thread)].data();
-      int32_t* brick = BrickScratch_[size_t(thread)].data();
-      alignas(64) float gx[kBatch], gy[kBatch], gz[kBatch];
-      ElementCoordsOf(codes.data() + base, int(end - base), gx, gy, gz);
-      G.VoxelsOf(gx, gy, gz, int(end - base), vox, brick);
-      for (uint32_t e = base; e < end; ++e) {
-        const int64_t idx = vox[e - base];
-        if (idx >= 0 && !LoadResidency(prev[e]).Stays(frameNo, idx))
-          __builtin_prefetch(fill + idx);
-      }
-      // Pass B: engagement, removal requests, elemental forces.
-      for (uint32_t e = base; e < end; ++e) {
-        const int64_t idx = vox[e - base];
-        ++P.visited;
-        ElementResidency st = LoadResidency(prev[e]);
-        const bool engaged = st.Visit(
-            frameNo, idx, idx >= 0 && !st.Stays(frameNo, idx) ? LoadRelaxed(fill[idx]) : 0);
-        StoreResidency(cur[e], st);
+      const int n = int(std::min<uint32_t>(blk.end - base, kBatch));
+      const uint32_t at = base - blk.begin;
+      visited += n;
+      // Pass A: the voxel of every element of the batch (Morton decode and the float
+      // transform, vectorised), prefetching the fills that pass B reads: those of the elements
+      // that do not stay engaged in their voxel (the voxel reads miss the cache: hiding that
+      // latency is most of the frame's cost).
+      ElementCoordsOf(codes + base, n, gx, gy, gz);
+      G.VoxelsOf(gx, gy, gz, n, vox, brick);
+      for (int q = 0; q < n; ++q)
+        if (vox[q] >= 0 &&
+            !PackedResidency::Stays(LoadRelaxed(prevWords[at + uint32_t(q)]), fresh, vox[q]))
+          __builtin_prefetch(fill + vox[q]);
+      if (remove)
+        for (int p = 0; p < parts; ++p) {
+          lists[p].Reserve(size_t(n));
+          ends[p] = lists[p].End();
+        }
+      // Pass B: engagement (ElementResidency::Visit), removal requests, elemental forces.
+      for (int q = 0; q < n; ++q) {
+        const size_t e = base + size_t(q);
+        const int64_t idx = vox[q];
+        const bool stays =
+            PackedResidency::Stays(LoadRelaxed(prevWords[at + uint32_t(q)]), fresh, idx);
+        const bool engaged = idx >= 0 && (stays || LoadRelaxed(fill[idx]) > 0);
+        StoreRelaxed(curWords[at + uint32_t(q)], PackedResidency::Word(idx, engaged));
         if (!engaged)
           continue;
-        ++P.engaged;
-        if (remove && (job.envelopeRemoves || ElementIsCutting(codes[e]))) {
-          if (const int32_t units = G.RemovalUnits(an[e]); units > 0) {
-            // Consecutive elements often share a voxel: one request per run (same result,
-            // since the clamped decrement telescopes).
-            auto& list = P.removals[size_t(Voxmap::LineOwner(idx, RemovalParts_ - 1))];
-            if (!list.empty() && list.back().voxel == idx)
-              list.back().units += units;
-            else
-              list.push_back({idx, units, brick[e - base]});
-            P.requested += units;
-          }
-        }
+        ++engagedCount;
         const uint64_t code = codes[e];
+        if (remove && (envelope || ElementIsCutting(code)))
+          if (const int32_t u = G.RemovalUnits(an[e]); u > 0) {
+            // Into the last request of the voxel's owner when it is this voxel's (the clamped
+            // decrement telescopes: same result), else a new one; no branch (the pattern is
+            // data-dependent: mispredicted, it cost 5 % of the pass).
+            const int p = Voxmap::LineOwner(idx, parts - 1);
+            Voxmap::RemovalRequest* w = ends[p];
+            const int32_t same = w[-1].voxel == idx;
+            const int32_t before = w[-1].units & -same; // a mask: GCC branches on ?: here
+            w -= same;
+            *w = {idx, before + u, brick[q]};
+            ends[p] = w + 1;
+            requested += u;
+          }
         if (cutting && ElementIsCutting(code)) {
-          ++P.engagedCutting;
-          const uint16_t bin = bins[e];
+          // Elemental force: delta x material x table[bin], the table in fixed-point units.
+          ++engagedCutting;
           const double w = deltas[e] * (material ? material[idx] : 1.0f);
-          const BinForce& tb = Table_[bin];
+          const BinForce& tb = table[bins[e]];
           const double tfx = LoadRelaxed(tb.fx), tfy = LoadRelaxed(tb.fy);
           const double c = radial[e][0], s = radial[e][1];
-          P.thrust += int64_t(w * LoadRelaxed(tb.fz) * kForceFixedScale);
-          P.torque += int64_t(w * LoadRelaxed(tb.torque) * kForceFixedScale);
-          P.fx += int64_t(w * (tfx * c - tfy * s) * kForceFixedScale);
-          P.fy += int64_t(w * (tfx * s + tfy * c) * kForceFixedScale);
+          thrust += int64_t(w * LoadRelaxed(tb.fz));
+          torque += int64_t(w * LoadRelaxed(tb.torque));
+          fx += int64_t(w * (tfx * c - tfy * s));
+          fy += int64_t(w * (tfx * s + tfy * c));
         }
       }
+      if (remove)
+        for (int p = 0; p < parts; ++p)
+          lists[p].SetEnd(ends[p]);
     }
   }
+  P.thrust = thrust;
+  P.torque = torque;
+  P.fx = fx;
+  P.fy = fy;
+  P.visited = visited;
+  P.engaged = engagedCount;
+  P.engagedCutting = engagedCutting;
+  P.requested = requested;
 }
 
 } // namespace bm

@@ -28,10 +28,15 @@
 // worker has claimed). The fills are prefetched for writing a few requests ahead.
 // Elements that stay engaged in the voxel they were in (bmElementResidency.h) need not read its
 // fill: the pass prefetches and loads only the others' (at shell 1024^3 the prefetches' misses
-// were a third of the pass).
+// were a third of the pass). The residency is one word per element (PackedResidency) and the
+// frame of the last visit one word per block.
 // Elemental forces depend on the element's radius only: a table per force bin (averaged over the
 // bin's width, bmForceModel.h ForceTable) is evaluated once per (feed, speed) and each engaged
 // element adds delta x material x table[bin].
+// The pass works in batches of kBatch elements: first their voxels (Morton decode and the float
+// transform, loops the compiler vectorises) and the prefetches, then one loop for engagement,
+// removal requests and forces, with the sums in registers. Same arithmetic, order and precision
+// as the kernels (bmVpsFrame.cl).
 #pragma once
 
 #include <memory>
@@ -52,6 +57,28 @@ struct CullingOptions {
   bool motion = true; ///< rule 2
 };
 
+/// A pass task's removal requests for one removal part: an array that a batch first makes room
+/// in (Reserve) and then appends to through a pointer, with no check per request. A sentinel
+/// request (voxel kNoVoxel) sits before the first, so End()[-1] always exists: "the same voxel as
+/// the last request" needs no test for an empty list.
+class RequestList {
+public:
+  static constexpr int64_t kNoVoxel = -2; ///< the sentinel's voxel: no request's
+  RequestList() { Reserve(0); }
+  const Voxmap::RemovalRequest* Data() const { return Storage_.get() + 1; }
+  size_t Size() const { return Size_; }
+  void Clear() { Size_ = 0; }
+  /// Room for n more requests after Size() (the contents kept).
+  void Reserve(size_t n);
+  Voxmap::RemovalRequest* End() { return Storage_.get() + 1 + Size_; }
+  /// The requests end at `end`, reached from End() within reserved room.
+  void SetEnd(const Voxmap::RemovalRequest* end) { Size_ = size_t(end - Data()); }
+
+private:
+  std::unique_ptr<Voxmap::RemovalRequest[]> Storage_; ///< the sentinel, then the requests
+  size_t Size_ = 0, Capacity_ = 0;
+};
+
 /// Partial sums of a part of a frame; fixed-point so that any split sums to the same totals.
 struct alignas(64) FramePartial {
   int64_t thrust = 0, torque = 0, fx = 0, fy = 0;
@@ -59,7 +86,7 @@ struct alignas(64) FramePartial {
   int64_t removedFill = 0, removedVoxels = 0;
   /// Removal requests (voxel index, fill units), one list per removal part: the voxel's owner
   /// (Voxmap::LineOwner).
-  std::vector<std::vector<Voxmap::RemovalRequest>> removals;
+  std::vector<RequestList> removals;
   void Clear();
   /// Adds o's counts and sums (not its removals).
   void Add(const FramePartial& o);
@@ -67,8 +94,11 @@ struct alignas(64) FramePartial {
 
 class CpuEngine final : public Engine {
 public:
+  /// Most threads an engine runs on (bmsim's --threads allows as many).
+  static constexpr int kMaxThreads = 64;
   /// The engine works on `bone` in place; tool, shell and model must outlive it.
-  /// threads >= 1 (default 2, this machine's cores).
+  /// threads in 1..kMaxThreads (default 2, this machine's cores); more throws
+  /// std::invalid_argument.
   CpuEngine(Voxmap& bone, const ToolModel& tool, const PointShell& shell, const ForceModel& model,
             int threads = 2, CullingOptions culling = {});
   ~CpuEngine() override;
@@ -86,6 +116,8 @@ private:
     std::vector<uint8_t> prevWinner; ///< per task: the thread whose state buffer holds frame - 1
   };
   static size_t NumTasks(const PointShell& shell);
+  /// threads, or std::invalid_argument when more than kMaxThreads.
+  static int ValidThreads(int threads);
   void UpdateForceTable(double f, double n);
   /// Pass task `task` (its kBlocksPerTask blocks) on `thread`: culling, engagement, removal
   /// requests and forces into Partials_[task * Threads() + thread], residency into that thread's
@@ -101,18 +133,23 @@ private:
   static constexpr int kBlocksPerTask = 4; // shell blocks per pass task
   int RemovalParts_ = 1;                   // power of two >= threads
   std::vector<FramePartial> Partials_;     // per (pass task, thread)
-  /// Element residency, one buffer per (thread, frame parity): a task's run reads the buffer of
-  /// the thread that won the task in the previous frame and writes its own thread's. With one
-  /// thread, one buffer updated in place (half the memory traffic).
-  std::vector<std::vector<ElementResidency>> State_;
+  /// Element residency (PackedResidency words) and, per block, the frame of its last visit.
+  struct ResidencyBuffer {
+    std::vector<uint64_t> words;      ///< per element
+    std::vector<uint32_t> blockFrame; ///< per shell block
+  };
+  /// One buffer per (thread, frame parity): a task's run reads the buffer of the thread that won
+  /// the task in the previous frame and writes its own thread's. With one thread, one buffer
+  /// updated in place (half the memory traffic).
+  std::vector<ResidencyBuffer> State_;
   std::vector<uint8_t> PrevWinner_;                  // per pass task, the last frame's winner
   std::vector<Voxmap::RemovalTotals> RemovalCounts_; // per removal part
   std::vector<std::vector<int64_t>> Touched_;        // per removal part: bricks it changed
   uint32_t Frame_ = 0;
-  static constexpr uint32_t kBatch = 64;           // elements whose voxels are fetched ahead
-  std::vector<std::vector<int64_t>> VoxelScratch_; // per thread: the batch's voxel indices
-  std::vector<std::vector<int32_t>> BrickScratch_; // per thread: and their occupancy bricks
-  std::vector<BinForce> Table_;                    // per force bin, per mm of delta
+  static constexpr int kBatch = 64; // elements whose voxels are fetched ahead
+  /// Per force bin, per mm of delta, times kForceFixedScale (a power of two: the products round
+  /// exactly as (w x table) x scale, so the sums are the kernels' to the last unit).
+  std::vector<BinForce> Table_;
   double TableFeed_ = -1, TableSpeed_ = -1;
 };
 
@@ -123,7 +160,7 @@ double MaxRemovalUnits(const Eigen::Vector3d& d, double voxelMm, double unitsPer
 /// The shell's force bins as (kind, {centre, width}) for ForceTable().
 std::vector<std::pair<EdgeKind, std::array<double, 2>>> ShellBinSpans(const PointShell& shell);
 
-/// Sums per-thread partials into a frame result (shared by the CPU engines).
-FrameResult SumPartials(const std::vector<FramePartial>& parts, double voxelVolumeMm3);
+/// A frame's summed partial as its result (forces in N and N mm, volumes in mm^3).
+FrameResult FrameResultOf(const FramePartial& total, double voxelVolumeMm3);
 
 } // namespace bm

@@ -36,6 +36,7 @@ struct FrameGeometry {
   bool cutting = false;           ///< spindle turning and feed > 0: cutting forces this frame
   std::array<int, 3> dims{};      ///< voxmap dimensions
   std::array<int, 3> brickDims{}; ///< voxmap occupancy bricks along each axis
+  bool index32 = false;           ///< every voxel index fits in an int32
 
   /// Voxel index holding the element at tool-grid coordinates ijk, or -1 outside the voxmap
   /// (VoxelsOf() for one element: one copy of the arithmetic that the kernels mirror).
@@ -57,18 +58,25 @@ struct FrameGeometry {
                 a7 = A[7], a8 = A[8], b0 = b[0], b1 = b[1], b2 = b[2];
     const int nx = dims[0], ny = dims[1], nz = dims[2], bx = brickDims[0], by = brickDims[1];
     static_assert(Voxmap::kBrick == 8, "the brick below is the voxel's coordinates >> 3");
-    for (int q = 0; q < n; ++q) { // an int index: GCC 12 does not vectorise an unsigned one
-      const float gx = a0 * x[q] + a1 * y[q] + a2 * z[q] + b0;
-      const float gy = a3 * x[q] + a4 * y[q] + a5 * z[q] + b1;
-      const float gz = a6 * x[q] + a7 * y[q] + a8 * z[q] + b2;
-      const int vi = int(std::floor(gx + 0.5f)), vj = int(std::floor(gy + 0.5f)),
-                vk = int(std::floor(gz + 0.5f));
-      const bool in = (unsigned(vi) < unsigned(nx)) & (unsigned(vj) < unsigned(ny)) &
-                      (unsigned(vk) < unsigned(nz));
-      const int64_t v = vi + int64_t(nx) * (vj + int64_t(ny) * vk);
-      idx[q] = in ? v : -1;
-      brick[q] = in ? (vi >> 3) + bx * ((vj >> 3) + by * (vk >> 3)) : 0;
-    }
+    // The index in 32-bit arithmetic where every index fits (the same values: 4 lanes per
+    // vector and no emulated 64-bit multiply), in 64-bit arithmetic otherwise.
+    auto loop = [&](auto index) {
+      for (int q = 0; q < n; ++q) { // an int index: GCC 12 does not vectorise an unsigned one
+        const float gx = a0 * x[q] + a1 * y[q] + a2 * z[q] + b0;
+        const float gy = a3 * x[q] + a4 * y[q] + a5 * z[q] + b1;
+        const float gz = a6 * x[q] + a7 * y[q] + a8 * z[q] + b2;
+        const int vi = int(std::floor(gx + 0.5f)), vj = int(std::floor(gy + 0.5f)),
+                  vk = int(std::floor(gz + 0.5f));
+        const bool in = (unsigned(vi) < unsigned(nx)) & (unsigned(vj) < unsigned(ny)) &
+                        (unsigned(vk) < unsigned(nz));
+        idx[q] = in ? int64_t(index(vi, vj, vk)) : -1;
+        brick[q] = in ? (vi >> 3) + bx * ((vj >> 3) + by * (vk >> 3)) : 0;
+      }
+    };
+    if (index32)
+      loop([&](int vi, int vj, int vk) { return vi + nx * (vj + ny * vk); });
+    else
+      loop([&](int vi, int vj, int vk) { return vi + int64_t(nx) * (vj + int64_t(ny) * vk); });
   }
   /// Voxel coordinates of an in-grid voxel index.
   std::array<int, 3> Coords(int64_t idx) const {
