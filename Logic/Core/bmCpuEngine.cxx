@@ -93,6 +93,7 @@ CpuEngine::CpuEngine(Voxmap& bone, const ToolModel& tool, const PointShell& shel
              ResidencyBuffer{std::vector<uint64_t>(shell.Size(), 0),
                              std::vector<uint32_t>(shell.Blocks().size(), 0)}),
       PrevWinner_(NumTasks(shell), 0) {
+  SmallCodes_ = std::all_of(shell.Codes().begin(), shell.Codes().end(), ElementCodeIsSmall);
   while (RemovalParts_ < Pool_.Threads())
     RemovalParts_ *= 2;
   for (FramePartial& p : Partials_)

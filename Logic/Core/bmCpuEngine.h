@@ -132,7 +132,8 @@ private:
   WorkerPool Pool_;
   static constexpr int kBlocksPerTask = 4; // shell blocks per pass task
   int RemovalParts_ = 1;                   // power of two >= threads
-  std::vector<FramePartial> Partials_;     // per (pass task, thread)
+  bool SmallCodes_ = false; // every element code decodes in 32-bit lanes (ElementCoordsOfSmall)
+  std::vector<FramePartial> Partials_; // per (pass task, thread)
   /// Element residency (PackedResidency words) and, per block, the frame of its last visit.
   struct ResidencyBuffer {
     std::vector<uint64_t> words;      ///< per element

@@ -54,6 +54,23 @@ constexpr bool ElementIsCutting(uint64_t code) {
 constexpr std::array<uint32_t, 3> ElementCoords(uint64_t code) {
   return MortonDecode(code >> 1);
 }
+/// MortonCompact() of a code of at most 30 bits, in 32-bit arithmetic: its bits 0, 3, ..., 27.
+constexpr uint32_t MortonCompact10(uint32_t x) {
+  x &= 0x09249249u;
+  x = (x ^ (x >> 2)) & 0x030C30C3u;
+  x = (x ^ (x >> 4)) & 0x0300F00Fu;
+  x = (x ^ (x >> 8)) & 0xFF0000FFu;
+  x = (x ^ (x >> 16)) & 0x000003FFu;
+  return x;
+}
+
+/// Coordinates below 2^kSmallCoordBits on every axis (element codes below 2^(3 kSmallCoordBits +
+/// 1)) can be decoded by ElementCoordsOfSmall(); every point shell up to resolution 2048 has them.
+constexpr int kSmallCoordBits = 12;
+constexpr bool ElementCodeIsSmall(uint64_t code) {
+  return (code >> 1) < (uint64_t(1) << (3 * kSmallCoordBits));
+}
+
 /// ElementCoords() of n element codes as floats (exact: coordinates < 2^21), in a loop the
 /// compiler vectorises (the engine's pass decodes every visited element of every frame; the
 /// kernels' bmCommon.cl decodes with the same shifts and masks).
@@ -64,6 +81,19 @@ inline void ElementCoordsOf(const uint64_t* __restrict codes, int n, float* __re
     x[q] = float(int32_t(MortonCompact(m)));
     y[q] = float(int32_t(MortonCompact(m >> 1)));
     z[q] = float(int32_t(MortonCompact(m >> 2)));
+  }
+}
+/// ElementCoordsOf() of codes that are all ElementCodeIsSmall(): the same values from 32-bit
+/// lanes (twice as many per vector): the Morton code's low 30 bits hold 10 bits of each axis, its
+/// next 6 bits the 2 above them.
+inline void ElementCoordsOfSmall(const uint64_t* __restrict codes, int n, float* __restrict x,
+                                 float* __restrict y, float* __restrict z) {
+  for (int q = 0; q < n; ++q) {
+    const uint64_t m = codes[q] >> 1;
+    const uint32_t lo = uint32_t(m) & 0x3FFFFFFFu, hi = uint32_t(m >> 30);
+    x[q] = float(int32_t(MortonCompact10(lo) | ((hi & 1u) | ((hi >> 2) & 2u)) << 10));
+    y[q] = float(int32_t(MortonCompact10(lo >> 1) | (((hi >> 1) & 1u) | ((hi >> 3) & 2u)) << 10));
+    z[q] = float(int32_t(MortonCompact10(lo >> 2) | (((hi >> 2) & 1u) | ((hi >> 4) & 2u)) << 10));
   }
 }
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <vector>
 
 #include "bmMorton.h"
 
@@ -60,6 +61,35 @@ TEST(Morton, ElementCodesKeepCoordinatesAndCuttingFlag) {
   EXPECT_FALSE(bm::ElementIsCutting(bm::PackElement(m, m, m, false)));
   // Sorting by code sorts by Morton order; the flag never reorders two different positions.
   EXPECT_LT(bm::PackElement(1, 0, 0, true), bm::PackElement(0, 1, 0, false));
+}
+
+// The 32-bit-lane decode gives ElementCoords() for every code of coordinates below 2^12: all
+// corners and axes' top bits, and random codes of both cutting flags.
+TEST(Morton, SmallCodesDecodeAlikeIn32BitLanes) {
+  constexpr uint32_t top = (1u << bm::kSmallCoordBits) - 1;
+  std::vector<uint64_t> codes;
+  for (uint32_t i : {0u, 1u, 2u, 1023u, 1024u, 2047u, 2048u, top})
+    for (uint32_t j : {0u, 1u, 1023u, 1024u, top})
+      for (uint32_t k : {0u, 3u, 1024u, 3000u, top})
+        codes.push_back(bm::PackElement(i, j, k, (i + j + k) % 2 == 1));
+  std::mt19937 rng(11);
+  for (int q = 0; q < 20000; ++q)
+    codes.push_back(bm::PackElement(rng() & top, rng() & top, rng() & top, rng() % 2 == 0));
+  for (uint64_t c : codes)
+    ASSERT_TRUE(bm::ElementCodeIsSmall(c));
+  EXPECT_FALSE(bm::ElementCodeIsSmall(bm::PackElement(top + 1, 0, 0, false)));
+  EXPECT_FALSE(bm::ElementCodeIsSmall(bm::PackElement(0, 0, top + 1, true)));
+  const int n = int(codes.size());
+  std::vector<float> x(n), y(n), z(n), xs(n), ys(n), zs(n);
+  bm::ElementCoordsOf(codes.data(), n, x.data(), y.data(), z.data());
+  bm::ElementCoordsOfSmall(codes.data(), n, xs.data(), ys.data(), zs.data());
+  for (int q = 0; q < n; ++q) {
+    const auto c = bm::ElementCoords(codes[size_t(q)]);
+    ASSERT_EQ(x[q], float(c[0]));
+    ASSERT_EQ(xs[q], float(c[0])) << "code " << codes[size_t(q)];
+    ASSERT_EQ(ys[q], float(c[1])) << "code " << codes[size_t(q)];
+    ASSERT_EQ(zs[q], float(c[2])) << "code " << codes[size_t(q)];
+  }
 }
 
 } // namespace
