@@ -23,6 +23,16 @@
 // (a locked xadd for the removal, plain moves for the loads); the ordering is what makes the
 // "changed after I looked" argument hold (store-buffering between the fill and the generation).
 //
+// Change reach, per brick, narrows what a reader redoes: 8 bits, bit o = (x | y << 1 | z << 2) set
+// when a changed voxel's coordinates within its brick are, per axis, in the brick's upper
+// kReachBand voxels (1) or below them (0). A surface with marching-cubes cells shifted by two
+// voxels against the bricks (bm::BoneSurface) needs to redo the next brick on an axis only for
+// changes in that band. Nothing is recorded until a reader asks (WantBrickReach); then the
+// removal path of owned voxels (RemoveOwned, the CPU engine's) records exact bits and every other
+// write all eight. A reader that finds no bits for a changed brick takes all eight.
+// TakeBrickReach() hands the bits to a reader and clears them; they are exact for a reader that
+// is the brick's only one (see TakeBrickReach for how a reader knows).
+//
 // Units: world coordinates in mm; spacing in mm (isotropic); volumes in mm^3.
 #pragma once
 
@@ -66,6 +76,11 @@ public:
   static constexpr Fill kFull = 1 << 24;
   /// Edge of a coarse-occupancy brick, in voxels.
   static constexpr int kBrick = 8;
+  /// The upper band of a brick, per axis, that its change reach tells apart (voxels kBrick - 3
+  /// .. kBrick - 1 of the brick; see the file comment).
+  static constexpr int kReachBand = 3;
+  /// All eight reach bits: any octant (what writes without exact reach record).
+  static constexpr uint8_t kReachAll = 0xFF;
 
   Voxmap() = default;
   /// Empty (all void) grid of dims voxels, isotropic spacing in mm, origin = world position (mm)
@@ -152,8 +167,12 @@ public:
   RemovalTotals RemoveOwned(const RemovalRequest* requests, size_t n,
                             std::vector<int64_t>& touched);
   /// Marks the bricks changed (generations odd) after a fence that orders every fill written
-  /// by this thread before it (the ordering Remove() gets from its locked decrement).
+  /// by this thread before it (the ordering Remove() gets from its locked decrement). Entries
+  /// are as RemoveOwned appends them: the brick in the low 56 bits, its reach bits (0 = unknown:
+  /// all) in the top 8.
   void MarkBricksChanged(const std::vector<int64_t>& bricks);
+  /// Bits of a `touched` entry below the reach bits (RemoveOwned, MarkBricksChanged).
+  static constexpr int kTouchedReachShift = 56;
 
   /// Bone volume (mm^3): sum of positive fills times the voxel volume.
   double BoneVolume() const;
@@ -184,6 +203,20 @@ public:
   /// its own values); cost: one load, plus one compare-and-swap when the brick changed.
   uint32_t SeenBrickGeneration(int64_t b) const;
 
+  /// Asks writers to record exact change reach from now on (the CPU engine's removal computes
+  /// each changed voxel's coordinates for it: two multiplies per voxel). Any thread; stays on.
+  void WantBrickReach() const { ReachWanted_.store(true, std::memory_order_relaxed); }
+  /// The reach bits (see the file comment) of the changes since the last call, cleared. Call it
+  /// after SeenBrickGeneration(b), and only when that returned a new value: then the bits cover
+  /// every change since the reader's previous look when the generation moved by exactly 2 (no
+  /// other reader looked in between) and they are not 0; otherwise use kReachAll. One
+  /// exchange.
+  uint8_t TakeBrickReach(int64_t b) const {
+    return BrickReach_[size_t(b)].exchange(0, std::memory_order_seq_cst);
+  }
+  /// The reach bit of voxel idx's position in its brick (one of kReachAll's eight).
+  uint8_t ReachBitOfVoxel(int64_t idx) const;
+
   /// Raw arrays (for backends, IO and rendering). After writing through MutableFill(), call
   /// RebuildOccupancy().
   const Fill* FillData() const { return Fill_.data(); }
@@ -204,13 +237,30 @@ private:
   std::vector<std::atomic<int32_t>> BrickCount_;
   /// Per-brick change generations; mutable: readers holding a const Voxmap mark them seen.
   mutable std::vector<std::atomic<uint32_t>> BrickGen_;
+  /// Per-brick change reach (see the file comment); mutable: readers take it.
+  mutable std::vector<std::atomic<uint8_t>> BrickReach_;
+  mutable std::atomic<bool> ReachWanted_{false};
   /// Reciprocals for BrickOfVoxel: ceil(2^64 / nx) and ceil(2^64 / ny) (exact quotients of
   /// indices below 2^52 by one multiply-high each, cheaper than division on the removal path).
   uint64_t InvNx_ = 0, InvNy_ = 0;
 
   void InitBricks();
-  /// Marks brick b changed (odd generation) unless it already is.
-  void MarkBrickChanged(int64_t b) {
+  /// RemoveOwned's loop, recording reach bits (kReach) or not.
+  template <bool kReach>
+  RemovalTotals RemoveOwnedLoop(const RemovalRequest* requests, size_t n,
+                                std::vector<int64_t>& touched);
+  /// Voxel coordinates of index idx (multiply-high by the reciprocals: exact below 2^52).
+  std::array<uint64_t, 3> CoordsOfVoxel(int64_t idx) const;
+  /// Adds `reach` to brick b's change reach when a reader wants it (else the reach stays as it
+  /// is: a reader that finds none takes all eight), then marks it changed (odd generation)
+  /// unless it already is; each step a load first, a read-modify-write only when it changes
+  /// something. Without a reader of reach no second array is touched: one cache miss per brick.
+  void MarkBrickChanged(int64_t b, uint8_t reach = kReachAll) {
+    if (ReachWanted_.load(std::memory_order_relaxed)) {
+      std::atomic<uint8_t>& r = BrickReach_[size_t(b)];
+      if ((r.load(std::memory_order_seq_cst) & reach) != reach)
+        r.fetch_or(reach, std::memory_order_seq_cst);
+    }
     std::atomic<uint32_t>& g = BrickGen_[size_t(b)];
     if (!(g.load(std::memory_order_seq_cst) & 1u))
       g.fetch_or(1u, std::memory_order_seq_cst);

@@ -9,7 +9,9 @@
 // bricks that changed since the last update: the voxmap's per-brick change generations say which
 // (a changed voxmap brick marks our bricks v and v + 1 on each axis, the cells its voxels reach
 // through their values and through the gradient normals next to them; so no tool box is needed
-// and nothing that changed is missed), and MarkDirty() adds bricks by hand. Bricks read a
+// and nothing that changed is missed; with bricks of the voxmap's size, v + 1 on an axis only
+// when a changed voxel lay in the voxmap brick's upper three layers on it, as the voxmap's change
+// reach says, Voxmap::TakeBrickReach), and MarkDirty() adds bricks by hand. Bricks read a
 // one-sample halo, so their triangles and normals meet those of their neighbours exactly: the
 // bricks together make vtkFlyingEdges3D's surface of the whole padded grid (same triangles, points
 // and normals to float rounding), with the points on shared brick faces duplicated.
@@ -136,6 +138,9 @@ private:
   /// Last generation seen of each of the voxmap's bricks, and for each axis the range of our
   /// bricks that a voxmap brick's samples fall into.
   std::vector<uint32_t> SeenGen_;
+  /// Whether the voxmap's change reach (Voxmap::TakeBrickReach) narrows a changed voxmap brick
+  /// to fewer than its eight bricks of ours (bricks of the voxmap's size only).
+  bool ExactReach_ = false;
   std::array<std::vector<std::array<int, 2>>, 3> VoxBrickRange_;
 
   /// Output layout: each brick's point and triangle places in the output arrays; for each

@@ -259,3 +259,51 @@ TEST(VoxmapRemoveOwned, ReaderOnAnotherThreadMissesNoChange) {
   for (int64_t i = 0; i < v.NumVoxels(); ++i)
     ASSERT_EQ(std::max(copy[size_t(i)], 0), std::max(v.GetFill(i), 0)) << "voxel " << i;
 }
+
+TEST(VoxmapChangeReach, BitsSayWhereInTheirBricksTheChangedVoxelsLay) {
+  // Odd sizes (partial bricks on the far faces); each voxel's bit against its coordinates.
+  bm::Voxmap v = FullBlock({37, 21, 19});
+  const int band = bm::Voxmap::kBrick - bm::Voxmap::kReachBand;
+  for (int k = 0; k < 19; ++k)
+    for (int j = 0; j < 21; ++j)
+      for (int i = 0; i < 37; ++i) {
+        const int o = int(i % 8 >= band) | int(j % 8 >= band) << 1 | int(k % 8 >= band) << 2;
+        ASSERT_EQ(v.ReachBitOfVoxel(v.Index(i, j, k)), 1 << o) << i << " " << j << " " << k;
+      }
+  SeeAll(v);
+  for (int64_t b = 0; b < int64_t(v.BrickDims()[0]) * v.BrickDims()[1] * v.BrickDims()[2]; ++b)
+    v.TakeBrickReach(b);
+  const int64_t brick = v.BrickIndex(1, 1, 0);
+  EXPECT_EQ(v.TakeBrickReach(brick), 0) << "taken: nothing since";
+
+  // Owned removals record exact bits only once a reader asked for them (before, no bits at all).
+  auto removeOwned = [&](int i, int j, int k) {
+    std::vector<int64_t> touched;
+    const int64_t idx = v.Index(i, j, k);
+    const bm::Voxmap::RemovalRequest r{idx, bm::Voxmap::kFull / 8, int32_t(v.BrickOfVoxel(idx))};
+    v.RemoveOwned(&r, 1, touched);
+    v.MarkBricksChanged(touched);
+  };
+  removeOwned(9, 10, 1);
+  EXPECT_EQ(v.TakeBrickReach(brick), 0) << "not asked for: none recorded (read as all eight)";
+  EXPECT_EQ(v.BrickGeneration(brick) & 1u, 1u) << "but the brick is marked changed";
+  v.WantBrickReach();
+  removeOwned(9, 10, 1);  // local (1, 2, 1): octant 0
+  removeOwned(14, 10, 6); // local (6, 2, 6): x and z in the band
+  removeOwned(10, 15, 2); // local (2, 7, 2): y
+  EXPECT_EQ(v.TakeBrickReach(brick), (1 << 0) | (1 << 5) | (1 << 2));
+  EXPECT_EQ(v.TakeBrickReach(brick), 0);
+  // Every other write records all eight (Remove, SetFill).
+  bool voided = false;
+  v.Remove(v.Index(9, 10, 1), 1, voided);
+  EXPECT_EQ(v.TakeBrickReach(brick), bm::Voxmap::kReachAll);
+  v.SetFill(v.Index(9, 10, 1), 5);
+  EXPECT_EQ(v.TakeBrickReach(brick), bm::Voxmap::kReachAll);
+  // A removal from a void voxel changes nothing: no bits, no generation.
+  v.SetFill(v.Index(9, 10, 1), 0);
+  const uint32_t g = v.SeenBrickGeneration(brick);
+  v.TakeBrickReach(brick);
+  removeOwned(9, 10, 1);
+  EXPECT_EQ(v.TakeBrickReach(brick), 0);
+  EXPECT_EQ(v.SeenBrickGeneration(brick), g);
+}

@@ -7,6 +7,7 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <random>
 #include <thread>
 #include <vector>
 
@@ -117,6 +118,16 @@ void ExpectSameSurface(vtkPolyData* live, const bm::Voxmap& bone, int brick) {
   EXPECT_EQ(live->GetPointData()->GetNormals()->GetNumberOfTuples(), live->GetNumberOfPoints());
 }
 
+/// Takes `units` of fill from voxel (i, j, k) the way the CPU engine does (RemoveOwned, then
+/// MarkBricksChanged).
+void RemoveOwnedAt(bm::Voxmap& v, int i, int j, int k, bm::Voxmap::Fill units) {
+  std::vector<int64_t> touched;
+  const int64_t idx = v.Index(i, j, k);
+  const bm::Voxmap::RemovalRequest r{idx, units, int32_t(v.BrickOfVoxel(idx))};
+  v.RemoveOwned(&r, 1, touched);
+  v.MarkBricksChanged(touched);
+}
+
 } // namespace
 
 TEST(BoneSurface, IncrementalEqualsFromScratchAfterCuts) {
@@ -198,4 +209,49 @@ TEST(BoneSurface, UpdatesWhileAnotherThreadCuts) {
   live.Update(bone);
   EXPECT_GE(updates.load(), 16);
   ExpectSameSurface(live.GetOutput(), bone, 8);
+}
+
+TEST(BoneSurface, OwnedRemovalsRedoOnlyTheBricksTheyReach) {
+  // The CPU engine's removals say where in its brick each changed voxel lay: a voxel below a
+  // voxmap brick's upper three layers on every axis reaches one brick of ours, one in them on
+  // every axis eight (bricks of 8, the voxmap's).
+  bm::Voxmap bone = MakeBone();
+  bm::BoneSurface live(8);
+  live.Update(bone);
+  RemoveOwnedAt(bone, 26, 18, 18, bm::Voxmap::kFull / 4); // local (2, 2, 2), inside the ball
+  EXPECT_EQ(live.Update(bone), 1);
+  RemoveOwnedAt(bone, 30, 22, 22, bm::Voxmap::kFull / 4); // local (6, 6, 6)
+  EXPECT_EQ(live.Update(bone), 8);
+  RemoveOwnedAt(bone, 30, 18, 18, bm::Voxmap::kFull / 4); // local (6, 2, 2)
+  EXPECT_EQ(live.Update(bone), 2);
+  RemoveOwnedAt(bone, 26, 18, 18, bm::Voxmap::kFull / 4);
+  RemoveOwnedAt(bone, 26, 22, 18, bm::Voxmap::kFull / 4); // local (2, 6, 2): the same brick
+  EXPECT_EQ(live.Update(bone), 2);
+  ExpectSameSurface(live.GetOutput(), bone, 8);
+}
+
+TEST(BoneSurface, TwoReadersOfOneVoxmapBothStayRight) {
+  // Holes cut at random through the engine's removal path while two surfaces update in random
+  // turns: a reader that finds the reach taken by the other (or changes from before the other
+  // looked) must redo all eight bricks, and both must end equal to a fresh extraction.
+  bm::Voxmap bone = MakeBone();
+  bm::BoneSurface a(8), b(8);
+  a.Update(bone);
+  b.Update(bone);
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> x(0, 44), y(0, 37), z(0, 32), turn(0, 3);
+  std::uniform_int_distribution<int> units(bm::Voxmap::kFull / 8, bm::Voxmap::kFull);
+  for (int round = 0; round < 60; ++round) {
+    for (int c = 0; c < 25; ++c)
+      RemoveOwnedAt(bone, x(rng), y(rng), z(rng), units(rng));
+    const int t = turn(rng);
+    if (t != 1)
+      a.Update(bone);
+    if (t != 0)
+      b.Update(bone);
+  }
+  a.Update(bone);
+  b.Update(bone);
+  ExpectSameSurface(a.GetOutput(), bone, 8);
+  ExpectSameSurface(b.GetOutput(), bone, 8);
 }
