@@ -43,4 +43,10 @@ find_package(Qt5 REQUIRED COMPONENTS Core Gui Widgets)
 find_program(BM_PVPYTHON_EXECUTABLE pvpython HINTS "${ParaView_PREFIX_PATH}/bin")
 find_program(BM_PVBATCH_EXECUTABLE pvbatch HINTS "${ParaView_PREFIX_PATH}/bin")
 find_program(BM_PARAVIEW_EXECUTABLE paraview HINTS "${ParaView_PREFIX_PATH}/bin")
-find_program(BM_XVFB_RUN_EXECUTABLE xvfb-run)
+# Tests that render run under a private Xvfb that picks its own display (Testing/with-xvfb.sh).
+find_program(BM_XVFB_EXECUTABLE Xvfb)
+if(BM_XVFB_EXECUTABLE)
+  get_filename_component(_bm_with_xvfb "${CMAKE_CURRENT_LIST_DIR}/../../Testing/with-xvfb.sh"
+    ABSOLUTE)
+  set(BM_WITH_XVFB bash "${_bm_with_xvfb}")
+endif()
