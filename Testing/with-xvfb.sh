@@ -2,12 +2,12 @@
 # with-xvfb.sh COMMAND [ARGS...] - runs COMMAND with DISPLAY set to a private Xvfb, then stops it.
 #
 # The server chooses its own free display number and says it once it accepts clients
-# (-displayfd): no race for a number between tests started back to back, as `xvfb-run -a` had
-# (it picks a number from the lock files in /tmp, so a test could meet a server of the previous
-# test that was still going away: "bad X server connection" mid-test on a loaded machine).
-# A run that fails only because the client could not open its X connection ("bad X server
-# connection": on a starved 2-core machine, about one suite run in five) is run once more, saying
-# so; any other failure is the command's. Exits with COMMAND's status; 70 when Xvfb does not come
+# (-displayfd), so no test can meet a server of the one before that is still going away (as
+# `xvfb-run -a` could, picking a number from the lock files in /tmp). A run that fails only
+# because the client could not open its X connection ("bad X server connection": pvpython's
+# first render, on a busy 2-core machine, about one suite run in five, with a private server as
+# well; the cause in ParaView or Xlib is not known) is run once more, saying so; any other
+# failure is the command's. Exits with COMMAND's status; 70 when Xvfb does not come
 # up within 60 s.
 set -u
 out=$(mktemp "${TMPDIR:-/tmp}/bm-xvfb.XXXXXX") || exit 70

@@ -122,8 +122,8 @@ void BoneSurface::Reset(const Voxmap& bone) {
   // With bricks of the voxmap's size, a voxel reaches our brick v + 1 on an axis only from the
   // voxmap brick's upper kReachBand voxels (i - 2 .. i + 1 in our brick (c + 2) / B is v + 1
   // exactly when i % B >= B - 3): the voxmap records where changes were (ScanGenerations).
-  ExactReach_ = Brick_ == Voxmap::kBrick && Voxmap::kReachBand == 3;
-  if (ExactReach_)
+  static_assert(Voxmap::kReachBand == 3, "the band is the voxels that reach cell c + 2 and on");
+  if (ExactReach())
     bone.WantBrickReach();
   SeenGen_.resize(size_t(vbd[0]) * vbd[1] * vbd[2]);
   for (size_t b = 0; b < SeenGen_.size(); ++b) {
@@ -144,30 +144,29 @@ void BoneSurface::ScanGenerations(const Voxmap& bone) {
         // The reach bits cover every change since we last looked when no other reader looked
         // in between: the generation moved by exactly 2 (Voxmap::TakeBrickReach).
         uint8_t reach = bone.TakeBrickReach(b);
-        if (!ExactReach_ || reach == 0 || g - SeenGen_[size_t(b)] != 2u)
+        if (reach == 0 || g - SeenGen_[size_t(b)] != 2u)
           reach = Voxmap::kReachAll;
         SeenGen_[size_t(b)] = g;
         const auto& rx = VoxBrickRange_[0][size_t(vi)];
         const auto& ry = VoxBrickRange_[1][size_t(vj)];
         const auto& rz = VoxBrickRange_[2][size_t(vk)];
-        if (reach == Voxmap::kReachAll) {
+        if (!ExactReach()) { // other brick sizes: every brick of ours the voxmap brick reaches
           for (int k = rz[0]; k <= rz[1]; ++k)
             for (int j = ry[0]; j <= ry[1]; ++j)
               for (int i = rx[0]; i <= rx[1]; ++i)
                 Dirty_[size_t(BrickId(i, j, k))] = 1;
           continue;
         }
-        // Octant o's changes reach our bricks v .. v + (o's bit) per axis (v + 1 clamped away
-        // at the grid's end, where VoxBrickRange_ ends).
-        for (int o = 0; o < 8; ++o) {
-          if (!(reach >> o & 1))
-            continue;
-          const int hx = (o & 1) ? rx[1] : rx[0], hy = (o & 2) ? ry[1] : ry[0],
-                    hz = (o & 4) ? rz[1] : rz[0];
-          for (int k = rz[0]; k <= hz; ++k)
-            for (int j = ry[0]; j <= hy; ++j)
-              for (int i = rx[0]; i <= hx; ++i)
-                Dirty_[size_t(BrickId(i, j, k))] = 1;
+        // Our brick v + d (d's bits: one step up on x, y, z) is reached by a changed octant o
+        // that lies in the band on every axis d steps up on, (o & d) == d; v + 1 past the grid's
+        // end is where VoxBrickRange_ stops.
+        for (int d = 0; d < 8; ++d) {
+          bool reached = false;
+          for (int o = 0; o < 8; ++o)
+            reached |= (reach >> o & 1) && (o & d) == d;
+          const int i = rx[0] + (d & 1), j = ry[0] + (d >> 1 & 1), k = rz[0] + (d >> 2);
+          if (reached && i <= rx[1] && j <= ry[1] && k <= rz[1])
+            Dirty_[size_t(BrickId(i, j, k))] = 1;
         }
       }
 }

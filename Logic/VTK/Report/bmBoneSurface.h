@@ -140,7 +140,7 @@ private:
   std::vector<uint32_t> SeenGen_;
   /// Whether the voxmap's change reach (Voxmap::TakeBrickReach) narrows a changed voxmap brick
   /// to fewer than its eight bricks of ours (bricks of the voxmap's size only).
-  bool ExactReach_ = false;
+  bool ExactReach() const { return Brick_ == Voxmap::kBrick; }
   std::array<std::vector<std::array<int, 2>>, 3> VoxBrickRange_;
 
   /// Output layout: each brick's point and triangle places in the output arrays; for each
