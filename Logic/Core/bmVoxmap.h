@@ -120,6 +120,15 @@ public:
     return std::atomic_ref<Fill>(const_cast<Fill&>(Fill_[size_t(idx)]))
         .load(std::memory_order_seq_cst);
   }
+  /// Fills of the n consecutive voxels from idx into out[0..n), each read as a relaxed atomic
+  /// load (a plain move on x86-64, with the voxmap's pointer read once for the row): for a
+  /// reader of a live voxmap after SeenBrickGeneration(), whose read-modify-write orders these
+  /// loads after every change it does not report (see the file comment), as LoadFill() does.
+  void LoadFillRow(int64_t idx, int n, Fill* out) const {
+    Fill* p = const_cast<Fill*>(Fill_.data()) + idx;
+    for (int x = 0; x < n; ++x)
+      out[x] = std::atomic_ref<Fill>(p[x]).load(std::memory_order_relaxed);
+  }
   /// Set a voxel's fill (clamped to kFull); keeps the brick occupancy current and marks the
   /// brick's generation changed when the fill changes. Not thread-safe against other writers
   /// (safe against LoadFill() readers).

@@ -61,17 +61,23 @@ bool BrickMarchingCubes::AnyBone(const Voxmap& bone, const std::array<int, 3>& l
 }
 
 void BrickMarchingCubes::Prefetch(const Voxmap& bone, const std::array<int, 3>& first) const {
-  // The box's rows lie a row (nx fills) or a slice apart: each one or two cache lines the
-  // hardware prefetcher does not guess. Asking for all of them ahead lets the misses overlap.
+  const std::array<int, 3> g0{first[0] - 1, first[1] - 1, first[2] - 1};
+  const auto& d = bone.Dims();
+  if (g0[0] + N_ - 1 < 0 || g0[0] >= d[0] ||
+      !AnyBone(bone, g0, {g0[0] + N_ - 1, g0[1] + N_ - 1, g0[2] + N_ - 1}))
+    return; // Extract reads nothing (or only the pad)
+  PrefetchSlices(bone, g0, 0, kSlicesAhead);
+}
+
+void BrickMarchingCubes::PrefetchSlices(const Voxmap& bone, const std::array<int, 3>& g0, int z0,
+                                        int z1) const {
+  // Each row is one or two cache lines the hardware prefetcher does not guess (rows lie nx fills
+  // apart, slices nx ny).
   const auto& d = bone.Dims();
   const int n = N_;
-  const std::array<int, 3> g0{first[0] - 1, first[1] - 1, first[2] - 1};
   const int xLo = std::clamp(g0[0], 0, d[0] - 1), xHi = std::clamp(g0[0] + n - 1, 0, d[0] - 1);
-  if (g0[0] + n - 1 < 0 || g0[0] >= d[0] ||
-      !AnyBone(bone, g0, {g0[0] + n - 1, g0[1] + n - 1, g0[2] + n - 1}))
-    return; // Extract reads nothing (or only the pad)
   const Voxmap::Fill* fill = bone.FillData();
-  for (int gz = std::max(g0[2], 0); gz < std::min(g0[2] + n, d[2]); ++gz)
+  for (int gz = std::max(g0[2] + z0, 0); gz < std::min(g0[2] + std::min(z1, n), d[2]); ++gz)
     for (int gy = std::max(g0[1], 0); gy < std::min(g0[1] + n, d[1]); ++gy) {
       const Voxmap::Fill* row = fill + bone.Index(0, gy, gz);
       __builtin_prefetch(row + xLo, 0, 3);
@@ -90,8 +96,13 @@ void BrickMarchingCubes::Load(const Voxmap& bone, const std::array<int, 3>& firs
   // The box's samples in the grid; void elsewhere. Each row's samples >= iso as bits (bit = box
   // x): a fill f is the fraction f / kFull exactly, which is >= iso exactly when f >= IsoFill_.
   const int xLo = std::clamp(-g0[0], 0, n), xHi = std::clamp(d[0] - g0[0], 0, n);
+  Voxmap::Fill* f = Fills_.data(); // a row's fills: [xLo, xHi) loaded per row, void around
+  std::fill(f, f + xLo, Voxmap::Fill(0));
+  std::fill(f + xHi, f + n, Voxmap::Fill(0));
   for (int z = 0; z < n; ++z) {
     const int gz = g0[2] + z;
+    if (xLo < xHi) // the slice kSlicesAhead on (Prefetch() asked for the first ones)
+      PrefetchSlices(bone, g0, z + kSlicesAhead, z + kSlicesAhead + 1);
     for (int y = 0; y < n; ++y) {
       const int gy = g0[1] + y;
       float* row = s + int64_t(n) * (y + int64_t(n) * z);
@@ -101,18 +112,13 @@ void BrickMarchingCubes::Load(const Voxmap& bone, const std::array<int, 3>& firs
         bits[y + n * z] = 0;
         continue;
       }
-      // The fills with atomic loads (plain moves on x86-64, but never merged or vectorized: a
-      // loop of its own), then converted and classified in passes the compiler vectorizes.
-      const int64_t base = bone.Index(0, gy, gz) + g0[0];
-      Voxmap::Fill* f = Fills_.data();
-      for (int x = xLo; x < xHi; ++x)
-        f[x] = bone.LoadFill(base + x);
-      std::fill(row, row + xLo, 0.0f);
-      std::fill(row + xHi, row + n, 0.0f);
-      for (int x = xLo; x < xHi; ++x)
-        row[x] = float(std::max<Voxmap::Fill>(f[x], 0)) * kScale; // <= 0 is void
-      for (int x = xLo; x < xHi; ++x)
+      // The row's fills with relaxed atomic loads (a loop of its own: never merged or
+      // vectorised), void outside the grid, then classified and converted in one pass.
+      bone.LoadFillRow(bone.Index(0, gy, gz) + g0[0] + xLo, xHi - xLo, f + xLo);
+      for (int x = 0; x < n; ++x) {
         above |= uint64_t(f[x] >= isoFill) << x;
+        row[x] = float(std::max<Voxmap::Fill>(f[x], 0)) * kScale; // <= 0 is void
+      }
       bits[y + n * z] = above;
     }
   }

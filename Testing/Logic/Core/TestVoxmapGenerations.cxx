@@ -97,7 +97,8 @@ TEST(VoxmapGenerations, ExactlyTheChangedBricksMoveOn) {
 
 TEST(VoxmapGenerations, ReaderOnAnotherThreadMissesNoChange) {
   // One thread cuts voxels at random; this thread keeps a copy of the fills, refreshing only the
-  // bricks whose generation moved (marking them seen before reading). When the cutter stops, one
+  // bricks whose generation moved (marking them seen before reading its rows with LoadFillRow,
+  // relaxed atomic loads). When the cutter stops, one
   // more pass must make the copy equal to the voxmap (as fractions: removal from a void voxel
   // lowers its fill below 0 but changes nothing a reader shows, and moves no generation).
   bm::Voxmap v = FullBlock({40, 24, 24});
@@ -112,10 +113,12 @@ TEST(VoxmapGenerations, ReaderOnAnotherThreadMissesNoChange) {
           if (!all && g == seen[size_t(b)])
             continue;
           seen[size_t(b)] = g;
+          // Rows of the brick with LoadFillRow (as the live view reads them).
           for (int k = bk * 8; k < std::min(bk * 8 + 8, 24); ++k)
-            for (int j = bj * 8; j < std::min(bj * 8 + 8, 24); ++j)
-              for (int i = bi * 8; i < std::min(bi * 8 + 8, 40); ++i)
-                copy[size_t(v.Index(i, j, k))] = v.LoadFill(v.Index(i, j, k));
+            for (int j = bj * 8; j < std::min(bj * 8 + 8, 24); ++j) {
+              const int64_t row = v.Index(bi * 8, j, k);
+              v.LoadFillRow(row, std::min(8, 40 - bi * 8), copy.data() + row);
+            }
         }
   };
   refresh(true);
