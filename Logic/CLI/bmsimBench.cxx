@@ -174,8 +174,9 @@ bm::Voxmap AnalyticGlenoid(int resolution) {
 
 /// One scripted session of the scene, with or without the live view refreshing.
 struct ViewRun {
-  std::vector<double> refreshMs;             ///< refreshes while bone was cut
-  std::vector<int> bricks;                   ///< bricks re-extracted by those refreshes
+  std::vector<double> refreshMs; ///< refreshes while bone was cut
+  std::vector<int> bricks;       ///< bricks re-extracted by those refreshes
+  std::vector<double> patched;   ///< of those, bricks whose triangles stayed (patched in place)
   std::vector<double> extractedTriangles;    ///< the triangles those bricks hold now
   std::vector<double> extractMs, assembleMs; ///< their parts (bm::BoneSurface::UpdateStats)
   std::vector<double> cpuMs;   ///< the view thread's CPU time in those refreshes (wall time less
@@ -270,6 +271,7 @@ ViewRun RunViewSession(const bm::Scene& scene, bool view, double intervalMs, boo
           r.refreshMs.push_back(ms);
           r.cpuMs.push_back(cpu);
           r.bricks.push_back(n);
+          r.patched.push_back(surface.LastUpdate().patched);
           r.extractedTriangles.push_back(double(surface.LastUpdate().extractedTriangles));
           r.extractMs.push_back(surface.LastUpdate().extractMs);
           r.assembleMs.push_back(surface.LastUpdate().assembleMs);
@@ -354,8 +356,9 @@ int ViewBench(const bm::cli::ParsedArgs& p) {
                       << (r.cutS > 0 ? double(r.refreshMs.size()) / r.cutS : 0.0)
                       << " per s), bricks median " << bm::Percentile(bricks, 50) << " ("
                       << bm::Percentile(r.extractedTriangles, 50)
-                      << " triangles), left pending median " << bm::Percentile(r.pending, 50)
-                      << " max " << bm::Percentile(r.pending, 100) << "; extract median "
+                      << " triangles; patched in place median " << bm::Percentile(r.patched, 50)
+                      << "), left pending median " << bm::Percentile(r.pending, 50) << " max "
+                      << bm::Percentile(r.pending, 100) << "; extract median "
                       << bm::Percentile(r.extractMs, 50) << " ms, assemble median "
                       << bm::Percentile(r.assembleMs, 50) << " ms; first " << r.firstMs << " ms, "
                       << r.triangles << " triangles; ";

@@ -248,6 +248,17 @@ void BoneSurface::AddBrick(int64_t b) {
   Stats_.rewrittenTriangles += int64_t(tris.size());
 }
 
+void BoneSurface::PatchBrick(int64_t b) {
+  const BrickMesh& m = Bricks_[size_t(b)];
+  float* pts = Points_->GetPointer(0);
+  float* nrm = Normals_->GetPointer(0);
+  const std::vector<int32_t>& points = PointSlots_[size_t(b)];
+  for (size_t i = 0; i < points.size(); ++i) {
+    std::memcpy(pts + 3 * int64_t(points[i]), m.points.data() + 3 * i, 3 * sizeof(float));
+    std::memcpy(nrm + 3 * int64_t(points[i]), m.normals.data() + 3 * i, 3 * sizeof(float));
+  }
+}
+
 void BoneSurface::Rebuild() {
   // Sizes of the result, and whether the current arrays hold it.
   int64_t np = 0, nt = 0;
@@ -306,7 +317,8 @@ void BoneSurface::Reallocate(int64_t np, int64_t nt, bool keep) {
   Output_->SetPolys(polys);
 }
 
-void BoneSurface::Assemble(const std::vector<int64_t>& changed, bool full) {
+void BoneSurface::Assemble(const std::vector<int64_t>& changed, const std::vector<int64_t>& moved,
+                           bool full) {
   // Patch in place when no more than half of the points would be unused (in larger arrays, the
   // contents copied, when these do not hold the result: a cut that grows the surface costs a copy,
   // not a rewrite from every brick); otherwise write everything again.
@@ -329,6 +341,8 @@ void BoneSurface::Assemble(const std::vector<int64_t>& changed, bool full) {
     RemoveBricks(changed);
     for (int64_t b : changed)
       AddBrick(b);
+    for (int64_t b : moved)
+      PatchBrick(b);
   }
   // Every cell is a triangle: offsets are 0, 3, 6, ...; write the ones not yet written.
   int32_t* off = Offsets_->GetPointer(0);
@@ -358,6 +372,7 @@ int BoneSurface::Update(const Voxmap& bone) {
   // The dirty bricks, from where the last budgeted update stopped; each one's fills are asked of
   // the memory one brick ahead (the voxmap's rows are cache misses: most of a brick's cost else).
   DirtyList_.clear();
+  MovedList_.clear();
   const int64_t n = NumBricks();
   const int64_t start = full ? 0 : Cursor_;
   for (int64_t i = 0, b = start; i < n; ++i, b = b + 1 == n ? 0 : b + 1)
@@ -371,17 +386,35 @@ int BoneSurface::Update(const Voxmap& bone) {
     if (done + 1 < DirtyList_.size())
       Cubes_.Prefetch(bone, FirstCell(DirtyList_[done + 1]));
     const int64_t b = DirtyList_[done];
-    Cubes_.Extract(bone, FirstCell(b), Bricks_[size_t(b)]);
-    Stats_.extractedTriangles += Bricks_[size_t(b)].NumTriangles();
+    BrickMesh& mesh = Bricks_[size_t(b)];
+    Cubes_.Extract(bone, FirstCell(b), Extracted_);
+    // The same triangles (vertex indices) make the same points in the same order: the cases of
+    // the brick's cells, which alone decide both, did not change. (The output holds the brick's
+    // last mesh: every extracted brick is assembled in the same update.)
+    if (!full && Extracted_.triangles == mesh.triangles &&
+        Extracted_.NumPoints() == mesh.NumPoints())
+      MovedList_.push_back(b);
+    std::swap(mesh, Extracted_);
+    Stats_.extractedTriangles += mesh.NumTriangles();
     Dirty_[size_t(b)] = 0;
   }
   Cursor_ = done < DirtyList_.size() ? DirtyList_[done] : start;
   Stats_.extracted = int(done);
   Stats_.pending = int(DirtyList_.size() - done);
-  DirtyList_.resize(done); // now the bricks this update extracted
+  Stats_.patched = int(MovedList_.size());
+  // Now the bricks this update extracted whose triangles changed (both lists in the same order).
+  DirtyList_.resize(done);
+  size_t kept = 0;
+  for (size_t i = 0, m = 0; i < DirtyList_.size(); ++i) {
+    if (m < MovedList_.size() && DirtyList_[i] == MovedList_[m])
+      ++m;
+    else
+      DirtyList_[kept++] = DirtyList_[i];
+  }
+  DirtyList_.resize(kept);
   const auto t2 = Clock::now();
-  if (!DirtyList_.empty() || !Points_)
-    Assemble(DirtyList_, full);
+  if (!DirtyList_.empty() || !MovedList_.empty() || !Points_)
+    Assemble(DirtyList_, MovedList_, full);
   const auto t3 = Clock::now();
 
   Stats_.scanMs = Ms(t0, t1);

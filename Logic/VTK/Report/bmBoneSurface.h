@@ -28,11 +28,13 @@
 // together, the places they leave below the new end filled with the triangles above it (a view's
 // cut changes much the same bricks each time, appended last time, so few move), and their points'
 // places freed for later bricks (the points array may hold unused points, which no triangle
-// references); the new triangles are appended. Arrays that must grow are copied into larger ones
-// (half again); they are written whole, in order, only when half their points are unused. One
-// polydata rather than a composite of per-brick pieces: the BM Session source's port stays a
-// vtkPolyData, and the mapper draws one buffer instead of thousands of blocks (a 512^3 voxmap holds
-// 274625 bricks of 8).
+// references); the new triangles are appended. A brick whose triangles came out the same (its
+// cells' cases did not change: the cut only moved its vertices, as a reamer's passes do in most
+// of the bricks they touch) keeps its places: only its points and normals are rewritten. Arrays
+// that must grow are copied into larger ones (half again); they are written whole, in order, only
+// when half their points are unused. One polydata rather than a composite of per-brick pieces: the
+// BM Session source's port stays a vtkPolyData, and the mapper draws one buffer instead of
+// thousands of blocks (a 512^3 voxmap holds 274625 bricks of 8).
 //
 // Units: world mm (points are in the voxmap's world frame); times in ms.
 #pragma once
@@ -81,11 +83,12 @@ public:
 
   /// What the last Update() did and how long each part took (ms).
   struct UpdateStats {
-    int extracted = 0;              ///< bricks re-extracted
-    int pending = 0;                ///< bricks left for the next update (time budget)
-    double scanMs = 0;              ///< reading the voxmap's change generations
-    double extractMs = 0;           ///< reading the fills and marching cubes
-    double assembleMs = 0;          ///< patching the output's arrays
+    int extracted = 0;     ///< bricks re-extracted
+    int patched = 0;       ///< of those, bricks whose triangles stayed: points and normals patched
+    int pending = 0;       ///< bricks left for the next update (time budget)
+    double scanMs = 0;     ///< reading the voxmap's change generations
+    double extractMs = 0;  ///< reading the fills and marching cubes
+    double assembleMs = 0; ///< patching the output's arrays
     int64_t rewrittenTriangles = 0; ///< triangles written into the output
     int64_t extractedTriangles = 0; ///< triangles of the re-extracted bricks
   };
@@ -108,7 +111,10 @@ private:
   void ScanGenerations(const Voxmap& bone);
   /// Brick b's first cell on each axis (voxel coordinates, bmBrickMarchingCubes.h).
   std::array<int, 3> FirstCell(int64_t b) const;
-  void Assemble(const std::vector<int64_t>& changed, bool full);
+  /// Patches the output for the re-extracted bricks: `changed` (their triangles changed) are
+  /// taken out and appended again, `moved` (same triangles, so the same points in the same order)
+  /// get their points and normals rewritten in their places; `full` rewrites everything.
+  void Assemble(const std::vector<int64_t>& changed, const std::vector<int64_t>& moved, bool full);
   void Rebuild();
   /// New output arrays for np points and nt triangles with a quarter to spare, or with keep their
   /// current contents copied and a half to spare (the old arrays stay valid for whoever still
@@ -118,6 +124,8 @@ private:
   /// frees their points' places.
   void RemoveBricks(const std::vector<int64_t>& bricks);
   void AddBrick(int64_t b);
+  /// Rewrites brick b's points and normals in the places its points have in the output.
+  void PatchBrick(int64_t b);
   int64_t BrickId(int i, int j, int k) const {
     return i + int64_t(BrickDims_[0]) * (j + int64_t(BrickDims_[1]) * k);
   }
@@ -132,8 +140,10 @@ private:
   std::vector<BrickMesh> Bricks_;
   std::vector<uint8_t> Dirty_;
   int64_t Cursor_ = 0; ///< where the next budgeted update starts looking for dirty bricks
-  /// An update's dirty bricks in the order it takes them; cut down to those it extracted.
-  std::vector<int64_t> DirtyList_;
+  /// An update's dirty bricks in the order it takes them; cut down to those it extracted whose
+  /// triangles changed. MovedList_: those whose triangles stayed (only their points moved).
+  std::vector<int64_t> DirtyList_, MovedList_;
+  BrickMesh Extracted_; ///< a brick's new mesh, compared with its last before it takes its place
   bool AllDirty_ = true;
   /// Last generation seen of each of the voxmap's bricks, and for each axis the range of our
   /// bricks that a voxmap brick's samples fall into.

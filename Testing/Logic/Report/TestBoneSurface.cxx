@@ -255,3 +255,40 @@ TEST(BoneSurface, TwoReadersOfOneVoxmapBothStayRight) {
   ExpectSameSurface(a.GetOutput(), bone, 8);
   ExpectSameSurface(b.GetOutput(), bone, 8);
 }
+
+TEST(BoneSurface, ACutThatOnlyMovesVerticesPatchesThemInPlace) {
+  // A voxel on the surface that keeps its side of the iso moves the vertices on its cut edges but
+  // changes no cell's case: its bricks keep their triangles and places, only points and normals
+  // are rewritten. A voxel taken across the iso changes triangles: those bricks are re-added.
+  bm::Voxmap bone = MakeBone();
+  bm::BoneSurface live(8);
+  live.Update(bone);
+  const bm::Voxmap::Fill iso = bm::Voxmap::kFull / 2;
+  int64_t surface = -1;
+  for (int k = 2; k < 30 && surface < 0; ++k)
+    for (int j = 2; j < 35 && surface < 0; ++j)
+      for (int i = 2; i < 42 && surface < 0; ++i) {
+        const int64_t at = bone.Index(i, j, k);
+        if (bone.GetFill(at) > iso + bm::Voxmap::kFull / 4 && bone.GetFill(at + 1) < iso)
+          surface = at;
+      }
+  ASSERT_GE(surface, 0);
+  const auto ijk = [&](int64_t at) {
+    return std::array<int, 3>{int(at % 45), int(at / 45 % 38), int(at / (45 * 38))};
+  };
+  const auto c = ijk(surface);
+  const double before = Area(live.GetOutput());
+  RemoveOwnedAt(bone, c[0], c[1], c[2], bm::Voxmap::kFull / 8); // stays above the iso
+  const int n = live.Update(bone);
+  EXPECT_GT(n, 0);
+  EXPECT_EQ(live.LastUpdate().patched, n) << "no case changed: every brick patched in place";
+  EXPECT_EQ(live.LastUpdate().rewrittenTriangles, 0);
+  EXPECT_NE(Area(live.GetOutput()), before) << "the vertices moved";
+  ExpectSameSurface(live.GetOutput(), bone, 8);
+
+  RemoveOwnedAt(bone, c[0], c[1], c[2], bm::Voxmap::kFull / 2); // now below the iso
+  const int m = live.Update(bone);
+  EXPECT_LT(live.LastUpdate().patched, m) << "the voxel's cells changed their cases";
+  EXPECT_GT(live.LastUpdate().rewrittenTriangles, 0);
+  ExpectSameSurface(live.GetOutput(), bone, 8);
+}
