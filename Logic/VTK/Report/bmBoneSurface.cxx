@@ -369,8 +369,9 @@ int BoneSurface::Update(const Voxmap& bone) {
     ScanGenerations(bone);
   const auto t1 = Clock::now();
 
-  // The dirty bricks, from where the last budgeted update stopped; each one's fills are asked of
-  // the memory one brick ahead (the voxmap's rows are cache misses: most of a brick's cost else).
+  // The dirty bricks, from where the last budgeted update stopped; each one's first slices of
+  // fills are asked of the memory one brick ahead (BrickMarchingCubes::Prefetch: the voxmap's rows
+  // are cache misses, most of a brick's cost else).
   DirtyList_.clear();
   MovedList_.clear();
   const int64_t n = NumBricks();
