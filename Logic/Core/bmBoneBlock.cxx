@@ -17,10 +17,14 @@ Voxmap MakeBoneBlock(const std::array<double, 3>& sizeMm, int resolution, float 
   // extents rounded to whole voxels).
   Voxmap v(dims, h,
            {-0.5 * dims[0] * h + 0.5 * h, -0.5 * dims[1] * h + 0.5 * h, -dims[2] * h + 0.5 * h});
-  std::fill(v.MutableFill(), v.MutableFill() + v.NumVoxels(), Voxmap::kFull);
-  if (material != 1.0f)
-    for (int64_t i = 0; i < v.NumVoxels(); ++i)
-      v.SetMaterial(i, material);
+  for (int k = 0; k < dims[2]; ++k) // row by row: the padding between rows stays void
+    for (int j = 0; j < dims[1]; ++j) {
+      const int64_t row = v.Index(0, j, k);
+      std::fill(v.MutableFill() + row, v.MutableFill() + row + dims[0], Voxmap::kFull);
+      if (material != 1.0f)
+        for (int i = 0; i < dims[0]; ++i)
+          v.SetMaterial(row + i, material);
+    }
   v.RebuildOccupancy();
   return v;
 }

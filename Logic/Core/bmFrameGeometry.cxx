@@ -10,8 +10,8 @@
 namespace bm {
 
 FrameGeometry::FrameGeometry(const FrameInput& in, const PointShell& shell, const Voxmap& bone)
-    : rotation(in.rotation), position(in.position), dims(bone.Dims()), brickDims(bone.BrickDims()),
-      index32(bone.NumVoxels() <= INT32_MAX) {
+    : rotation(in.rotation), position(in.position), dims(bone.Dims()), pitch(bone.Pitch()),
+      brickDims(bone.BrickDims()), index32(bone.StorageSize() <= INT32_MAX) {
   if (shell.Mode() == LipMode::Instantaneous)
     rotation =
         rotation * Eigen::AngleAxisd(in.spindleAngle, Eigen::Vector3d::UnitZ()).toRotationMatrix();

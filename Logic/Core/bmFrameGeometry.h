@@ -35,8 +35,9 @@ struct FrameGeometry {
   bool remove = false;            ///< material is removed this frame (asked for and moving)
   bool cutting = false;           ///< spindle turning and feed > 0: cutting forces this frame
   std::array<int, 3> dims{};      ///< voxmap dimensions
+  std::array<int, 2> pitch{};     ///< voxmap row and slice pitch (Voxmap::Pitch)
   std::array<int, 3> brickDims{}; ///< voxmap occupancy bricks along each axis
-  bool index32 = false;           ///< every voxel index fits in an int32
+  bool index32 = false;           ///< every voxel index (padding included) fits in an int32
 
   /// Voxel index holding the element at tool-grid coordinates ijk, or -1 outside the voxmap
   /// (VoxelsOf() for one element: one copy of the arithmetic that the kernels mirror).
@@ -57,6 +58,7 @@ struct FrameGeometry {
     const float a0 = A[0], a1 = A[1], a2 = A[2], a3 = A[3], a4 = A[4], a5 = A[5], a6 = A[6],
                 a7 = A[7], a8 = A[8], b0 = b[0], b1 = b[1], b2 = b[2];
     const int nx = dims[0], ny = dims[1], nz = dims[2], bx = brickDims[0], by = brickDims[1];
+    const int px = pitch[0], py = pitch[1];
     static_assert(Voxmap::kBrick == 8, "the brick below is the voxel's coordinates >> 3");
     // The index in 32-bit arithmetic where every index fits (the same values: 4 lanes per
     // vector and no emulated 64-bit multiply), in 64-bit arithmetic otherwise.
@@ -74,14 +76,14 @@ struct FrameGeometry {
       }
     };
     if (index32)
-      loop([&](int vi, int vj, int vk) { return vi + nx * (vj + ny * vk); });
+      loop([&](int vi, int vj, int vk) { return vi + px * (vj + py * vk); });
     else
-      loop([&](int vi, int vj, int vk) { return vi + int64_t(nx) * (vj + int64_t(ny) * vk); });
+      loop([&](int vi, int vj, int vk) { return vi + int64_t(px) * (vj + int64_t(py) * vk); });
   }
   /// Voxel coordinates of an in-grid voxel index.
   std::array<int, 3> Coords(int64_t idx) const {
-    return {int(idx % dims[0]), int((idx / dims[0]) % dims[1]),
-            int(idx / (int64_t(dims[0]) * dims[1]))};
+    return {int(idx % pitch[0]), int((idx / pitch[0]) % pitch[1]),
+            int(idx / (int64_t(pitch[0]) * pitch[1]))};
   }
   /// Fill units an element with area-normal `an` (mm^2) asks to remove this frame (0 if none).
   int32_t RemovalUnits(const std::array<float, 3>& an) const {

@@ -41,10 +41,17 @@ Voxmap::Voxmap(std::array<int, 3> dims, double spacingMm, std::array<double, 3> 
                                   std::to_string(dims[a]) + ", must be > 0");
   if (!(spacingMm > 0) || !std::isfinite(spacingMm))
     throw std::invalid_argument("Voxmap: spacing must be a positive number of mm");
-  Fill_.assign(size_t(NumVoxels()), 0);
+  Pitch_ = PitchFor(dims);
+  Fill_.assign(size_t(StorageSize()), 0);
   InitBricks();
   for (auto& c : BrickCount_)
     c.store(0, std::memory_order_relaxed);
+}
+
+std::array<int, 2> Voxmap::PitchFor(const std::array<int, 3>& dims) {
+  const int px = dims[0] % kFillsPerLine == 0 ? dims[0] + kFillsPerLine : dims[0];
+  const int py = int64_t(px) * dims[1] % 1024 == 0 ? dims[1] + 1 : dims[1];
+  return {px, py};
 }
 
 void Voxmap::InitBricks() {
@@ -59,8 +66,8 @@ void Voxmap::InitBricks() {
   for (auto& r : BrickReach_)
     r.store(kReachAll, std::memory_order_relaxed);
   auto reciprocal = [](int d) { return d <= 1 ? uint64_t(0) : ~uint64_t(0) / uint64_t(d) + 1; };
-  InvNx_ = reciprocal(Dims_[0]);
-  InvNy_ = reciprocal(Dims_[1]);
+  InvNx_ = reciprocal(Pitch_[0]);
+  InvNy_ = reciprocal(Pitch_[1]);
 }
 
 Voxmap::Voxmap(const Voxmap& o) {
@@ -73,6 +80,7 @@ Voxmap& Voxmap::operator=(const Voxmap& o) {
   Dims_ = o.Dims_;
   Spacing_ = o.Spacing_;
   Origin_ = o.Origin_;
+  Pitch_ = o.Pitch_;
   Fill_ = o.Fill_;
   Material_ = o.Material_;
   InitBricks();
@@ -114,11 +122,11 @@ bool Voxmap::VoxelAt(const std::array<double, 3>& p, std::array<int, 3>& ijk) co
 }
 
 std::array<uint64_t, 3> Voxmap::CoordsOfVoxel(int64_t idx) const {
-  // idx / nx and row / ny by multiply-high with the rounded-up reciprocals (exact below 2^52).
+  // idx / px and row / py by multiply-high with the rounded-up reciprocals (exact below 2^52).
   const uint64_t u = uint64_t(idx);
   const uint64_t row = InvNx_ ? uint64_t((unsigned __int128)u * InvNx_ >> 64) : u;
   const uint64_t k = InvNy_ ? uint64_t((unsigned __int128)row * InvNy_ >> 64) : row;
-  return {u - row * uint64_t(Dims_[0]), row - k * uint64_t(Dims_[1]), k};
+  return {u - row * uint64_t(Pitch_[0]), row - k * uint64_t(Pitch_[1]), k};
 }
 
 uint8_t Voxmap::ReachBitOfVoxel(int64_t idx) const {

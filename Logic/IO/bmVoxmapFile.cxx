@@ -80,14 +80,16 @@ void SaveVoxmap(const Voxmap& vm, const std::string& path, const Progress& progr
   img->SetOrigin(origin);
   img->Allocate();
   float* buf = img->GetBufferPointer();
-  const int64_t n = vm.NumVoxels();
   const Voxmap::Fill* fill = vm.FillData();
   const float* mat = vm.MaterialData();
   const double unit = 1.0 / Voxmap::kFull;
-  for (int64_t v = 0; v < n; ++v) {
-    buf[2 * v] = float(double(std::max(fill[v], -Voxmap::kFull)) * unit);
-    buf[2 * v + 1] = mat ? mat[v] : 1.0f;
-  }
+  int64_t v = 0; // the file's voxel, in x-fastest order; the voxmap's rows are padded (Pitch)
+  for (int k = 0; k < d[2]; ++k)
+    for (int j = 0; j < d[1]; ++j)
+      for (int64_t x = vm.Index(0, j, k), end = x + d[0]; x < end; ++x, ++v) {
+        buf[2 * v] = float(double(std::max(fill[x], -Voxmap::kFull)) * unit);
+        buf[2 * v + 1] = mat ? mat[x] : 1.0f;
+      }
   auto& dict = img->GetMetaDataDictionary();
   itk::EncapsulateMetaData<std::string>(dict, "bm_voxmap_version", "1");
   itk::EncapsulateMetaData<std::string>(dict, "bm_spacing", Hex(vm.Spacing()));
@@ -159,15 +161,17 @@ Voxmap LoadVoxmap(const std::string& path, const Progress& progress) {
   Voxmap vm({int(size[0]), int(size[1]), int(size[2])}, spacing, {origin[0], origin[1], origin[2]});
   const float* buf = img->GetBufferPointer();
   Voxmap::Fill* fill = vm.MutableFill();
-  const int64_t n = vm.NumVoxels();
-  for (int64_t v = 0; v < n; ++v) {
-    double f = double(buf[nc * v]);
-    if (!std::isfinite(f))
-      throw std::runtime_error("'" + path + "' holds a non-finite bone fraction");
-    fill[v] = Voxmap::Fill(std::llround(std::clamp(f, -1.0, 1.0) * Voxmap::kFull));
-    if (nc == 2 && buf[nc * v + 1] != 1.0f)
-      vm.SetMaterial(v, buf[nc * v + 1]);
-  }
+  int64_t v = 0; // the file's voxel, in x-fastest order; the voxmap's rows are padded (Pitch)
+  for (int k = 0; k < int(size[2]); ++k)
+    for (int j = 0; j < int(size[1]); ++j)
+      for (int64_t x = vm.Index(0, j, k), end = x + int64_t(size[0]); x < end; ++x, ++v) {
+        const double f = double(buf[nc * v]);
+        if (!std::isfinite(f))
+          throw std::runtime_error("'" + path + "' holds a non-finite bone fraction");
+        fill[x] = Voxmap::Fill(std::llround(std::clamp(f, -1.0, 1.0) * Voxmap::kFull));
+        if (nc == 2 && buf[nc * v + 1] != 1.0f)
+          vm.SetMaterial(x, buf[nc * v + 1]);
+      }
   vm.RebuildOccupancy();
   progress(1.0, "loading the voxmap");
   return vm;

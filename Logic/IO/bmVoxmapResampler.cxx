@@ -36,7 +36,8 @@ VoxmapGrid GridForBox(const Box3& box, int resolution) {
 }
 
 uint64_t VoxmapBytes(const VoxmapGrid& g) {
-  uint64_t n = uint64_t(g.NumVoxels());
+  const auto pitch = Voxmap::PitchFor(g.dims); // the rows and slices as the voxmap pads them
+  const uint64_t n = uint64_t(pitch[0]) * uint64_t(pitch[1]) * uint64_t(g.dims[2]);
   return n * (sizeof(Voxmap::Fill) + sizeof(float)) +
          n / (Voxmap::kBrick * Voxmap::kBrick * Voxmap::kBrick) * 4 + 4096;
 }

@@ -40,9 +40,9 @@ OpenCLEngine::OpenCLEngine(Voxmap& bone, const ToolModel& tool, const PointShell
     static_assert(sizeof(shell.RadialDirs()[0]) == 16, "double2 per element");
     Radial_ = Rt_.Upload(shell.RadialDirs().data(), n * 16);
     Table_ = Rt_.Upload(nullptr, shell.ForceBins().size() * sizeof(BinForce));
-    Fill_ = Rt_.Upload(bone.FillData(), size_t(bone.NumVoxels()) * 4, CL_MEM_READ_WRITE);
+    Fill_ = Rt_.Upload(bone.FillData(), size_t(bone.StorageSize()) * 4, CL_MEM_READ_WRITE);
     Material_ =
-        Rt_.Upload(bone.MaterialData(), bone.HasMaterial() ? size_t(bone.NumVoxels()) * 4 : 0);
+        Rt_.Upload(bone.MaterialData(), bone.HasMaterial() ? size_t(bone.StorageSize()) * 4 : 0);
     const std::vector<ElementResidency> state(n);
     State_ = Rt_.Upload(state.data(), n * sizeof(ElementResidency), CL_MEM_READ_WRITE);
     Units_ = Rt_.Upload(nullptr, n * 4, CL_MEM_READ_WRITE);
@@ -175,6 +175,7 @@ FrameResult OpenCLEngine::Step(const FrameInput& in) {
       k.setArg(a++, f4(1));
       k.setArg(a++, f4(2));
       k.setArg(a++, cl_int4{{dims[0], dims[1], dims[2], 0}});
+      k.setArg(a++, cl_int2{{geo.pitch[0], geo.pitch[1]}});
       k.setArg(a++, cl_uint(frameNo));
       k.setArg(a++, flags);
       for (int c = 0; c < 3; ++c)
@@ -221,14 +222,8 @@ FrameResult OpenCLEngine::Step(const FrameInput& in) {
         if (voided > 0) {
           VoidedHost_.resize(voided);
           q.enqueueReadBuffer(Voided_, CL_TRUE, 0, size_t(voided) * 8, VoidedHost_.data());
-          const auto& bd = Bone_.BrickDims();
-          for (int64_t idx : VoidedHost_) {
-            const int64_t i = idx % dims[0], rest = idx / dims[0];
-            const int64_t j = rest % dims[1], kk = rest / dims[1];
-            --Bricks_[size_t(i / Voxmap::kBrick +
-                             bd[0] *
-                                 (j / Voxmap::kBrick + int64_t(bd[1]) * (kk / Voxmap::kBrick)))];
-          }
+          for (int64_t idx : VoidedHost_)
+            --Bricks_[size_t(Bone_.BrickOfVoxel(idx))];
         }
       }
       r.thrustN = double(r.thrustFixed) / kForceFixedScale;
@@ -246,7 +241,7 @@ FrameResult OpenCLEngine::Step(const FrameInput& in) {
 
 void OpenCLEngine::SyncBone() {
   try {
-    Rt_.queue.enqueueReadBuffer(Fill_, CL_TRUE, 0, size_t(Bone_.NumVoxels()) * 4,
+    Rt_.queue.enqueueReadBuffer(Fill_, CL_TRUE, 0, size_t(Bone_.StorageSize()) * 4,
                                 Bone_.MutableFill());
   } catch (const cl::Error& e) {
     throw std::runtime_error("OpenCL read-back: " + DescribeOpenCLError(e));

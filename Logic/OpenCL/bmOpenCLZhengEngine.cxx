@@ -128,7 +128,7 @@ OpenCLZhengEngine::OpenCLZhengEngine(Voxmap& bone, const ToolModel& tool, const 
     Radial_ = Rt_.Upload(shell.RadialDirs().data(), n * 16);
     Terms_ = Rt_.Upload(nullptr, shell.ForceBins().size() * kTerms * 8);
     Material_ =
-        Rt_.Upload(bone.MaterialData(), bone.HasMaterial() ? size_t(bone.NumVoxels()) * 4 : 0);
+        Rt_.Upload(bone.MaterialData(), bone.HasMaterial() ? size_t(bone.StorageSize()) * 4 : 0);
     const std::vector<ElementResidency> state(n);
     State_ = Rt_.Upload(state.data(), n * sizeof(ElementResidency), CL_MEM_READ_WRITE);
     Units_ = Rt_.Upload(nullptr, n * 4, CL_MEM_READ_WRITE);
@@ -216,6 +216,7 @@ FrameResult OpenCLZhengEngine::Launch(const FrameInput& in, uint32_t frameNo) {
     return cl_float4{{geo.A[3 * w], geo.A[3 * w + 1], geo.A[3 * w + 2], geo.b[w]}};
   };
   const cl_int4 dims4{{dims[0], dims[1], dims[2], 0}};
+  const cl_int2 pitch{{geo.pitch[0], geo.pitch[1]}};
   auto& q = Rt_.queue;
   if (Rt_.int64Atomics) {
     q.enqueueFillBuffer(Sums_, cl_long(0), 0, kSums * 8);
@@ -246,6 +247,7 @@ FrameResult OpenCLZhengEngine::Launch(const FrameInput& in, uint32_t frameNo) {
   k.setArg(a++, f4(1));
   k.setArg(a++, f4(2));
   k.setArg(a++, dims4);
+  k.setArg(a++, pitch);
   k.setArg(a++, cl_uint(frameNo));
   k.setArg(a++, flags);
   for (int c = 0; c < 3; ++c)
@@ -281,7 +283,7 @@ FrameResult OpenCLZhengEngine::Launch(const FrameInput& in, uint32_t frameNo) {
     Remove_.setArg(a++, Units_);
     Remove_.setArg(a++, NodesDev_);
     Remove_.setArg(a++, cl_int(Levels_));
-    Remove_.setArg(a++, dims4);
+    Remove_.setArg(a++, pitch);
     Remove_.setArg(a++, RemovalSums_);
     q.enqueueNDRangeKernel(Remove_, cl::NullRange, cl::NDRange(global), cl::NDRange(L));
     const size_t nRemoval = Rt_.int64Atomics ? kRemovalSums : size_t(global) * kRemovalSums;

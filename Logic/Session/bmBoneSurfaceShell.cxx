@@ -8,7 +8,7 @@ namespace bm {
 BoneSurfaceShell::BoneSurfaceShell(Voxmap& bone) : Bone_(bone) {
   const auto d = Bone_.Dims();
   const auto bd = Bone_.BrickDims();
-  const int64_t n = Bone_.NumVoxels();
+  const int64_t n = Bone_.StorageSize(); // per voxmap index (the padding never bone)
   PointOf_.assign(size_t(n), -1);
   Known_.resize(size_t(n));
   for (int64_t v = 0; v < n; ++v)
@@ -111,9 +111,7 @@ void BoneSurfaceShell::KillPoint(int64_t idx) {
   if (slot < 0)
     return;
   ++Generation_;
-  const auto d = Bone_.Dims();
-  const int i = int(idx % d[0]), j = int((idx / d[0]) % d[1]),
-            k = int(idx / (int64_t(d[0]) * d[1]));
+  const auto [i, j, k] = Bone_.Coords(idx);
   const auto b = Brick(i, j, k);
   auto& bucket = Buckets_[size_t(Bone_.BrickIndex(b[0], b[1], b[2]))];
   auto it = std::find(bucket.begin(), bucket.end(), slot);
@@ -165,15 +163,13 @@ bool BoneSurfaceShell::EmptyIn(const Eigen::Vector3d& lo, const Eigen::Vector3d&
 void BoneSurfaceShell::Flood(std::vector<int64_t>& seeds,
                              const std::function<bool(const Eigen::Vector3d&)>* inside,
                              int64_t& removedFill, int64_t& removed) {
-  const auto d = Bone_.Dims();
   std::vector<int64_t> touched;
   for (int64_t s : seeds)
     Known_[size_t(s)] = 0;
   for (size_t q = 0; q < seeds.size(); ++q) {
     const int64_t idx = seeds[q];
     KillPoint(idx);
-    const int i = int(idx % d[0]), j = int((idx / d[0]) % d[1]),
-              k = int(idx / (int64_t(d[0]) * d[1]));
+    const auto [i, j, k] = Bone_.Coords(idx);
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
@@ -206,7 +202,7 @@ void BoneSurfaceShell::Flood(std::vector<int64_t>& seeds,
   for (int64_t n : touched) {
     if (!Known_[size_t(n)])
       continue;
-    const int i = int(n % d[0]), j = int((n / d[0]) % d[1]), k = int(n / (int64_t(d[0]) * d[1]));
+    const auto [i, j, k] = Bone_.Coords(n);
     AddPoint(n, i, j, k); // new surface point, or a fresh normal for an existing one
   }
 }

@@ -40,8 +40,9 @@ inline uint MortonCompact(ulong x) {
 
 // Voxel of the element with Morton code `code` (bit 0: cutting; then x, y, z interleaved): the
 // float affine map A of bmFrameGeometry.h, rounded to the nearest voxel, (vi, vj, vk) in *v;
-// returns its index, or -1 outside the voxmap.
-inline long ElementVoxel(ulong code, float4 A0, float4 A1, float4 A2, int4 dims, int* v) {
+// returns its index (row and slice pitch `pitch`, bmVoxmap.h), or -1 outside the voxmap.
+inline long ElementVoxel(ulong code, float4 A0, float4 A1, float4 A2, int4 dims, int2 pitch,
+                         int* v) {
   const float x = (float)MortonCompact(code >> 1), y = (float)MortonCompact(code >> 2),
               z = (float)MortonCompact(code >> 3);
   const float gx = A0.x * x + A0.y * y + A0.z * z + A0.w;
@@ -52,7 +53,7 @@ inline long ElementVoxel(ulong code, float4 A0, float4 A1, float4 A2, int4 dims,
   v[2] = (int)floor(gz + 0.5f);
   if (v[0] < 0 || v[1] < 0 || v[2] < 0 || v[0] >= dims.x || v[1] >= dims.y || v[2] >= dims.z)
     return -1;
-  return v[0] + (long)dims.x * (v[1] + (long)dims.y * v[2]);
+  return v[0] + (long)pitch.x * (v[1] + (long)pitch.y * v[2]);
 }
 
 // Fill units engaged element e asks to remove this frame (FrameGeometry::RemovalUnits): what its

@@ -23,7 +23,7 @@ __kernel void vps_collide(__global const uint* visible, const uint nVisible,
                           __global const float* material, __global Residency* state,
                           __global int* units, __global long* sums, __local long* scratch,
                           const float4 A0, const float4 A1, const float4 A2, const int4 dims,
-                          const uint frameNo, const int flags, const double dx, const double dy,
+                          const int2 pitch, const uint frameNo, const int flags, const double dx, const double dy,
                           const double dz, const double unitsPerMm3, const double maxUnits,
                           const double scale) {
   const uint G = get_num_groups(0), L = get_local_size(0), l = get_local_id(0);
@@ -34,7 +34,7 @@ __kernel void vps_collide(__global const uint* visible, const uint nVisible,
     for (uint e = range.x + l; e < range.y; e += L) {
       const ulong code = codes[e];
       int ijk[3];
-      const long idx = ElementVoxel(code, A0, A1, A2, dims, ijk);
+      const long idx = ElementVoxel(code, A0, A1, A2, dims, pitch, ijk);
       ++P[4];
       units[e] = 0;
       if (!Visit(state + e, frameNo, idx, idx >= 0 ? fill[idx] : 0))

@@ -38,7 +38,8 @@ __kernel void zheng_collide(const uint n, const uint per, __global const ulong* 
                             __global Residency* state, __global int* units,
                             __global double4* buffer, __global long* sums, __local long* scratch,
                             __global uint* refineCount, __global int4* refine, const float4 A0,
-                            const float4 A1, const float4 A2, const int4 dims, const uint frameNo,
+                            const float4 A1, const float4 A2, const int4 dims, const int2 pitch,
+                            const uint frameNo,
                             const int flags, const double dx, const double dy, const double dz,
                             const double unitsPerMm3, const double maxUnits) {
   const bool cutting = flags & BM_FLAG_CUTTING, hasMaterial = flags & BM_FLAG_MATERIAL;
@@ -50,7 +51,7 @@ __kernel void zheng_collide(const uint n, const uint per, __global const ulong* 
     units[e] = 0;
     const ulong code = codes[e];
     int v[3];
-    const long idx = ElementVoxel(code, A0, A1, A2, dims, v);
+    const long idx = ElementVoxel(code, A0, A1, A2, dims, pitch, v);
     ++P[0];
     __global Residency* st = state + e;
     if (idx < 0) {
@@ -99,10 +100,11 @@ __kernel void zheng_reduce(const uint n, __global const double4* buffer,
 
 // Removal after the host refined the leaves: work item t walks its element range in order and
 // merges the requests of one voxel into one atomic subtraction on the voxel's leaf.
-inline void ZhengFlush(__global int2* nodes, int levels, int4 dims, long idx, int amount, long* R) {
-  const int i = (int)(idx % dims.x);
-  const long rest = idx / dims.x;
-  const int j = (int)(rest % dims.y), k = (int)(rest / dims.y);
+inline void ZhengFlush(__global int2* nodes, int levels, int2 pitch, long idx, int amount,
+                       long* R) {
+  const int i = (int)(idx % pitch.x);
+  const long rest = idx / pitch.x;
+  const int j = (int)(rest % pitch.y), k = (int)(rest / pitch.y);
   int level = 0;
   const int leaf = FindLeaf(nodes, levels, i, j, k, &level);
   const int old = atomic_sub((__global int*)nodes + 2 * leaf + 1, amount);
@@ -114,7 +116,7 @@ inline void ZhengFlush(__global int2* nodes, int levels, int4 dims, long idx, in
 
 __kernel void zheng_remove(const uint n, const uint per, __global const Residency* state,
                            __global const int* units, __global int2* nodes, const int levels,
-                           const int4 dims, __global long* sums) {
+                           const int2 pitch, __global long* sums) {
   long R[BM_REMOVAL_SUMS] = {0, 0};
   const uint begin = get_global_id(0) * per;
   const uint end = min(n, begin + per);
@@ -127,13 +129,13 @@ __kernel void zheng_remove(const uint n, const uint per, __global const Residenc
     const long idx = state[e].voxel;
     if (idx != cur || amount > BM_MERGE_LIMIT - u) {
       if (amount > 0)
-        ZhengFlush(nodes, levels, dims, cur, amount, R);
+        ZhengFlush(nodes, levels, pitch, cur, amount, R);
       cur = idx;
       amount = 0;
     }
     amount += u;
   }
   if (amount > 0)
-    ZhengFlush(nodes, levels, dims, cur, amount, R);
+    ZhengFlush(nodes, levels, pitch, cur, amount, R);
   RemovalSumsOut(R, sums);
 }

@@ -41,10 +41,12 @@ void BoneFractionImage::CopyBrick(const Voxmap& bone, int bi, int bj, int bk) {
   const int k0 = bk * Voxmap::kBrick, k1 = std::min(k0 + Voxmap::kBrick, Dims_[2]);
   for (int k = k0; k < k1; ++k)
     for (int j = j0; j < j1; ++j) {
+      // The image's rows are dense, the voxmap's padded (Voxmap::Pitch).
       const int64_t row = bone.Index(0, j, k);
+      float* outRow = out + int64_t(Dims_[0]) * (j + int64_t(Dims_[1]) * k);
       for (int i = i0; i < i1; ++i) {
         const Voxmap::Fill f = bone.LoadFill(row + i);
-        out[row + i] = f <= 0 ? 0.0f : float(f) * kScale;
+        outRow[i] = f <= 0 ? 0.0f : float(f) * kScale;
       }
     }
 }

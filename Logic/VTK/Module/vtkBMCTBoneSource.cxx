@@ -173,8 +173,11 @@ int vtkBMCTBoneSource::RequestData(vtkInformation*, vtkInformationVector**,
   vtkNew<vtkFloatArray> fraction;
   fraction->SetName("BoneFraction");
   fraction->SetNumberOfTuples(v.NumVoxels());
-  for (int64_t i = 0; i < v.NumVoxels(); ++i)
-    fraction->SetValue(i, float(v.Fraction(i)));
+  int64_t out = 0; // the image's rows are dense, the voxmap's padded (Voxmap::Pitch)
+  for (int k = 0; k < d[2]; ++k)
+    for (int j = 0; j < d[1]; ++j)
+      for (int i = 0; i < d[0]; ++i)
+        fraction->SetValue(out++, float(v.Fraction(v.Index(i, j, k))));
   output->GetPointData()->SetScalars(fraction);
   return 1;
 }

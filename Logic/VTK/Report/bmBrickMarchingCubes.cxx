@@ -71,8 +71,8 @@ void BrickMarchingCubes::Prefetch(const Voxmap& bone, const std::array<int, 3>& 
 
 void BrickMarchingCubes::PrefetchSlices(const Voxmap& bone, const std::array<int, 3>& g0, int z0,
                                         int z1) const {
-  // Each row is one or two cache lines the hardware prefetcher does not guess (rows lie nx fills
-  // apart, slices nx ny).
+  // Each row is one or two cache lines the hardware prefetcher does not guess (rows lie px fills
+  // apart, slices px py: Voxmap::Pitch).
   const auto& d = bone.Dims();
   const int n = N_;
   const int xLo = std::clamp(g0[0], 0, d[0] - 1), xHi = std::clamp(g0[0] + n - 1, 0, d[0] - 1);

@@ -14,8 +14,10 @@ namespace {
 
 bm::Voxmap FullBlock(std::array<int, 3> dims) {
   bm::Voxmap v(dims, 0.1, {0, 0, 0});
-  for (int64_t i = 0; i < v.NumVoxels(); ++i)
-    v.SetFill(i, bm::Voxmap::kFull);
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i)
+        v.SetFill(v.Index(i, j, k), bm::Voxmap::kFull);
   return v;
 }
 

@@ -8,6 +8,10 @@
 
 #include <random>
 
+#include <itkImageFileReader.h>
+#include <itkNrrdImageIO.h>
+#include <itkVectorImage.h>
+
 using namespace bmtest;
 
 namespace {
@@ -48,6 +52,41 @@ TEST(VoxmapFile, RoundTripIsExact) {
       ASSERT_EQ(back.BrickCount(b), vm.BrickCount(b));
   }
   EXPECT_EQ(d.Entries().size(), 2u); // no temporary left behind
+}
+
+TEST(VoxmapFile, APaddedVoxmapIsWrittenVoxelByVoxel) {
+  // 16 x 64 x 3 voxels: rows and slices padded in memory (Voxmap::Pitch), never in the file.
+  ScratchDir d("vmfile5");
+  bm::Voxmap vm({16, 64, 3}, 0.5, {0, 0, 0});
+  ASSERT_GT(vm.StorageSize(), vm.NumVoxels());
+  auto fillOf = [](int i, int j, int k) {
+    return bm::Voxmap::Fill(((i + 16 * (j + 64 * k)) % 97 + 1) * (bm::Voxmap::kFull / 128));
+  };
+  for (int k = 0; k < 3; ++k)
+    for (int j = 0; j < 64; ++j)
+      for (int i = 0; i < 16; ++i)
+        vm.SetFill(vm.Index(i, j, k), fillOf(i, j, k));
+  vm.SetMaterial(vm.Index(3, 40, 2), 0.25f);
+  const std::string path = (d / "v.nrrd").string();
+  bm::SaveVoxmap(vm, path);
+  using Image = itk::VectorImage<float, 3>;
+  auto reader = itk::ImageFileReader<Image>::New();
+  reader->SetImageIO(itk::NrrdImageIO::New());
+  reader->SetFileName(path);
+  reader->Update();
+  const Image* img = reader->GetOutput();
+  ASSERT_EQ(img->GetLargestPossibleRegion().GetSize()[0], 16u);
+  ASSERT_EQ(img->GetLargestPossibleRegion().GetSize()[1], 64u);
+  for (int k = 0; k < 3; ++k)
+    for (int j = 0; j < 64; ++j)
+      for (int i = 0; i < 16; ++i) {
+        const auto px = img->GetPixel({{i, j, k}});
+        ASSERT_EQ(px[0], float(double(fillOf(i, j, k)) / bm::Voxmap::kFull)) << i << j << k;
+        ASSERT_EQ(px[1], i == 3 && j == 40 && k == 2 ? 0.25f : 1.0f);
+      }
+  const bm::Voxmap back = bm::LoadVoxmap(path);
+  EXPECT_TRUE(back == vm);
+  EXPECT_EQ(back.CountBone(), 16 * 64 * 3);
 }
 
 TEST(VoxmapFile, WithoutMaterialLoadsAsCortical) {

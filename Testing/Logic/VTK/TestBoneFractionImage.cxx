@@ -33,8 +33,12 @@ void ExpectSameAsVoxmap(const bm::BoneFractionImage& image, const bm::Voxmap& v)
   EXPECT_DOUBLE_EQ(out->GetOrigin()[1], v.Origin()[1]);
   vtkDataArray* f = out->GetPointData()->GetArray("BoneFraction");
   ASSERT_NE(f, nullptr);
-  for (int64_t i = 0; i < v.NumVoxels(); ++i)
-    ASSERT_FLOAT_EQ(float(f->GetTuple1(i)), float(v.Fraction(i))) << "voxel " << i;
+  int64_t i = 0; // the image's voxels in order; the voxmap's rows are padded (Voxmap::Pitch)
+  for (int z = 0; z < dims[2]; ++z)
+    for (int y = 0; y < dims[1]; ++y)
+      for (int x = 0; x < dims[0]; ++x, ++i)
+        ASSERT_FLOAT_EQ(float(f->GetTuple1(i)), float(v.Fraction(v.Index(x, y, z))))
+            << "voxel " << x << " " << y << " " << z;
 }
 
 } // namespace
