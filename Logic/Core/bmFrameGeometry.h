@@ -80,11 +80,6 @@ struct FrameGeometry {
     else
       loop([&](int vi, int vj, int vk) { return vi + int64_t(px) * (vj + int64_t(py) * vk); });
   }
-  /// Voxel coordinates of an in-grid voxel index.
-  std::array<int, 3> Coords(int64_t idx) const {
-    return {int(idx % pitch[0]), int((idx / pitch[0]) % pitch[1]),
-            int(idx / (int64_t(pitch[0]) * pitch[1]))};
-  }
   /// Fill units an element with area-normal `an` (mm^2) asks to remove this frame (0 if none).
   int32_t RemovalUnits(const std::array<float, 3>& an) const {
     const double vol = an[0] * motionTool(0) + an[1] * motionTool(1) + an[2] * motionTool(2);

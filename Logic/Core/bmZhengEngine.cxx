@@ -56,7 +56,7 @@ FrameResult ZhengEngine::Step(const FrameInput& in) {
         st.Visit(frameNo, -1, 0);
         continue;
       }
-      const auto v = G.Coords(vidx);
+      const auto v = Bone_.Coords(vidx);
       int level = 0;
       const int32_t leaf = Tree_.Find(v[0], v[1], v[2], level);
       if (!st.Visit(frameNo, vidx, Tree_.Value(leaf)))

@@ -23,9 +23,9 @@ __kernel void vps_collide(__global const uint* visible, const uint nVisible,
                           __global const float* material, __global Residency* state,
                           __global int* units, __global long* sums, __local long* scratch,
                           const float4 A0, const float4 A1, const float4 A2, const int4 dims,
-                          const int2 pitch, const uint frameNo, const int flags, const double dx, const double dy,
-                          const double dz, const double unitsPerMm3, const double maxUnits,
-                          const double scale) {
+                          const int2 pitch, const uint frameNo, const int flags, const double dx,
+                          const double dy, const double dz, const double unitsPerMm3,
+                          const double maxUnits, const double scale) {
   const uint G = get_num_groups(0), L = get_local_size(0), l = get_local_id(0);
   const bool cutting = flags & BM_FLAG_CUTTING, hasMaterial = flags & BM_FLAG_MATERIAL;
   long P[BM_SUMS] = {0, 0, 0, 0, 0, 0, 0, 0};

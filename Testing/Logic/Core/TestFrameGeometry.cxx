@@ -42,7 +42,7 @@ TEST(FrameGeometry, VoxelIndicesAgreeIn32And64BitArithmetic) {
     ASSERT_EQ(brick32[q], brick64[q]) << "element " << q;
     inside += idx32[q] >= 0;
     if (idx32[q] >= 0) {
-      const auto v = G.Coords(idx32[q]);
+      const auto v = bone.Coords(idx32[q]);
       EXPECT_EQ(brick32[q], bone.BrickIndex(v[0] / 8, v[1] / 8, v[2] / 8));
     }
     const std::array<uint32_t, 3> ijk{uint32_t(x[q]), uint32_t(y[q]), uint32_t(z[q])};
