@@ -207,6 +207,17 @@ Voxmap::RemovalTotals Voxmap::RemoveOwnedLoop(const RemovalRequest* req, size_t 
     __builtin_prefetch(&Fill_[size_t(req[i].voxel)], 1);
   int64_t lastBrick = -1;
   uint64_t reach = 0; // the current run's reach bits, kept in a register
+  int32_t voided = 0; // voxels of the current run that became void
+  // Ends the run in lastBrick: one locked decrement of its count for the run's voided voxels
+  // (the bricks' counts are shared between owners; one per voxel cost 0.1-0.2 ms in the frames
+  // where a layer of voxels empties at shell 1024^3 x voxmap 1024^3), its reach into touched.
+  auto endRun = [&] {
+    t.voxels += voided;
+    if (voided)
+      BrickCount_[size_t(lastBrick)].fetch_sub(voided, std::memory_order_relaxed);
+    if (kReach)
+      touched.back() |= int64_t(reach << kTouchedReachShift);
+  };
   for (size_t i = 0; i < n; ++i) {
     if (i + kAhead < n)
       __builtin_prefetch(&Fill_[size_t(req[i + kAhead].voxel)], 1);
@@ -221,21 +232,19 @@ Voxmap::RemovalTotals Voxmap::RemoveOwnedLoop(const RemovalRequest* req, size_t 
       continue;
     t.fill += old - std::max(after, 0);
     const int64_t b = req[i].brick;
-    if (after <= 0) {
-      ++t.voxels;
-      BrickCount_[size_t(b)].fetch_sub(1, std::memory_order_relaxed);
-    }
     if (b != lastBrick) { // requests come in runs within a brick: a few entries per brick
-      if (kReach && lastBrick >= 0)
-        touched.back() |= int64_t(reach << kTouchedReachShift);
+      if (lastBrick >= 0)
+        endRun();
       reach = 0;
+      voided = 0;
       touched.push_back(lastBrick = b);
     }
+    voided += after <= 0;
     if (kReach)
       reach |= ReachBitOfVoxel(idx);
   }
-  if (kReach && lastBrick >= 0)
-    touched.back() |= int64_t(reach << kTouchedReachShift);
+  if (lastBrick >= 0)
+    endRun();
   return t;
 }
 
