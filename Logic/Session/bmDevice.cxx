@@ -34,6 +34,12 @@ bool DeviceStateBuffer::TryGetPose(DevicePose& pose, uint64_t& sample) const {
   return true;
 }
 
+void DeviceStateBuffer::GetPose(DevicePose& pose, uint64_t& sample) const {
+  std::lock_guard<std::mutex> lock(Mutex_);
+  pose = Pose_;
+  sample = Sample_;
+}
+
 bool DeviceStateBuffer::TryPutForce(const Eigen::Vector3d& f) {
   std::unique_lock<std::mutex> lock(Mutex_, std::try_to_lock);
   if (!lock.owns_lock())

@@ -76,6 +76,8 @@ public:
   /// Haptic side: copy the latest pose if the lock is free; returns false (pose untouched) if busy.
   /// sample receives the pose counter (it stops advancing when the device stops answering).
   bool TryGetPose(DevicePose& pose, uint64_t& sample) const;
+  /// Blocking copy of the latest pose and its counter (used when starting, never in the loop).
+  void GetPose(DevicePose& pose, uint64_t& sample) const;
   /// Haptic side: store the force to output if the lock is free; false if busy (retry next frame).
   bool TryPutForce(const Eigen::Vector3d& f);
   /// Blocking set of the force (used when stopping: zero force must get through).

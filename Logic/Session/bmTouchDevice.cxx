@@ -157,6 +157,20 @@ void TouchDevice::Start() {
     Api_->startScheduler();
     check("hdStartScheduler");
     Running_ = true;
+    // Wait for the servo loop's first sample, so that Read() never hands out a pose the device
+    // has not measured (the default pose is the workspace origin, far from the stylus).
+    const auto started = std::chrono::steady_clock::now();
+    while (Ticks_.load() == 0) {
+      if (Error_.load() != hd::kSuccess)
+        throw std::runtime_error(std::string("touch: the first servo frame failed: ") +
+                                 LastError());
+      if (std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() >
+          kFirstSampleTimeoutS)
+        throw std::runtime_error("touch: the servo loop delivered no sample within " +
+                                 std::to_string(kFirstSampleTimeoutS) + " s of hdStartScheduler");
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+    }
+    State_.GetPose(Last_, LastSample_);
     LastFresh_ = std::chrono::steady_clock::now();
   } catch (...) {
     Close();

@@ -3,14 +3,14 @@
 // Start(): dlopen the library (default "libHD.so"; BM_LIBHD in the environment or the
 // constructor's path overrides), hdInitDevice(HD_DEFAULT_DEVICE), hdEnable(HD_FORCE_OUTPUT), query
 // the nominal limits (HD_NOMINAL_MAX_FORCE, HD_NOMINAL_MAX_STIFFNESS, HD_NOMINAL_MAX_DAMPING,
-// HD_UPDATE_RATE), schedule an asynchronous servo callback at the highest priority and start the
-// scheduler. The callback runs at the device's rate on OpenHaptics' servo thread: in one
-// hdBeginFrame/hdEndFrame it reads HD_CURRENT_POSITION, HD_CURRENT_TRANSFORM and
-// HD_CURRENT_BUTTONS, writes HD_CURRENT_FORCE (the last force the session sent, through a locked
-// DeviceStateBuffer), then checks hdGetError(). An error is latched and reported by the next Read()
-// (the session then ramps the force to zero and pauses); a servo loop that has not delivered a
-// new sample for `stallTimeoutS` reads as NoResponse. Stop(): zero force, stop the scheduler,
-// unschedule, disable the device, close the library.
+// HD_UPDATE_RATE), schedule an asynchronous servo callback at the highest priority, start the
+// scheduler and wait for the callback's first pose sample. The callback runs at the device's rate
+// on OpenHaptics' servo thread: in one hdBeginFrame/hdEndFrame it reads HD_CURRENT_POSITION,
+// HD_CURRENT_TRANSFORM and HD_CURRENT_BUTTONS, writes HD_CURRENT_FORCE (the last force the session
+// sent, through a locked DeviceStateBuffer), then checks hdGetError(). An error is latched and
+// reported by the next Read() (the session then ramps the force to zero and pauses); a servo loop
+// that has not delivered a new sample for `stallTimeoutS` reads as NoResponse. Stop(): zero force,
+// stop the scheduler, unschedule, disable the device, close the library.
 //
 // Units: mm, N, N/mm, N s/mm (OpenHaptics' own units), Hz.
 #pragma once
@@ -36,8 +36,12 @@ public:
   std::string Name() const override { return "touch"; }
   /// Limits queried at Start() (before: the Touch's published ones).
   DeviceLimits Limits() const override { return Limits_; }
-  /// Throws std::runtime_error naming the failing step (library, symbol, init, scheduler).
+  /// Returns once the servo loop has delivered its first pose sample (waits at most
+  /// kFirstSampleTimeoutS). Throws std::runtime_error naming the failing step (library, symbol,
+  /// init, scheduler, no first sample); on a throw the device is closed again.
   void Start() override;
+  /// How long Start() waits for the servo loop's first sample (s).
+  static constexpr double kFirstSampleTimeoutS = 2.0;
   void Stop() override;
   DeviceStatus Read(DevicePose& pose) override;
   DeviceStatus Write(const Eigen::Vector3d& forceN) override;

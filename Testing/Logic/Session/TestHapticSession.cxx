@@ -44,9 +44,17 @@ TEST(HapticSession, StartPauseResumeStopWithConcurrentSnapshotReaders) {
       ++reads;
     }
   });
+  // Waits (at most 10 s) until the session has run frame n: a loaded CI machine may not
+  // schedule the haptic thread for a fixed sleep's worth of frames.
+  auto waitForFrame = [&](int64_t n) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (session.Snapshot().frame < n && std::chrono::steady_clock::now() < until)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    return session.Snapshot().frame >= n;
+  };
   session.Start();
   EXPECT_THROW(session.Start(), std::logic_error);
-  std::this_thread::sleep_for(std::chrono::milliseconds(150));
+  ASSERT_TRUE(waitForFrame(120));
   session.Pause();
   ASSERT_TRUE(session.WaitUntilPaused(2.0));
   const bm::SessionSnapshot p1 = session.Snapshot();
@@ -57,7 +65,7 @@ TEST(HapticSession, StartPauseResumeStopWithConcurrentSnapshotReaders) {
   EXPECT_EQ(session.Snapshot().frame, p1.frame); // no frames while paused
   EXPECT_THROW(session.SetDevice(std::make_shared<bm::ProgrammableDevice>()), std::logic_error);
   session.Resume();
-  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_TRUE(waitForFrame(p1.frame + 50));
   const bm::SessionSnapshot r = session.Snapshot();
   EXPECT_EQ(r.state, bm::SessionState::Running);
   EXPECT_GT(r.frame, p1.frame);

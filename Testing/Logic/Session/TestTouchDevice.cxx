@@ -57,6 +57,19 @@ void WaitMs(int ms) {
   std::this_thread::sleep_for(std::chrono::milliseconds(ms));
 }
 
+// Waits until the servo loop has run n more callbacks (at most timeoutS): a fixed sleep is not
+// enough on a loaded CI machine, where the servo thread may not be scheduled for tens of ms.
+bool WaitForTicks(const bm::TouchDevice& touch, uint64_t n, double timeoutS = 5.0) {
+  const uint64_t t0 = touch.ServoTicks();
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeoutS);
+  while (touch.ServoTicks() < t0 + n) {
+    if (std::chrono::steady_clock::now() > until)
+      return false;
+    WaitMs(1);
+  }
+  return true;
+}
+
 TEST(TouchDevice, LoadsTheLibraryInitialisesAndRunsTheServoLoop) {
   FakeHD fake;
   ASSERT_NE(fake.lib, nullptr) << dlerror();
@@ -69,17 +82,28 @@ TEST(TouchDevice, LoadsTheLibraryInitialisesAndRunsTheServoLoop) {
   EXPECT_DOUBLE_EQ(touch.Limits().maxStiffnessNPerMm, 0.35);
   EXPECT_DOUBLE_EQ(touch.Limits().maxForceN, 3.3);
   EXPECT_DOUBLE_EQ(touch.Limits().maxDampingNsPerMm, 0.003);
-  WaitMs(20);
+  // Start() returns with the servo loop's first sample in hand: the very first Read() is the
+  // stylus's measured pose, never the default origin (CI once caught a zero pose here).
+  EXPECT_GE(touch.ServoTicks(), 1u);
   bm::DevicePose p;
   ASSERT_EQ(touch.Read(p), bm::DeviceStatus::Ok);
   EXPECT_DOUBLE_EQ(p.positionMm(0), 1.5);
+  EXPECT_DOUBLE_EQ(p.positionMm(1), -2.0);
   EXPECT_DOUBLE_EQ(p.positionMm(2), 30.0);
-  ASSERT_EQ(touch.Write({0.1, 0.2, 0.3}), bm::DeviceStatus::Ok);
-  WaitMs(20);
-  const long n = fake.forceCount();
-  ASSERT_GT(n, 0);
-  EXPECT_TRUE(fake.Force(n - 1).isApprox(Eigen::Vector3d(0.1, 0.2, 0.3)));
-  EXPECT_GT(touch.ServoTicks(), 5u);
+  // A write may find the servo copying the force out and land next frame, as in the session,
+  // which writes every frame: write until the device has output it.
+  const Eigen::Vector3d f(0.1, 0.2, 0.3);
+  bool sent = false;
+  for (int i = 0; i < 100 && !sent; ++i) {
+    ASSERT_EQ(touch.Write(f), bm::DeviceStatus::Ok);
+    ASSERT_TRUE(WaitForTicks(touch, 2)) << "servo loop stopped";
+    const long n = fake.forceCount();
+    sent = n > 0 && fake.Force(n - 1).isApprox(f);
+  }
+  EXPECT_TRUE(sent);
+  ASSERT_TRUE(WaitForTicks(touch, 5));
+  ASSERT_EQ(touch.Read(p), bm::DeviceStatus::Ok);
+  EXPECT_DOUBLE_EQ(p.positionMm(2), 30.0);
   touch.Stop();
   EXPECT_EQ(fake.schedulerRunning(), 0);
   // The last force the device got is zero.
@@ -92,9 +116,8 @@ TEST(TouchDevice, ReportsErrorCodesAndAStalledServoLoop) {
   {
     bm::TouchDevice touch(BM_FAKE_HD_PATH);
     touch.Start();
-    WaitMs(10);
     fake.injectError(bm::hd::kCommError, 17);
-    WaitMs(20);
+    ASSERT_TRUE(WaitForTicks(touch, 2));
     bm::DevicePose p;
     EXPECT_EQ(touch.Read(p), bm::DeviceStatus::Error);
     EXPECT_NE(touch.LastError().find("HD_COMM_ERROR"), std::string::npos) << touch.LastError();
@@ -104,7 +127,6 @@ TEST(TouchDevice, ReportsErrorCodesAndAStalledServoLoop) {
   {
     bm::TouchDevice touch(BM_FAKE_HD_PATH, 0.02);
     touch.Start();
-    WaitMs(10);
     bm::DevicePose p;
     EXPECT_EQ(touch.Read(p), bm::DeviceStatus::Ok);
     fake.setStalled(1);
@@ -112,6 +134,23 @@ TEST(TouchDevice, ReportsErrorCodesAndAStalledServoLoop) {
     EXPECT_EQ(touch.Read(p), bm::DeviceStatus::NoResponse);
     fake.setStalled(0);
     touch.Stop();
+  }
+  fake.reset();
+  {
+    // A servo loop that never runs: Start() gives up after its timeout, names the cause, and
+    // leaves the device closed (force output off, scheduler stopped).
+    fake.setStalled(1);
+    bm::TouchDevice silent(BM_FAKE_HD_PATH);
+    try {
+      silent.Start();
+      ADD_FAILURE() << "a servo loop with no sample was not reported";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("no sample"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(fake.schedulerRunning(), 0);
+    bm::DevicePose p;
+    EXPECT_EQ(silent.Read(p), bm::DeviceStatus::NoResponse);
+    fake.setStalled(0);
   }
   fake.reset();
   fake.failInit(bm::hd::kDeviceFault);
@@ -142,8 +181,13 @@ TEST(TouchDevice, SessionSendsOnlyLimitedForcesAndPausesWithZeroForceOnADeviceEr
   session.Start();
   WaitMs(30);
   fake.setPosition(0, 0, -20.0); // plunge 20 mm: the coupling wants 8 N, the device may take 3.3 N
-  WaitMs(60);
+  // The coupling reaches the device's limit within tens of frames; a loaded machine may take
+  // longer to schedule them, so poll (at most 5 s) instead of sleeping a fixed time.
   bm::SessionSnapshot s = session.Snapshot();
+  for (int i = 0; i < 500 && !(s.deviceForceN(2) > 3.0); ++i) {
+    WaitMs(10);
+    s = session.Snapshot();
+  }
   EXPECT_EQ(s.state, bm::SessionState::Running);
   EXPECT_GT(s.deviceForceN(2), 3.0);
   const long before = fake.forceCount();
