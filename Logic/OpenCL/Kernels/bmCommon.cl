@@ -83,8 +83,16 @@ inline void RemovalSumsOut(const long* R, __global long* sums) {
 #endif
 }
 
+// ElementResidency::Stays: a visit in frameNo to voxel idx continues an engaged stay there, so
+// the element cuts whatever the voxel's fill (the fill need not be read).
+inline bool Stays(__global const Residency* st, uint frameNo, long idx) {
+  return st->frame + 1 == frameNo && st->voxel == idx && st->engaged;
+}
+
+// ElementResidency::Visit: updates the state for a visit in frameNo to voxel idx (-1: outside)
+// whose fill at the frame's start was `fill` (any value when Stays()); returns whether it cuts.
 inline bool Visit(__global Residency* st, uint frameNo, long idx, int fill) {
-  const bool stayed = st->frame + 1 == frameNo && st->voxel == idx && st->engaged;
+  const bool stayed = Stays(st, frameNo, idx);
   const bool e = idx >= 0 && (fill > 0 || stayed);
   st->voxel = idx;
   st->frame = frameNo;

@@ -37,7 +37,10 @@ __kernel void vps_collide(__global const uint* visible, const uint nVisible,
       const long idx = ElementVoxel(code, A0, A1, A2, dims, pitch, ijk);
       ++P[4];
       units[e] = 0;
-      if (!Visit(state + e, frameNo, idx, idx >= 0 ? fill[idx] : 0))
+      // As the CPU engine: an element that stays engaged in its voxel reads no fill (most of
+      // them in steady cutting, and each read is a random one into the whole voxmap).
+      const int f = idx < 0 || Stays(state + e, frameNo, idx) ? 0 : fill[idx];
+      if (!Visit(state + e, frameNo, idx, f))
         continue;
       ++P[5];
       const int u = RemovalUnits(areaNormals, e, code, flags, dx, dy, dz, unitsPerMm3, maxUnits);
