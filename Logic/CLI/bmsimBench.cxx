@@ -82,6 +82,9 @@ const char* kUsage = R"(usage: bmsim bench [options]
                          8, as the BM Session source; 0 = every changed brick every refresh)
   --brick N              --view: the surface's brick edge, voxels (default 8, the voxmap's
                          occupancy brick, BoneSurface's default)
+  --serial K             --view: one thread, no contention: K haptic frames, then a refresh, in
+                         turn (default 0: the haptic thread and the view run side by side). The
+                         view's own cost, with the same bricks in every run: for A/B of builds
 )";
 
 std::vector<int> Resolutions(const bm::cli::ParsedArgs& p, const std::string& name,
@@ -174,9 +177,10 @@ bm::Voxmap AnalyticGlenoid(int resolution) {
 
 /// One scripted session of the scene, with or without the live view refreshing.
 struct ViewRun {
-  std::vector<double> refreshMs; ///< refreshes while bone was cut
-  std::vector<int> bricks;       ///< bricks re-extracted by those refreshes
-  std::vector<double> patched;   ///< of those, bricks whose triangles stayed (patched in place)
+  std::vector<double> refreshMs;   ///< refreshes while bone was cut
+  std::vector<int> bricks;         ///< bricks re-extracted by those refreshes
+  std::vector<double> patched;     ///< of those, bricks whose triangles stayed (patched in place)
+  std::vector<double> surfaceless; ///< of those, bricks with no triangles before or after
   std::vector<double> extractedTriangles;    ///< the triangles those bricks hold now
   std::vector<double> extractMs, assembleMs; ///< their parts (bm::BoneSurface::UpdateStats)
   std::vector<double> cpuMs;   ///< the view thread's CPU time in those refreshes (wall time less
@@ -193,9 +197,11 @@ struct ViewRun {
 /// Runs the scene's scripted feed trial as vtkBMSessionSource runs it (position-source limits,
 /// scripted feed, frames back to back unless realTime) and, when view, refreshes the surface
 /// from the live bone every intervalMs on this thread (BoneSurface::Update then a shallow copy
-/// into the port's polydata, the surface part of vtkBMSessionSource::RequestData).
+/// into the port's polydata, the surface part of vtkBMSessionSource::RequestData). serialFrames >
+/// 0: no second thread; the frames and the refreshes take turns on this one, a refresh after
+/// every serialFrames frames (the view's own cost, the same bricks in every run).
 ViewRun RunViewSession(const bm::Scene& scene, bool view, double intervalMs, bool realTime,
-                       int64_t maxFrames, double budgetMs, int brick) {
+                       int64_t maxFrames, double budgetMs, int brick, int serialFrames) {
 #ifdef BM_WITH_IO
   bm::Voxmap bone = scene.bone.type == "block"
                         ? bm::MakeSceneBlock(scene)
@@ -222,69 +228,89 @@ ViewRun RunViewSession(const bm::Scene& scene, bool view, double intervalMs, boo
   frameMs.reserve(size_t(frames));
   std::atomic<double> removedMm3{0};
   std::atomic<bool> finished{false};
-  std::thread haptic([&] {
-    bm::Engine& engine = setup.GetEngine();
-    const auto start = Clock::now();
-    double removed = 0;
-    for (int64_t k = 0; k < frames; ++k) {
-      const bm::FrameInput in = path.Frame(-t.clearanceMm + path.StepMm() * double(k + 1), k);
-      const auto t0 = Clock::now();
-      removed += engine.Step(in).removedVolumeMm3;
-      frameMs.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-      removedMm3.store(removed, std::memory_order_relaxed);
-      if (realTime)
-        std::this_thread::sleep_until(start +
-                                      std::chrono::duration<double>(t.frameS * double(k + 1)));
-    }
-    finished.store(true);
-  });
+  bm::Engine& engine = setup.GetEngine();
+  double removedSoFar = 0; // the haptic thread's own sum
+  auto hapticFrame = [&](int64_t k) {
+    const bm::FrameInput in = path.Frame(-t.clearanceMm + path.StepMm() * double(k + 1), k);
+    const auto t0 = Clock::now();
+    removedSoFar += engine.Step(in).removedVolumeMm3;
+    frameMs.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    removedMm3.store(removedSoFar, std::memory_order_relaxed);
+  };
 
   bm::BoneSurface surface(brick);
   surface.SetTimeBudgetMs(budgetMs);
   vtkNew<vtkPolyData> port;
   ViewRun r;
-  const auto period = std::chrono::microseconds(int64_t(intervalMs * 1000));
   double lastRemoved = 0;
   bool first = true;
   Clock::time_point firstCut, lastCut;
-  while (true) {
-    const auto next = Clock::now() + period;
-    const bool done = finished.load();
-    if (view) {
-      const double removed = removedMm3.load(std::memory_order_relaxed);
-      const double c0 = ThreadCpuMs();
-      const auto t0 = Clock::now();
-      const int n = surface.Update(setup.Bone());
-      port->ShallowCopy(surface.GetOutput());
-      const auto t1 = Clock::now();
-      const double ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
-      const double cpu = ThreadCpuMs() - c0;
-      if (first) {
-        r.firstMs = ms;
-        first = false;
-      } else {
-        ++r.refreshes;
-        if (removed > lastRemoved) {
-          if (r.refreshMs.empty())
-            firstCut = t0;
-          lastCut = t1;
-          r.refreshMs.push_back(ms);
-          r.cpuMs.push_back(cpu);
-          r.bricks.push_back(n);
-          r.patched.push_back(surface.LastUpdate().patched);
-          r.extractedTriangles.push_back(double(surface.LastUpdate().extractedTriangles));
-          r.extractMs.push_back(surface.LastUpdate().extractMs);
-          r.assembleMs.push_back(surface.LastUpdate().assembleMs);
-          r.pending.push_back(surface.LastUpdate().pending);
-        }
+  // One refresh of the view, as the BM Session source's RequestData makes it.
+  auto refresh = [&] {
+    const double removed = removedMm3.load(std::memory_order_relaxed);
+    const double c0 = ThreadCpuMs();
+    const auto t0 = Clock::now();
+    const int n = surface.Update(setup.Bone());
+    port->ShallowCopy(surface.GetOutput());
+    const auto t1 = Clock::now();
+    const double ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+    const double cpu = ThreadCpuMs() - c0;
+    if (first) {
+      r.firstMs = ms;
+      first = false;
+    } else {
+      ++r.refreshes;
+      if (removed > lastRemoved) {
+        if (r.refreshMs.empty())
+          firstCut = t0;
+        lastCut = t1;
+        r.refreshMs.push_back(ms);
+        r.cpuMs.push_back(cpu);
+        r.bricks.push_back(n);
+        r.patched.push_back(surface.LastUpdate().patched);
+        r.surfaceless.push_back(surface.LastUpdate().surfaceless);
+        r.extractedTriangles.push_back(double(surface.LastUpdate().extractedTriangles));
+        r.extractMs.push_back(surface.LastUpdate().extractMs);
+        r.assembleMs.push_back(surface.LastUpdate().assembleMs);
+        r.pending.push_back(surface.LastUpdate().pending);
       }
-      lastRemoved = removed;
     }
-    if (done)
-      break;
-    std::this_thread::sleep_until(next);
+    lastRemoved = removed;
+  };
+
+  if (serialFrames > 0) {
+    // One thread: serialFrames haptic frames, then a refresh, and so on: every run refreshes
+    // after the same frames, so two builds re-extract the same bricks and nothing else competes.
+    if (view)
+      refresh();
+    for (int64_t k = 0; k < frames; ++k) {
+      hapticFrame(k);
+      if (view && ((k + 1) % serialFrames == 0 || k + 1 == frames))
+        refresh();
+    }
+  } else {
+    std::thread haptic([&] {
+      const auto start = Clock::now();
+      for (int64_t k = 0; k < frames; ++k) {
+        hapticFrame(k);
+        if (realTime)
+          std::this_thread::sleep_until(start +
+                                        std::chrono::duration<double>(t.frameS * double(k + 1)));
+      }
+      finished.store(true);
+    });
+    const auto period = std::chrono::microseconds(int64_t(intervalMs * 1000));
+    while (true) {
+      const auto next = Clock::now() + period;
+      const bool done = finished.load();
+      if (view)
+        refresh();
+      if (done)
+        break;
+      std::this_thread::sleep_until(next);
+    }
+    haptic.join();
   }
-  haptic.join();
   r.removedMm3 = removedMm3.load();
   std::sort(frameMs.begin(), frameMs.end());
   r.haptic.frames = int64_t(frameMs.size());
@@ -311,6 +337,7 @@ int ViewBench(const bm::cli::ParsedArgs& p) {
   const int64_t frames = p.GetInt("frames", 1, 100000000).value_or(0);
   const double budget = p.GetDouble("budget", 0, 10000).value_or(8.0);
   const int brick = int(p.GetInt("brick", 2, 256).value_or(bm::Voxmap::kBrick));
+  const int serial = int(p.GetInt("serial", 0, 1000000).value_or(0));
   const std::string sceneName = p.Get("scene", "glenoid");
   const std::string out = p.Get("out", "out/bench-view");
   bm::Scene base = (std::filesystem::path(sceneName).extension() == ".json" ||
@@ -321,16 +348,16 @@ int ViewBench(const bm::cli::ParsedArgs& p) {
   // 0: the scene's shell scaled with the voxmap (bm::Scene::WithVoxmapResolution).
   const std::vector<int> shells = Resolutions(p, "shells", {0});
   csv << "voxmap,shell,run,view,refresh_ms_median,refresh_ms_p99,refresh_cpu_ms_median,fps_median,"
-         "fps_p99,refreshes_"
-         "cutting,"
-         "refreshes_per_s,bricks_median,triangles_extracted_median,pending_median,pending_max,"
-         "extract_ms_median,"
-         "assemble_ms_median,first_extract_ms,triangles,haptic_ms_mean,haptic_ms_p50,haptic_ms_p99,"
-         "haptic_ms_max,haptic_frames,removed_mm3\n";
+         "fps_p99,refreshes_cutting,refreshes_per_s,bricks_median,bricks_patched_median,"
+         "bricks_surfaceless_median,triangles_extracted_median,pending_median,pending_max,"
+         "extract_ms_median,assemble_ms_median,first_extract_ms,triangles,haptic_ms_mean,"
+         "haptic_ms_p50,haptic_ms_p99,haptic_ms_max,haptic_frames,removed_mm3\n";
   std::cout << std::fixed << std::setprecision(2);
   std::cout << "live view of scene " << base.name << ": engine threads " << threads << ", "
-            << (realTime ? "real-time 1 kHz" : "frames back to back") << ", refresh every "
-            << interval << " ms, extraction budget " << budget << " ms, bricks of " << brick
+            << (realTime ? "real-time 1 kHz" : "frames back to back") << ", refresh "
+            << (serial > 0 ? "after every " + std::to_string(serial) + " frames on one thread"
+                           : "every " + std::to_string(interval) + " ms")
+            << ", extraction budget " << budget << " ms, bricks of " << brick
             << " voxels; machine: " << MachineName() << "\n";
   for (int v : voxmaps)
     for (int shellAsked : shells) {
@@ -343,7 +370,8 @@ int ViewBench(const bm::cli::ParsedArgs& p) {
       scene.baseDir = base.baseDir;
       for (int run = 1; run <= repeats; ++run)
         for (bool view : {false, true}) {
-          const ViewRun r = RunViewSession(scene, view, interval, realTime, frames, budget, brick);
+          const ViewRun r =
+              RunViewSession(scene, view, interval, realTime, frames, budget, brick, serial);
           const double med = bm::Percentile(r.refreshMs, 50), p99 = bm::Percentile(r.refreshMs, 99);
           std::vector<double> bricks(r.bricks.begin(), r.bricks.end());
           std::cout << "voxmap " << v << " shell " << shell << " run " << run
@@ -357,6 +385,7 @@ int ViewBench(const bm::cli::ParsedArgs& p) {
                       << " per s), bricks median " << bm::Percentile(bricks, 50) << " ("
                       << bm::Percentile(r.extractedTriangles, 50)
                       << " triangles; patched in place median " << bm::Percentile(r.patched, 50)
+                      << ", of them with no surface " << bm::Percentile(r.surfaceless, 50)
                       << "), left pending median " << bm::Percentile(r.pending, 50) << " max "
                       << bm::Percentile(r.pending, 100) << "; extract median "
                       << bm::Percentile(r.extractMs, 50) << " ms, assemble median "
@@ -370,12 +399,13 @@ int ViewBench(const bm::cli::ParsedArgs& p) {
               << p99 << "," << bm::Percentile(r.cpuMs, 50) << "," << (med > 0 ? 1000 / med : 0)
               << "," << (p99 > 0 ? 1000 / p99 : 0) << "," << r.refreshMs.size() << ","
               << (r.cutS > 0 ? double(r.refreshMs.size()) / r.cutS : 0.0) << ","
-              << bm::Percentile(bricks, 50) << "," << bm::Percentile(r.extractedTriangles, 50)
-              << "," << bm::Percentile(r.pending, 50) << "," << bm::Percentile(r.pending, 100)
-              << "," << bm::Percentile(r.extractMs, 50) << "," << bm::Percentile(r.assembleMs, 50)
-              << "," << r.firstMs << "," << r.triangles << "," << r.haptic.meanMs << ","
-              << r.haptic.p50Ms << "," << r.haptic.p99Ms << "," << r.haptic.maxMs << ","
-              << r.haptic.frames << "," << r.removedMm3 << "\n";
+              << bm::Percentile(bricks, 50) << "," << bm::Percentile(r.patched, 50) << ","
+              << bm::Percentile(r.surfaceless, 50) << ","
+              << bm::Percentile(r.extractedTriangles, 50) << "," << bm::Percentile(r.pending, 50)
+              << "," << bm::Percentile(r.pending, 100) << "," << bm::Percentile(r.extractMs, 50)
+              << "," << bm::Percentile(r.assembleMs, 50) << "," << r.firstMs << "," << r.triangles
+              << "," << r.haptic.meanMs << "," << r.haptic.p50Ms << "," << r.haptic.p99Ms << ","
+              << r.haptic.maxMs << "," << r.haptic.frames << "," << r.removedMm3 << "\n";
         }
     }
   std::filesystem::create_directories(out);
@@ -389,7 +419,7 @@ int BenchCommand(const bm::cli::Args& args) {
   bm::cli::ParsedArgs p(args,
                         {"out", "methods", "backends", "shells", "voxmaps", "frames", "warmup",
                          "threads", "device", "cell-limit", "replot", "scene", "interval", "budget",
-                         "brick", "repeats"},
+                         "brick", "repeats", "serial"},
                         {"quick", "help", "view", "real-time"});
   if (p.Has("help")) {
     std::cout << kUsage;

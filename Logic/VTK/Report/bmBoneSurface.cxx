@@ -393,8 +393,10 @@ int BoneSurface::Update(const Voxmap& bone) {
     // the brick's cells, which alone decide both, did not change. (The output holds the brick's
     // last mesh: every extracted brick is assembled in the same update.)
     if (!full && Extracted_.triangles == mesh.triangles &&
-        Extracted_.NumPoints() == mesh.NumPoints())
+        Extracted_.NumPoints() == mesh.NumPoints()) {
       MovedList_.push_back(b);
+      Stats_.surfaceless += Extracted_.triangles.empty();
+    }
     std::swap(mesh, Extracted_);
     Stats_.extractedTriangles += mesh.NumTriangles();
     Dirty_[size_t(b)] = 0;

@@ -85,6 +85,7 @@ public:
   struct UpdateStats {
     int extracted = 0;     ///< bricks re-extracted
     int patched = 0;       ///< of those, bricks whose triangles stayed: points and normals patched
+    int surfaceless = 0;   ///< of those, bricks with no triangles before or after
     int pending = 0;       ///< bricks left for the next update (time budget)
     double scanMs = 0;     ///< reading the voxmap's change generations
     double extractMs = 0;  ///< reading the fills and marching cubes

@@ -282,6 +282,7 @@ TEST(BoneSurface, ACutThatOnlyMovesVerticesPatchesThemInPlace) {
   const int n = live.Update(bone);
   EXPECT_GT(n, 0);
   EXPECT_EQ(live.LastUpdate().patched, n) << "no case changed: every brick patched in place";
+  EXPECT_LT(live.LastUpdate().surfaceless, n) << "the voxel lies on the surface";
   EXPECT_EQ(live.LastUpdate().rewrittenTriangles, 0);
   EXPECT_NE(Area(live.GetOutput()), before) << "the vertices moved";
   ExpectSameSurface(live.GetOutput(), bone, 8);
@@ -290,5 +291,21 @@ TEST(BoneSurface, ACutThatOnlyMovesVerticesPatchesThemInPlace) {
   const int m = live.Update(bone);
   EXPECT_LT(live.LastUpdate().patched, m) << "the voxel's cells changed their cases";
   EXPECT_GT(live.LastUpdate().rewrittenTriangles, 0);
+  ExpectSameSurface(live.GetOutput(), bone, 8);
+}
+
+TEST(BoneSurface, ACutInsideTheBoneReExtractsOnlyBricksWithoutSurface) {
+  // A voxel at the ball's centre, far from any surface, loses an eighth of its fill: its bricks
+  // are re-extracted (their samples changed) but have no cell across the iso, before or after.
+  bm::Voxmap bone = MakeBone();
+  bm::BoneSurface live(8);
+  live.Update(bone);
+  const int64_t triangles = live.GetOutput()->GetNumberOfCells();
+  RemoveOwnedAt(bone, 24, 19, 16, bm::Voxmap::kFull / 8);
+  const int n = live.Update(bone);
+  EXPECT_GT(n, 0);
+  EXPECT_EQ(live.LastUpdate().surfaceless, n);
+  EXPECT_EQ(live.LastUpdate().extractedTriangles, 0);
+  EXPECT_EQ(live.GetOutput()->GetNumberOfCells(), triangles);
   ExpectSameSurface(live.GetOutput(), bone, 8);
 }
