@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
+#include <type_traits>
 
 #include <vtkMarchingCubesTriangleCases.h>
 #include <vtkMath.h>
@@ -30,8 +32,9 @@ BrickMarchingCubes::BrickMarchingCubes(int cells, double iso)
     throw std::invalid_argument("BrickMarchingCubes: iso must be in (0, 1)");
   const size_t n = size_t(N_) * N_ * N_, m = size_t(cells + 1);
   S_.assign(n, 0.0f);
+  F_.assign(n, 0);
+  Above_.assign(n + 8, 0);
   RowBits_.assign(size_t(N_) * N_, 0);
-  Fills_.assign(size_t(N_), 0);
   // The smallest fill whose fraction (fill / kFull, exact in double) is >= iso.
   IsoFill_ = Voxmap::Fill(std::ceil(iso * double(Voxmap::kFull)));
   Mask_.assign(m * m, 0);
@@ -89,39 +92,66 @@ void BrickMarchingCubes::Load(const Voxmap& bone, const std::array<int, 3>& firs
   const auto& d = bone.Dims();
   const int n = N_;
   const std::array<int, 3> g0{first[0] - 1, first[1] - 1, first[2] - 1}; // box sample 0, voxels
-  float* s = S_.data();
+  Voxmap::Fill* f = F_.data();
   uint64_t* bits = RowBits_.data();
-  constexpr float kScale = 1.0f / float(Voxmap::kFull); // a power of two: exact
   const Voxmap::Fill isoFill = IsoFill_;
-  // The box's samples in the grid; void elsewhere. Each row's samples >= iso as bits (bit = box
-  // x): a fill f is the fraction f / kFull exactly, which is >= iso exactly when f >= IsoFill_.
+  // The box's fills in the grid; void elsewhere. Each row's samples >= iso as bits (bit = box x):
+  // a fill f is the fraction f / kFull exactly, which is >= iso exactly when f >= IsoFill_.
   const int xLo = std::clamp(-g0[0], 0, n), xHi = std::clamp(d[0] - g0[0], 0, n);
-  Voxmap::Fill* f = Fills_.data(); // a row's fills: [xLo, xHi) loaded per row, void around
-  std::fill(f, f + xLo, Voxmap::Fill(0));
-  std::fill(f + xHi, f + n, Voxmap::Fill(0));
   for (int z = 0; z < n; ++z) {
     const int gz = g0[2] + z;
     if (xLo < xHi) // the slice kSlicesAhead on (Prefetch() asked for the first ones)
       PrefetchSlices(bone, g0, z + kSlicesAhead, z + kSlicesAhead + 1);
     for (int y = 0; y < n; ++y) {
       const int gy = g0[1] + y;
-      float* row = s + int64_t(n) * (y + int64_t(n) * z);
-      uint64_t above = 0;
+      Voxmap::Fill* row = f + int64_t(n) * (y + int64_t(n) * z);
       if (gz < 0 || gz >= d[2] || gy < 0 || gy >= d[1] || xLo >= xHi) {
-        std::fill(row, row + n, 0.0f);
+        std::fill(row, row + n, Voxmap::Fill(0));
         bits[y + n * z] = 0;
         continue;
       }
       // The row's fills with relaxed atomic loads (a loop of its own: never merged or
-      // vectorised), void outside the grid, then classified and converted in one pass.
-      bone.LoadFillRow(bone.Index(0, gy, gz) + g0[0] + xLo, xHi - xLo, f + xLo);
-      for (int x = 0; x < n; ++x) {
-        above |= uint64_t(f[x] >= isoFill) << x;
-        row[x] = float(std::max<Voxmap::Fill>(f[x], 0)) * kScale; // <= 0 is void
-      }
-      bits[y + n * z] = above;
+      // vectorised), void outside the grid.
+      std::fill(row, row + xLo, Voxmap::Fill(0));
+      std::fill(row + xHi, row + n, Voxmap::Fill(0));
+      bone.LoadFillRow(bone.Index(0, gy, gz) + g0[0] + xLo, xHi - xLo, row + xLo);
     }
   }
+  // Classified in one pass over the whole box (vectorised: one byte per sample, 1 where >= iso),
+  // then each row's bytes packed into bits eight at a time: for eight bytes b_i in {0, 1} (byte i
+  // at bit 8 i of a little-endian word w), w * 0x0102040810204080 has b_i at bit 56 + i, the
+  // other products landing on distinct bits below 56 or past 63, so nothing carries into them.
+  const int total = n * n * n;
+  uint8_t* above = Above_.data();
+  for (int i = 0; i < total; ++i)
+    above[i] = uint8_t(f[i] >= isoFill);
+  for (int r = 0; r < n * n; ++r) {
+    const uint8_t* b = above + int64_t(r) * n;
+    uint64_t rowBits = 0;
+    for (int x = 0; x < n; x += 8) {
+      uint64_t w;
+      std::memcpy(&w, b + x, 8); // Above_ has 8 bytes to spare past the box
+      if (n - x < 8)
+        w &= ~uint64_t(0) >> (8 * (8 - (n - x)));
+      rowBits |= ((w * 0x0102040810204080ull) >> 56) << x;
+    }
+    bits[r] = rowBits;
+  }
+}
+
+void BrickMarchingCubes::Convert(const Voxmap& bone, const std::array<int, 3>& first) {
+  const auto& d = bone.Dims();
+  const int n = N_;
+  const std::array<int, 3> g0{first[0] - 1, first[1] - 1, first[2] - 1};
+  float* s = S_.data();
+  const Voxmap::Fill* f = F_.data();
+  constexpr float kScale = 1.0f / float(Voxmap::kFull); // a power of two: exact
+  // One pass over the whole box, a fill <= 0 void: max(f, 0) as f & ~(f >> 31) (an arithmetic
+  // shift: all ones for a negative fill), which GCC vectorises where it left std::max a branch.
+  static_assert(std::is_same_v<Voxmap::Fill, int32_t>, "the mask is a 32-bit fill's sign");
+  const int total = n * n * n;
+  for (int i = 0; i < total; ++i)
+    s[i] = float(f[i] & ~(f[i] >> 31)) * kScale;
   // Ghost samples one beyond the pad (-2 and Dims + 1 on one axis, the others within the padded
   // grid): -s of the sample two back, so that the central difference on the pad sample (value 0)
   // is the one-sided difference vtkFlyingEdges3D takes on its volume's boundary.
@@ -183,7 +213,8 @@ int64_t BrickMarchingCubes::Extract(const Voxmap& bone, const std::array<int, 3>
       anyBelow |= bits != full;
     }
   if (!anyAbove || !anyBelow)
-    return 0; // all void or all bone: no cell straddles the iso
+    return 0;           // all void or all bone: no cell straddles the iso
+  Convert(bone, first); // the samples' values, for the vertices
 
   // Every cut edge's vertex, once: edges along x, y, z from each sample (lower end), within the
   // cells. vtkFlyingEdges3D's arithmetic on the padded grid (index p = voxel + 1, origin one voxel

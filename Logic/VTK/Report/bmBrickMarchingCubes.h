@@ -7,17 +7,19 @@
 // is closed. Cell c (per axis) spans the samples c and c + 1; cells -1 .. Dims - 1 exist.
 //
 // Extract() makes the triangles of a brick of Cells()^3 cells: it reads the brick's samples plus
-// a one-sample halo with Voxmap::LoadFillRow (atomic loads: safe while another thread cuts),
-// returns at once when no sample of the brick's cells is on the other side of the iso from the rest
-// (and before reading anything when the voxmap's occupancy says the bricks it touches hold no
-// bone), and otherwise classifies each cell with VTK's marching-cubes case table
-// (vtkMarchingCubesTriangleCases, the table vtkFlyingEdges3D is built from, triangles in the same
-// order and orientation). Each cut edge's vertex is made once per brick, by linear interpolation
-// from the edge's lower-index sample (as vtkFlyingEdges3D does, so the same edge gives the same
-// point in two bricks). Its normal is the negated, normalized fill gradient, by central
-// differences at the edge's two samples interpolated along the edge, exactly as vtkFlyingEdges3D
-// computes it: the halo makes the gradients on the brick's faces the same as inside, so
-// neighbouring bricks' normals match (no seams); on the padded grid's outer samples the
+// a one-sample halo with Voxmap::LoadFillRow (atomic loads: safe while another thread cuts) and
+// classifies the fills against the iso in one vectorised pass (a bit mask per row), returns at once
+// when no sample of the brick's cells is on the other side of the iso from the rest (and before
+// reading anything when the voxmap's occupancy says the bricks it touches hold no bone), and
+// otherwise converts the fills to fractions (for the vertices; a quarter of the bricks a reamer's
+// pass re-extracts have no surface and skip it) and classifies each cell with VTK's marching-cubes
+// case table (vtkMarchingCubesTriangleCases, the table vtkFlyingEdges3D is built from, triangles
+// in the same order and orientation). Each cut edge's vertex is made once per brick, by linear
+// interpolation from the edge's lower-index sample (as vtkFlyingEdges3D does, so the same edge
+// gives the same point in two bricks). Its normal is the negated, normalized fill gradient, by
+// central differences at the edge's two samples interpolated along the edge, exactly as
+// vtkFlyingEdges3D computes it: the halo makes the gradients on the brick's faces the same as
+// inside, so neighbouring bricks' normals match (no seams); on the padded grid's outer samples the
 // difference is one-sided, as flying edges makes it on its volume's boundary (a ghost sample of
 // value -s beyond the pad gives that with the same formula). So the bricks of a grid together
 // give vtkFlyingEdges3D's surface of the whole padded grid (same triangles; points and normals to
@@ -83,9 +85,12 @@ private:
   void PrefetchSlices(const Voxmap& bone, const std::array<int, 3>& g0, int z0, int z1) const;
   /// Slices of the box asked for ahead of the one being read.
   static constexpr int kSlicesAhead = 3;
-  /// Reads the box of samples [firstCell - 1, firstCell + Cells() + 1] into S_ (void outside the
-  /// grid; the ghost samples beyond the pad as described above).
+  /// Reads the fills of the box of samples [firstCell - 1, firstCell + Cells() + 1] into F_ (void
+  /// outside the grid) and classifies them into RowBits_.
   void Load(const Voxmap& bone, const std::array<int, 3>& firstCell);
+  /// The samples' values from F_ into S_ (the ghost samples beyond the pad as described above):
+  /// only for bricks that have a surface, after the classification said so.
+  void Convert(const Voxmap& bone, const std::array<int, 3>& firstCell);
   /// True when a voxmap brick that the cells' samples [lo, hi] (voxel coordinates) touch holds
   /// bone.
   static bool AnyBone(const Voxmap& bone, const std::array<int, 3>& lo,
@@ -97,7 +102,8 @@ private:
   std::vector<float> S_;                ///< the box's samples, index x + N (y + N z)
   Voxmap::Fill IsoFill_;                ///< fills >= this are >= iso
   std::vector<uint64_t> RowBits_;       ///< per box row: bit x set where sample x >= iso
-  std::vector<Voxmap::Fill> Fills_;     ///< one row's fills as loaded
+  std::vector<Voxmap::Fill> F_;         ///< the box's fills as loaded, index as S_
+  std::vector<uint8_t> Above_;          ///< per box sample: 1 where >= iso (8 bytes spare)
   std::vector<uint64_t> Mask_;          ///< per row of the cells' samples: bit x set where >= iso
   std::vector<int32_t> EdgeVertex_;     ///< per (box sample, axis): the vertex on its cut edge
   std::vector<float> Points_, Normals_; ///< the brick's vertices as made...
