@@ -261,7 +261,7 @@ int64_t BrickMarchingCubes::Extract(const Voxmap& bone, const std::array<int, 3>
     }
 
   // The cells' cases (VTK's corner order: (0,0,0), (1,0,0), (1,1,0), (0,1,0), then z + 1) and
-  // triangles; rows of cells whose four sample rows are all bone or all void are skipped.
+  // triangles, for the cells that straddle the iso only (found for a row of cells at once).
   int64_t edgeKey[12];
   for (int e = 0; e < 12; ++e)
     edgeKey[e] =
@@ -274,16 +274,17 @@ int64_t BrickMarchingCubes::Extract(const Voxmap& bone, const std::array<int, 3>
     for (int y = lo[1]; y < hi[1]; ++y) {
       const uint64_t m00 = mask[y + m * z], m10 = mask[y + 1 + m * z], m01 = mask[y + m * (z + 1)],
                      m11 = mask[y + 1 + m * (z + 1)];
-      if (m00 == m10 && m00 == m01 && m00 == m11 && (m00 == 0 || m00 == full))
-        continue;
+      // Cell x straddles the iso when its eight corners (bits x and x + 1 of the four rows)
+      // differ: across the rows at column x or x + 1, or along x within one row.
+      const uint64_t across = (m00 ^ m10) | (m00 ^ m01) | (m00 ^ m11);
+      const uint64_t straddling = (across | (across >> 1) | (m00 ^ (m00 >> 1))) & xEdges;
       const int64_t row = 3 * ((y + 1) * sy + (z + 1) * sz + 1);
-      for (int x = lo[0]; x < hi[0]; ++x) {
+      for (uint64_t c = straddling; c; c &= c - 1) {
+        const int x = __builtin_ctzll(c);
         const int index = int((m00 >> x) & 1) | int((m00 >> x) & 2) | int((m10 >> x) & 2) << 1 |
                           int((m10 >> x) & 1) << 3 | int((m01 >> x) & 1) << 4 |
                           int((m01 >> x) & 2) << 4 | int((m11 >> x) & 2) << 5 |
                           int((m11 >> x) & 1) << 7;
-        if (index == 0 || index == 255)
-          continue;
         const int32_t* cell = ids + row + 3 * x;
         for (const int* e = cases[index].edges; e[0] >= 0; e += 3, nt += 3) {
           tris[nt] = cell[edgeKey[e[0]]];
