@@ -64,10 +64,11 @@ const char* kUsage = R"(usage: bmsim bench [options]
                          ParaView's live-source poll; 0 = back to back), --repeats times
                          (default 1). Prints the refresh time median and p99 (ms) over the
                          refreshes while bone was being cut, the refreshes per second that
-                         would fit (1000 / median, 1000 / p99), the bricks re-extracted and left
-                         pending, the first (whole-surface) extraction, and the haptic frame
-                         time p50/p99 with and without the view. Writes view.csv to --out
-                         (default out/bench-view).
+                         would fit (1000 / median, 1000 / p99), the bricks re-extracted (of
+                         them patched in place and without surface) and left pending, the
+                         first (whole-surface) extraction, and the haptic frame time p50/p99
+                         with and without the view. Writes view.csv to --out (default
+                         out/bench-view).
   --scene NAME|FILE      --view: the scene (default glenoid; in builds without CT import, the
                          glenoid phantom's analytic bone is sampled straight into the voxmap)
   --shells LIST          --view: the tool's point-shell resolutions to run each voxmap with
