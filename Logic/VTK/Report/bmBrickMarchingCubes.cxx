@@ -2,6 +2,7 @@
 #include "bmBrickMarchingCubes.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -121,6 +122,7 @@ void BrickMarchingCubes::Load(const Voxmap& bone, const std::array<int, 3>& firs
   // then each row's bytes packed into bits eight at a time: for eight bytes b_i in {0, 1} (byte i
   // at bit 8 i of a little-endian word w), w * 0x0102040810204080 has b_i at bit 56 + i, the
   // other products landing on distinct bits below 56 or past 63, so nothing carries into them.
+  static_assert(std::endian::native == std::endian::little, "the packing reads bytes as words");
   const int total = n * n * n;
   uint8_t* above = Above_.data();
   for (int i = 0; i < total; ++i)
