@@ -1,5 +1,5 @@
-// bmsim bench - frame time against force error over the paper's resolution grid (issue 3);
-// with --view, the live view of the cut bone during a reaming session (issue 6).
+// bmsim bench - frame time against force error over the paper's resolution grid
+// (Docs/Performance.md); with --view, the live view of the cut bone during a reaming session.
 #include <algorithm>
 #include <atomic>
 #include <chrono>

@@ -1,4 +1,4 @@
-// bmBenchmark.h - the speed-against-accuracy benchmark of `bmsim bench` (issue 3).
+// bmBenchmark.h - the speed-against-accuracy benchmark of `bmsim bench` (Docs/Performance.md).
 //
 // One cell = (method, backend, point-shell resolution, voxmap resolution) on the drilling scene
 // with the lips fully engaged. The block is pre-cut analytically to the tool's swept envelope at

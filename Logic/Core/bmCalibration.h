@@ -1,4 +1,5 @@
-// bmCalibration.h - cutting coefficients from thrust/torque-vs-depth data (MODEL_NOTES section 1).
+// bmCalibration.h - cutting coefficients from thrust/torque-vs-depth data (Docs/Model.md
+// section 3).
 //
 // With k_c = sum a_i g_i and k_t = sum b_i g_i, the thrust and torque at a known drilling depth
 // (entry phase: the engaged edge elements are known from the depth) are linear in (a, b): one

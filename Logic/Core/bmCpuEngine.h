@@ -1,7 +1,7 @@
 // bmCpuEngine.h - the frame of bmEngine.h on the CPU with persistent worker threads.
 //
-// Culling rules (MODEL_NOTES section 9), each exact (tests show identical totals and removal with
-// and without them):
+// Culling rules (Docs/CostModel.md section 3), each exact (tests show identical totals and
+// removal with and without them):
 //  1. a block of elements whose bounding box, carried into the voxmap, covers no brick holding
 //     bone is skipped: none of its elements can be inside bone;
 //  2. a block without cutting elements whose normals cannot face the frame's motion

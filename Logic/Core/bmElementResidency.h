@@ -1,4 +1,4 @@
-// bmElementResidency.h - when an element counts as cutting bone (MODEL_NOTES section 8).
+// bmElementResidency.h - when an element counts as cutting bone (Docs/Model.md section 5).
 //
 // Removal is material-conserving: each frame an engaged element lowers its voxel's fill by the
 // volume it sweeps. Where the two grids alias, a voxel can hold a little more (or less) element

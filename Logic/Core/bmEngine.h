@@ -30,7 +30,7 @@ struct FrameInput {
   double spindleAngle = 0;    ///< rad; turns the shell with instantaneous lips
   bool removeMaterial = true; ///< false: query forces only, leave the voxmap unchanged
   /// true (default): every engaged element removes what its surface sweeps, the whole tool
-  /// envelope (MODEL_NOTES section 8: margins and shank never drag on what the lips left);
+  /// envelope (Docs/Model.md section 5: margins and shank never drag on what the lips left);
   /// false: only cutting elements remove (a study option; the haptic session keeps the envelope
   /// and stops its rigid parts by contact, because lips-only removal leaves grid-aliasing
   /// remnants that stall a reamer on coarse voxmaps).

@@ -76,7 +76,7 @@ void ForceModel::SetLipCoefficients(const Coefficients& c) {
 }
 
 namespace {
-// Default chisel edge: k_c = 1000 N/mm^2, k_f = 0.5 (MODEL_NOTES' magnitude check), same for both
+// Default chisel edge: k_c = 1000 N/mm^2, k_f = 0.5 (Docs/Model.md section 6), same for both
 // methods.
 Coefficients DefaultChisel() {
   return {{BasisTerm::One}, {1000.0}, {500.0}};
@@ -85,8 +85,8 @@ Coefficients DefaultChisel() {
 
 ForceModel ForceModel::Default(Method m, const ToolModel& tool) {
   if (m == Method::Lazar) {
-    // Assumption, documented: cortical-bone lips with k_f = k_t / k_c = 0.5 (MODEL_NOTES' magnitude
-    // check) and k = c (1 + 0.5 (1 - sin gamma_n)), so the coefficients grow as the rake turns
+    // Assumption, documented: cortical-bone lips with k_f = k_t / k_c = 0.5 (Docs/Model.md
+    // section 6) and k = c (1 + 0.5 (1 - sin gamma_n)), so the coefficients grow as the rake turns
     // negative (Lazar & Xirouchakis); c is set so that the reference drill at f = 0.02 mm/rev,
     // n = 1000 rpm gives a total thrust of 10 N, the middle of Lee et al.'s (2012) 0-20 N range.
     // The torque follows: 11.35 N mm (Lee et al.: 0-38 N mm). Matching the middle of both ranges
@@ -128,7 +128,8 @@ ElementTerms ForceModel::Terms(const ToolModel& tool, EdgeKind kind, double r, d
   const double cg = std::cos(a.gammaN), sg = std::sin(a.gammaN);
   const double cl = std::cos(a.lambda), sl = std::sin(a.lambda);
   const double ce = cl, se = sl; // eta_c = lambda
-  // T (eq. 3), first column for df_n, second for df_t (MODEL_NOTES: eq. 2 prints them swapped).
+  // T (eq. 3), first column for df_n, second for df_t (Docs/Model.md section 2: eq. 2 prints
+  // them swapped).
   const double Tn[3] = {-cg * sl, -cg * cl, -sg};
   const double Tt[3] = {se * cl - ce * sg * sl, ce * sg * cl + se * sl, ce * cg};
   // R (eq. 4), element frame E -> tool frame T.

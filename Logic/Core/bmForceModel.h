@@ -1,5 +1,5 @@
-// bmForceModel.h - elemental oblique-cutting forces (Faieghi et al. 2020 eqs. 1-6, MODEL_NOTES
-// 1-2).
+// bmForceModel.h - elemental oblique-cutting forces (Faieghi et al. 2020 eqs. 1-6, Docs/Model.md
+// section 2).
 //
 // For a cutting-edge element at radial distance r with radial extent delta:
 //   A_u = (f delta / N_c) cos(mu),  df_n = k_c A_u,  df_t = k_t A_u  (k_t = k_f k_c)

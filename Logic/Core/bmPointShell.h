@@ -1,4 +1,4 @@
-// bmPointShell.h - the tool as a point shell (Faieghi et al. section II-B, MODEL_NOTES 1, 5, 9).
+// bmPointShell.h - the tool as a point shell (Faieghi et al. section II-B; Docs/CostModel.md).
 //
 // The tool's solid of revolution is voxelised on its own grid (spacing = the tool's bounding box's
 // longest side / resolution); the centres of its surface voxels are the elements, each stored as
@@ -6,7 +6,7 @@
 // sorted by code. Side arrays hold what the frame needs:
 //  - areaNormal: outward normal times the element's share of the surface area (mm^2). A motion d
 //    (mm) sweeps max(0, areaNormal . d) mm^3 of material in front of the element: removal by the
-//    whole envelope (MODEL_NOTES section 8);
+//    whole envelope (Docs/Model.md section 5);
 //  - for cutting elements, a force bin (its radius r on the edge) and delta (mm): its share of the
 //    edge's radial extent. Time-averaged lips (default): every element of the edges' surface of
 //    revolution cuts, delta = N_c dr / (elements in its radial bin), so the fully engaged shell

@@ -1,10 +1,10 @@
 // bmToolModel.h - a rotating surgical tool as a solid of revolution with cutting edges.
 //
-// Tool frame T (MODEL_NOTES section 1): origin on the axis at the tool's foremost cutting point,
-// z_t along the axis from the tip toward the shank, feed along -z_t. A point at radial distance
-// rho and axial height z is inside the tool when rho <= OuterRadius() and ZRange(rho) contains z.
-// The time-averaged tool (lips spread over the revolution) is axisymmetric; the lips themselves
-// are described by LipAzimuth() for the instantaneous option.
+// Tool frame T (Docs/Conventions.md section 1): origin on the axis at the tool's foremost cutting
+// point, z_t along the axis from the tip toward the shank, feed along -z_t. A point at radial
+// distance rho and axial height z is inside the tool when rho <= OuterRadius() and ZRange(rho)
+// contains z. The time-averaged tool (lips spread over the revolution) is axisymmetric; the lips
+// themselves are described by LipAzimuth() for the instantaneous option.
 //
 // Units: mm, radians; feed in mm/rev.
 #pragma once
@@ -25,7 +25,7 @@ enum class EdgeKind : unsigned char {
   Chisel = 2, ///< chisel edge of a twist drill
 };
 
-/// Cutting angles of an edge element at radial distance r (radians), MODEL_NOTES section 1.
+/// Cutting angles of an edge element at radial distance r (radians), Docs/Model.md section 1.
 struct CuttingAngles {
   double eps = 0;    ///< point angle: between the cutting edge and z_t
   double beta = 0;   ///< web angle
@@ -74,7 +74,7 @@ public:
   virtual std::unique_ptr<ToolModel> Clone() const = 0;
 };
 
-/// Twist drill, MODEL_NOTES section 1; defaults = the reference drill (Lee et al. 2012).
+/// Twist drill, Docs/Model.md section 1; defaults = the reference drill (Lee et al. 2012).
 /// Lips are straight, their projection offset w from the axis (web), point angle eps; they meet
 /// the chisel edge (perpendicular to the axis) at the corner radius R_c = w / sin(psi) (Lazar &
 /// Xirouchakis' geometry). Chisel: r in [0, R_c]; lips: r in [R_c, R]. Starting the lips at R_c
@@ -117,7 +117,7 @@ private:
   TwistDrillParams P_;
 };
 
-/// Tool whose lips are circular arcs of radius R centred w from the axis (MODEL_NOTES section 1):
+/// Tool whose lips are circular arcs of radius R centred w from the axis (Docs/Model.md section 1):
 /// eps = acos((r - w) / R), beta = asin(R sin(alpha) / r), gamma_n = rakeDeg (0 for the reamer).
 /// Defaults = the spherical glenoid reamer of Faieghi et al. (5 lips, 36.5 mm, nipple guide).
 /// Tool frame: z = 0 at the face's foremost ring (rho = w); the nipple reaches to -nippleLength.

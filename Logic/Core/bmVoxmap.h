@@ -5,13 +5,11 @@
 // more line and, when a slice is then a whole number of 4 KiB, each slice one more row. Without
 // them a 1024-voxel row is 4 KiB and a slice 4 MiB, so the same column of neighbouring rows and
 // slices falls in one set of the 8-way L1 and L2 caches and a tool's voxel lookups evict each
-// other before they are read (at shell 1024^3 x voxmap 1024^3, six alternating pairs, the
-// frame's p99 went from 1.41-1.69 ms in five runs, 0.89 in one, to 1.00-1.03 ms in four, 1.23
-// and 1.40 in two).
+// other before they are read (Docs/Performance.md section 5 gives the measured effect).
 // The padding voxels are void and stay so: nothing writes them. Each voxel holds its remaining bone
 // fill as a fixed-point fraction of the voxel volume (kFull = whole voxel, <= 0 = void) and a
 // material scale (1 = cortical bone, < 1 = cancellous) that scales the cutting coefficients.
-// Removal lowers the fill by the volume swept into the voxel (MODEL_NOTES section 8), so material
+// Removal lowers the fill by the volume swept into the voxel (Docs/Model.md section 5), so material
 // is conserved and steady drilling gives a steady force. Fill may go slightly negative when several
 // elements cut the last of a voxel in the same frame; any value <= 0 is void.
 //

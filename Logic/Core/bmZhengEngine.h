@@ -1,4 +1,5 @@
-// bmZhengEngine.h - the baseline: Zheng et al.'s pipeline in the same harness (MODEL_NOTES 2).
+// bmZhengEngine.h - the baseline: Zheng et al.'s pipeline in the same harness (Docs/Model.md
+// section 4).
 //
 // Differences from bmCpuEngine, all faithful to the baseline:
 //  - the voxmap is held in an octree (bmOctreeVoxmap.h) walked from the root for every query;

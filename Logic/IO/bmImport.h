@@ -25,7 +25,8 @@ struct ImportOptions {
   SegmentationOptions segmentation; ///< threshold (HU), seed (mm), holes
   /// Region of interest, world mm. Without one: the bounding box of the segmented bone.
   std::optional<Box3> roiMm;
-  /// Voxmap resolution: cells along the ROI's longest axis (MODEL_NOTES section 5). Default 256.
+  /// Voxmap resolution: cells along the ROI's longest axis (Docs/CostModel.md section 1).
+  /// Default 256.
   int resolution = 256;
   MaterialMapping material;
   int threads = 0; ///< resampling threads (0 = all cores)

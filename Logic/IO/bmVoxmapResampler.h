@@ -1,7 +1,7 @@
 // bmVoxmapResampler.h - from a bone segmentation at CT resolution to the voxmap.
 //
 // Grid: "resolution N" = the region of interest's bounding box divided into N cells along its
-// longest axis (MODEL_NOTES section 5): isotropic spacing h = longest extent / N, dims[a] =
+// longest axis (Docs/CostModel.md section 1): isotropic spacing h = longest extent / N, dims[a] =
 // ceil(extent[a] / h), the grid anchored at the box's low corner (so it covers the box, exceeding
 // it by less than one voxel on the high side of the shorter axes). The voxmap's origin is the world
 // position (mm) of the centre of voxel (0, 0, 0); its axes are the world axes, so tools and CT

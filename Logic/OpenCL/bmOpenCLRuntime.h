@@ -3,7 +3,7 @@
 //
 // Work split (OpenCLOptions, 0 / -1 = automatic):
 //  - lanes: work-items per work-group. CPU devices (PoCL): 1, because work-group barriers and
-//    per-item atomics are slow there (PLATFORM_NOTES); GPUs: 128.
+//    per-item atomics are slow there (Docs/Platform.md section 4); GPUs: 128.
 //  - groups: most work-groups per launch. CPU devices: 4 per compute unit, each looping over many
 //    blocks; GPUs: 4096.
 //  - int64Atomics: sums leave each work-group as 64-bit atomic adds (cl_khr_int64_base_atomics)

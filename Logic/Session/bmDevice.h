@@ -18,7 +18,7 @@
 
 namespace bm {
 
-/// Nominal limits; defaults are the 3D Systems Touch (MODEL_NOTES section 6).
+/// Nominal limits; defaults are the 3D Systems Touch (Docs/Interaction.md section 5).
 struct DeviceLimits {
   double maxForceN = 3.3;           ///< largest force the device may be sent, N
   double maxStiffnessNPerMm = 0.4;  ///< nominal maximum renderable stiffness, N/mm

@@ -1,5 +1,5 @@
 // bmFeedBalance.h - the feed at which cutting thrust balances the axial coupling force
-// (MODEL_NOTES section 4).
+// (Docs/Interaction.md section 2).
 //
 // Thrust is increasing in feed. At full engagement it is the edge integral F_full(f)
 // (bmForceModel.h IntegrateEdges), tabulated here on a log grid of feeds for the spindle speed in

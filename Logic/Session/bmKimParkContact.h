@@ -1,5 +1,5 @@
-// bmKimParkContact.h - Kim, Park & Park's contact model (MODEL_NOTES section 3): bone surface
-// point shell (bmBoneSurfaceShell.h) against the tool's signed distance field
+// bmKimParkContact.h - Kim, Park & Park's contact model (Docs/Interaction.md section 3): bone
+// surface point shell (bmBoneSurfaceShell.h) against the tool's signed distance field
 // (bmToolDistanceField.h).
 //
 // For a tool pose (R, p) every bone point x_i under the tool's box is carried into the tool frame,

@@ -1,5 +1,5 @@
 // bmProgrammableDevice.h - a device whose pose another thread sets: the GUI's mouse or keyboard
-// driven proxy (issue 6). SetPose() may be called from any thread at any rate; the haptic thread
+// driven proxy. SetPose() may be called from any thread at any rate; the haptic thread
 // reads it without waiting (DeviceStateBuffer). The force the session sends can be read back for
 // display (LastForce()). Always built.
 #pragma once

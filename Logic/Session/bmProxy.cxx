@@ -169,9 +169,10 @@ void Proxy::CuttingStep(const Eigen::Vector3d& xd, const Eigen::Vector3d& vd,
                             2 * 3.14159265358979323846);
   in.spindleAngle = SpindleAngle_;
   in.removeMaterial = cutting;
-  // The whole envelope removes (MODEL_NOTES 8), as in feed trials: lips-only removal leaves the
-  // grid-aliasing remnants in front of the face (the glenoid session at voxmap 64 stalled at 1.2 of
-  // its 2 mm). The rigid nipple removes no more than the last sub-step's graze (above).
+  // The whole envelope removes (Docs/Model.md section 5), as in feed trials: lips-only removal
+  // leaves the grid-aliasing remnants in front of the face (the glenoid session at voxmap 64
+  // stalled at 1.2 of its 2 mm). The rigid nipple removes no more than the last sub-step's graze
+  // (above).
   in.envelopeRemoves = true;
   const FrameResult r = Setup_.GetEngine().Step(in);
   const double full = Balance_.FullThrust(in.feedMmPerRev, n);

@@ -1,5 +1,5 @@
 // bmProxy.h - the simulated tool behind the virtual coupling: one haptic frame of the interaction
-// model (MODEL_NOTES sections 3 and 4).
+// model (Docs/Interaction.md).
 //
 // Methods (ContactMethod), each rendered through the coupling (Rendering::Coupled) or, to show
 // why the coupling is needed, directly (Rendering::Direct):
@@ -15,8 +15,8 @@
 //    contact with bone and does not go deeper while they touch it, so the device's push is
 //    rendered through the coupling. Bone beside such a part (within the dead band of its rim, a
 //    partial-volume hole wall along the nipple) is across the axis and does not stop it. The
-//    engine removes with the whole envelope (MODEL_NOTES 8), so the nipple removes at most the
-//    graze of the sub-step that found the contact.
+//    engine removes with the whole envelope (Docs/Model.md section 5), so the nipple removes at
+//    most the graze of the sub-step that found the contact.
 //    Spindle stopped: every surface is a rigid contact (same solve, all three axes).
 //    Direct: the penalty force k_dev * (deepest penetration) along the contact normal at the
 //    device pose, plus the engine's force at the device's own feed (a damper with a wall).

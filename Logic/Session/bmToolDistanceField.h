@@ -9,7 +9,8 @@
 //
 // It also tells which part of the tool a point is nearest to: the non-cutting surfaces that face
 // the feed (outward normal with a -z_t component, e.g. a reamer's guide nipple) are the ones that
-// must stop, as a rigid contact, when they meet bone along the axis (MODEL_NOTES section 4).
+// must stop, as a rigid contact, when they meet bone along the axis (Docs/Interaction.md
+// section 3).
 //
 // Units: mm, tool frame T (origin at the foremost cutting point, z_t toward the shank).
 #pragma once

@@ -1,5 +1,5 @@
-// bmVirtualCoupling.h - the spring-damper between the device and the proxy (MODEL_NOTES section 4,
-// Kim et al. eq. 3 with a damper added for passivity).
+// bmVirtualCoupling.h - the spring-damper between the device and the proxy
+// (Docs/Interaction.md section 1, Kim et al. eq. 3 with a damper added for passivity).
 //
 // Force on the proxy: F_vc = K (x_d - x_p) + B (v_d - v_p). The device gets -F_vc, clamped to its
 // maximum force; a non-finite force is never sent (it becomes zero). K is at or below the

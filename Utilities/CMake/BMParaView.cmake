@@ -5,7 +5,8 @@
 # include is a no-op where the targets are already visible.
 #
 # Debian's ParaView config fails on optional third parties unless they are found first and the
-# components are named (PLATFORM_NOTES): HDF5 (C, HL, parallel), GLEW, LibXml2, Boost, NetCDF.
+# components are named (Docs/Platform.md section 2): HDF5 (C, HL, parallel), GLEW, LibXml2,
+# Boost, NetCDF.
 if(TARGET ParaView::RemotingServerManager AND TARGET Qt5::Widgets)
   return()
 endif()

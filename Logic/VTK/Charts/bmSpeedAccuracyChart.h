@@ -1,4 +1,5 @@
-// bmSpeedAccuracyChart.h - the benchmark's speed-against-accuracy chart (issue 3), as a PNG.
+// bmSpeedAccuracyChart.h - the benchmark's speed-against-accuracy chart as a PNG
+// (Docs/Performance.md).
 //
 // x: frame time (ms, log scale), y: force error (relative, log scale); one series per method and
 // backend, each point labelled by its resolutions ("shell/voxmap"), a vertical line at the haptic

@@ -1,4 +1,4 @@
-// Elemental forces (bmForceModel.h): the sign convention of MODEL_NOTES section 1 and the
+// Elemental forces (bmForceModel.h): the sign convention of Docs/Conventions.md section 2 and the
 // magnitude check it quotes for the reference drill.
 #include <gtest/gtest.h>
 
@@ -38,7 +38,7 @@ double Integrate(double a, double b, const std::function<double(double)>& fn, in
 }
 
 // Every engaged element of the reference drill pushes the tool back (dF_z >= 0) and resists the
-// spindle (-r dF_y >= 0) at the four Lee conditions with MODEL_NOTES' positive coefficients
+// spindle (-r dF_y >= 0) at the four Lee conditions with Docs/Model.md's positive coefficients
 // (k_c = 1000 N/mm^2, k_f = 0.5): lips r in [R_c, R], chisel r in [f/2, R_c]. Two exceptions, both
 // properties of the model (eqs. 1-6), not of the code, are measured and bounded here:
 //  - chisel elements within a few um of the axis, where the feed angle mu = atan(f / 2 pi r)
@@ -128,7 +128,7 @@ TEST(ForceModel, PositiveCoefficientsGiveThrustAndResistingTorque) {
   }
 }
 
-// MODEL_NOTES section 1: constant k_c = 1000 N/mm^2, k_f = 0.5, f = 0.02 mm/rev; lips integrated
+// Docs/Model.md section 6: constant k_c = 1000 N/mm^2, k_f = 0.5, f = 0.02 mm/rev; lips integrated
 // over r in [w, R], chisel over [0, w], each times N_c: about 5.6 N / 12.7 N mm from the lips and
 // 4.6 N / 0.4 N mm from the chisel (measured 5.574 / 12.666 and 4.583 / 0.374).
 TEST(ForceModel, MagnitudeCheckOfModelNotes) {

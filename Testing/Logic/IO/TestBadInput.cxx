@@ -1,4 +1,4 @@
-// Every bad input of issue 4 is refused with a clear message and nothing is written.
+// Every bad input to the CT import is refused with a clear message and nothing is written.
 #include "bmIOTestUtil.h"
 
 #include "bmCTReader.h"

@@ -1,5 +1,5 @@
-// Real CT: Debian's invesalius-examples head CT (MODEL_NOTES section 7) imports, and the skull it
-// segments has a plausible volume and extent.
+// Real CT: Debian's invesalius-examples head CT (Docs/Platform.md section 5) imports, and the
+// skull it segments has a plausible volume and extent.
 #include "bmIOTestUtil.h"
 
 #include "bmImport.h"

@@ -1,4 +1,4 @@
-// The OpenCL backend gives exactly the CPU backend's results (issue 3): same fixed-point totals,
+// The OpenCL backend gives exactly the CPU backend's results: same fixed-point totals,
 // same removal, same cut voxmap, frame by frame, for both methods, on whatever OpenCL device the
 // machine has (PoCL in CI). The CPU engines are the kernels' plain C++ twins.
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 // Kim et al.'s pieces: the tool's signed distance field, the bone surface point shell and its
 // flood-fill regeneration, the contact force; the feed balance of the cutting model; and the rigid
-// contact of the tool's non-cutting parts along the axis (MODEL_NOTES section 4).
+// contact of the tool's non-cutting parts along the axis (Docs/Interaction.md section 3).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// One HDF5 library per process (issue 5): Debian ships HDF5 in flavours (serial, openmpi, mpich)
+// One HDF5 library per process: Debian ships HDF5 in flavours (serial, openmpi, mpich)
 // that are separate libraries; ParaView's VTK links the openmpi one, netcdf and gdal the serial
 // one. Recording a session must not add a second flavour of its own: after BMSession has written
 // and read an .h5 file, the libhdf5 flavours mapped into this process (/proc/self/maps) are

@@ -1,4 +1,4 @@
-// The stability suite (issue 5): each test shows a method fail and ours hold, prints its figures
+// The stability suite: each test shows a method fail and ours hold, prints its figures
 // and asserts them. Resolutions are kept small (the suite also runs under ThreadSanitizer).
 //
 //  1. Passivity: direct penalty rendering at the device's stiffness vs virtual coupling.
