@@ -1,6 +1,8 @@
 // bmsim - the BoneMachining command line. Subcommands register themselves (bmsimCommand.h).
 #include "bmsimCommand.h"
 
+#include "bmResources.h"
+
 #include <exception>
 #include <iostream>
 
@@ -19,7 +21,8 @@ static void PrintUsage(std::ostream& os) {
   os << "usage: bmsim COMMAND [options]\n\ncommands:\n";
   for (const auto& [name, cmd] : bm::cli::Registry())
     os << "  " << name << "\t" << cmd.help << "\n";
-  os << "\n'bmsim COMMAND --help' describes a command's options.\n";
+  os << "\n'bmsim COMMAND --help' describes a command's options; 'bmsim --version' prints the\n"
+        "version and the resource folder in use.\n";
 }
 
 int main(int argc, char** argv) {
@@ -33,6 +36,11 @@ int main(int argc, char** argv) {
   std::string name = argv[1];
   if (name == "--help" || name == "-h" || name == "help") {
     PrintUsage(std::cout);
+    return 0;
+  }
+  if (name == "--version") {
+    std::cout << "bmsim (BoneMachining) " << BM_VERSION << "\nresources: " << bm::ResourceDir().string()
+              << "\n";
     return 0;
   }
   auto it = bm::cli::Registry().find(name);

@@ -8,6 +8,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "bmResources.h"
+
 namespace bm {
 
 namespace {
@@ -149,7 +151,7 @@ void Scene::Validate() const {
 std::vector<std::string> Scene::BuiltinNames() {
   std::vector<std::string> names{"drilling"};
   std::error_code ec;
-  for (const auto& e : std::filesystem::directory_iterator(BM_SCENE_DIR, ec))
+  for (const auto& e : std::filesystem::directory_iterator(ResourcePath("Scenes"), ec))
     if (e.path().extension() == ".json" && e.path().stem() != "drilling")
       names.push_back(e.path().stem().string());
   std::sort(names.begin() + 1, names.end());
@@ -159,7 +161,7 @@ std::vector<std::string> Scene::BuiltinNames() {
 Scene Scene::Builtin(const std::string& name) {
   if (name == "drilling")
     return Scene{};
-  const std::filesystem::path file = std::filesystem::path(BM_SCENE_DIR) / (name + ".json");
+  const std::filesystem::path file = ResourcePath("Scenes") / (name + ".json");
   if (name.find('/') == std::string::npos && std::filesystem::exists(file)) {
     Scene s = Load(file.string());
     return s;

@@ -10,6 +10,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "bmResources.h"
+
 namespace bm {
 
 namespace {
@@ -39,11 +41,7 @@ double ParseNumber(const std::string& text, const std::string& path, int line,
 std::string BenchmarkTable::DefaultPath() {
   if (const char* env = std::getenv("BM_BENCHMARK_CSV"); env && *env)
     return env;
-#ifdef BM_BENCHMARK_CSV
-  return BM_BENCHMARK_CSV;
-#else
-  return "Resources/Benchmark/bench.csv";
-#endif
+  return ResourcePath("Benchmark/bench.csv").string();
 }
 
 BenchmarkTable BenchmarkTable::Load(const std::string& path) {

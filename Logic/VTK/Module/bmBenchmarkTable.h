@@ -33,8 +33,8 @@ public:
   /// a missing column, a malformed number with its line), and when no row has status "ok".
   static BenchmarkTable Load(const std::string& path);
   /// The table to read: $BM_BENCHMARK_CSV when set and not empty (e.g. a machine's own
-  /// measurements, or a test's), else Resources/Benchmark/bench.csv of the source tree (compile
-  /// definition BM_BENCHMARK_CSV), as the built-in scenes are found.
+  /// measurements, or a test's), else Benchmark/bench.csv in the resource folder (bmResources.h:
+  /// the source tree's Resources/ in a build tree, <prefix>/share/BoneMachining once installed).
   static std::string DefaultPath();
 
   /// The measured cells (status "ok" only), in file order.
