@@ -27,7 +27,10 @@ const char* kUsage =
     "  --resolution N        cells along the ROI's longest axis (default 256)\n"
     "  --threshold HU        bone threshold in Hounsfield units (default 200)\n"
     "  --seed X,Y,Z          world point (mm) on the bone to keep (default: the largest bone)\n"
-    "  --roi X0,Y0,Z0,X1,Y1,Z1  region of interest, world mm (default: the bone's bounding box)\n"
+    "  --exclude X,Y,Z[;X,Y,Z...]  world points (mm) on bones to drop: split from the kept bone\n"
+    "                        across the joint space (a point off all bone is a warning)\n"
+    "  --roi X0,Y0,Z0,X1,Y1,Z1  region of interest, world mm (default: the bone's bounding box;\n"
+    "                        an inverted box is an error)\n"
     "  --series UID          SeriesInstanceUID when the folder holds several series\n"
     "  --max-memory MB       memory the import may use (default 75 % of physical memory)\n"
     "  --keep-all            keep every bone component, not only the largest\n"
@@ -67,7 +70,8 @@ ProgressFn TerminalProgress(bool quiet) {
 
 static int ImportCommand(const Args& args) {
   const ParsedArgs p(args,
-                     {"out", "resolution", "threshold", "seed", "roi", "series", "max-memory"},
+                     {"out", "resolution", "threshold", "seed", "exclude", "roi", "series",
+                      "max-memory"},
                      {"help", "keep-all", "no-fill-holes", "quiet"},
                      {{"o", "out"}, {"h", "help"}, {"q", "quiet"}}, kUsage);
   if (p.Has("help")) {
@@ -84,14 +88,10 @@ static int ImportCommand(const Args& args) {
     opt.segmentation.thresholdHU = float(*t);
   if (const auto s = p.GetDoubles("seed", 3))
     opt.segmentation.seedMm = std::array<double, 3>{(*s)[0], (*s)[1], (*s)[2]};
-  if (const auto r = p.GetDoubles("roi", 6)) {
-    bm::Box3 b;
-    for (int k = 0; k < 3; ++k) {
-      b.lo[k] = std::min((*r)[size_t(k)], (*r)[size_t(k) + 3]);
-      b.hi[k] = std::max((*r)[size_t(k)], (*r)[size_t(k) + 3]);
-    }
-    opt.roiMm = b;
-  }
+  if (const auto r = p.GetDoubles("roi", 6))
+    opt.roiMm = bm::RoiFromCorners(*r, "--roi");
+  if (const auto e = p.Get("exclude"))
+    opt.segmentation.excludeSeedsMm = bm::ParsePointsMm(*e, "--exclude");
   if (const auto uid = p.Get("series"))
     opt.read.seriesUID = *uid;
   if (const auto mb = p.GetDouble("max-memory", -HUGE_VAL, HUGE_VAL)) {

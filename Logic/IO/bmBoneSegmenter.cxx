@@ -1,9 +1,7 @@
 #include "bmBoneSegmenter.h"
 
 #include <itkBinaryThresholdImageFilter.h>
-#include <itkConnectedComponentImageFilter.h>
 #include <itkRegionOfInterestImageFilter.h>
-#include <itkRelabelComponentImageFilter.h>
 
 #include <algorithm>
 #include <cmath>
@@ -13,9 +11,6 @@
 namespace bm {
 
 namespace {
-
-using MaskImage = itk::Image<uint8_t, 3>;
-using LabelImage = itk::Image<uint32_t, 3>;
 
 std::string FormatPoint(const std::array<double, 3>& p) {
   std::ostringstream os;
@@ -28,23 +23,6 @@ std::string FormatBox(const Box3& b) {
   os << "[" << b.lo[0] << ", " << b.hi[0] << "] x [" << b.lo[1] << ", " << b.hi[1] << "] x ["
      << b.lo[2] << ", " << b.hi[2] << "] mm";
   return os.str();
-}
-
-/// Label image of the 26-connected components of `mask`, relabelled by decreasing size.
-LabelImage::Pointer Components(MaskImage* mask, bool fullyConnected, const Progress& progress,
-                               std::vector<itk::SizeValueType>& sizes) {
-  auto cc = itk::ConnectedComponentImageFilter<MaskImage, LabelImage>::New();
-  cc->SetInput(mask);
-  cc->SetFullyConnected(fullyConnected);
-  RunFilter(cc, progress.Range(0, 0.8), "segmenting bone: components");
-  auto relabel = itk::RelabelComponentImageFilter<LabelImage, LabelImage>::New();
-  relabel->SetInput(cc->GetOutput());
-  relabel->SetSortByObjectSize(true);
-  RunFilter(relabel, progress.Range(0.8, 1), "segmenting bone: components");
-  sizes = relabel->GetSizeOfObjectsInPixels();
-  LabelImage::Pointer out = relabel->GetOutput();
-  out->DisconnectPipeline();
-  return out;
 }
 
 } // namespace
@@ -143,29 +121,22 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt,
   }
 
   // 2. Components.
-  if (opt.seedMm || !opt.keepAllComponents) {
-    std::vector<itk::SizeValueType> sizes;
-    LabelImage::Pointer labels = Components(mask, true, progress.Range(0.1, 0.35), sizes);
-    const uint32_t* L = labels->GetBufferPointer();
+  std::vector<itk::SizeValueType> sizes;
+  LabelImage::Pointer labels;
+  if (opt.seedMm || !opt.keepAllComponents || !opt.excludeSeedsMm.empty()) {
+    labels =
+        LabelComponents(mask, true, sizes, progress.Range(0.1, 0.3), "segmenting bone: components");
     seg.numComponents = int(sizes.size());
+  } else {
+    seg.numComponents = -1; // not counted
+  }
+  // The bone label at a voxel, else the nearest among its 26 neighbours.
+  auto labelNear = [&](const std::array<int, 3>& v) { return NearestLabel(labels, v, 1); };
+  if (opt.seedMm || !opt.keepAllComponents) {
+    const uint32_t* L = labels->GetBufferPointer();
     uint32_t keep = 1; // largest after relabelling
     if (opt.seedMm) {
-      keep = 0;
-      // The seed's voxel, else the nearest bone voxel among its 26 neighbours.
-      double best = 1e300;
-      for (int dk = -1; dk <= 1; ++dk)
-        for (int dj = -1; dj <= 1; ++dj)
-          for (int di = -1; di <= 1; ++di) {
-            int i = seedIdx[0] + di, j = seedIdx[1] + dj, k = seedIdx[2] + dk;
-            if (i < 0 || j < 0 || k < 0 || i >= nx || j >= ny || k >= nz)
-              continue;
-            uint32_t l = L[idx(i, j, k)];
-            double d = di * di + dj * dj + dk * dk;
-            if (l && d < best) {
-              best = d;
-              keep = l;
-            }
-          }
+      keep = labelNear(seedIdx);
       if (!keep) {
         std::ostringstream os;
         os << "the seed point " << FormatPoint(*opt.seedMm) << " is not on bone: its voxel is "
@@ -176,57 +147,69 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt,
     }
     for (int64_t v = 0; v < n; ++v)
       M[v] = L[v] == keep ? 1 : 0;
-  } else {
-    seg.numComponents = -1; // not counted
+  }
+
+  // 3. Separate the bones at exclude seeds from the kept bone.
+  auto BoneVoxelNear = [&](const std::array<int, 3>& v) -> std::optional<std::array<int, 3>> {
+    if (M[idx(v[0], v[1], v[2])])
+      return v;
+    for (int dk = -1; dk <= 1; ++dk)
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int di = -1; di <= 1; ++di) {
+          const std::array<int, 3> w{v[0] + di, v[1] + dj, v[2] + dk};
+          if (w[0] >= 0 && w[1] >= 0 && w[2] >= 0 && w[0] < nx && w[1] < ny && w[2] < nz &&
+              M[idx(w[0], w[1], w[2])])
+            return w;
+        }
+    return std::nullopt;
+  };
+  std::vector<std::array<int, 3>> excludeOnKept;
+  for (const auto& e : opt.excludeSeedsMm) {
+    const auto v = VoxelOfPoint(hu, e);
+    if (!v) {
+      seg.warnings.push_back("the exclude seed " + FormatPoint(e) +
+                             " lies outside the image, whose bounds are " +
+                             FormatBox(ct.WorldBounds()) + "; ignored");
+      continue;
+    }
+    const uint32_t l = labelNear(*v);
+    if (!l) {
+      std::ostringstream os;
+      os << "the exclude seed " << FormatPoint(e) << " is not on bone (its voxel is "
+         << H[idx((*v)[0], (*v)[1], (*v)[2])] << " HU, below the bone threshold of "
+         << opt.thresholdHU << " HU); ignored";
+      seg.warnings.push_back(os.str());
+      continue;
+    }
+    // Its voxel on the kept bone (the seed's voxel, else a bone neighbour); none when the seed
+    // is on a bone already dropped.
+    if (const auto on = BoneVoxelNear(*v))
+      excludeOnKept.push_back(*on);
+  }
+  labels = nullptr;
+  if (!excludeOnKept.empty()) {
+    std::optional<std::array<int, 3>> include;
+    if (opt.seedMm)
+      include = BoneVoxelNear(seedIdx);
+    seg.separation =
+        SeparateBones(mask, include, excludeOnKept, opt.separation, progress.Range(0.3, 0.45));
   }
   for (int64_t v = 0; v < n; ++v)
     seg.keptVoxels += M[v];
 
-  // 3. Fill interior holes: background components (6-connected) off the border.
-  if (opt.fillHoles) {
-    auto notBone = MaskImage::New();
-    notBone->SetRegions(region);
-    notBone->CopyInformation(mask);
-    notBone->Allocate();
-    uint8_t* B = notBone->GetBufferPointer();
-    for (int64_t v = 0; v < n; ++v)
-      B[v] = M[v] ? 0 : 1;
-    std::vector<itk::SizeValueType> sizes;
-    LabelImage::Pointer holes = Components(notBone, false, progress.Range(0.35, 0.6), sizes);
-    notBone = nullptr;
-    const uint32_t* L = holes->GetBufferPointer();
-    const size_t nl = sizes.size() + 1;
-    std::vector<uint8_t> touches(nl, 0);
-    std::vector<double> sumHU(nl, 0.0);
-    for (int k = 0; k < nz; ++k)
-      for (int j = 0; j < ny; ++j)
-        for (int i = 0; i < nx; ++i) {
-          int64_t v = idx(i, j, k);
-          uint32_t l = L[v];
-          if (!l)
-            continue;
-          sumHU[l] += H[v];
-          if (i == 0 || j == 0 || k == 0 || i == nx - 1 || j == ny - 1 || k == nz - 1)
-            touches[l] = 1;
-        }
-    std::vector<uint8_t> fill(nl, 0);
-    for (size_t l = 1; l < nl; ++l) {
-      double count = double(sizes[l - 1]);
-      if (!touches[l] && count * voxelVolume <= opt.maxHoleVolumeMm3 &&
-          sumHU[l] / count >= opt.holeMinMeanHU) {
-        fill[l] = 1;
-        ++seg.holesFilled;
-      }
-    }
-    for (int64_t v = 0; v < n; ++v)
-      if (L[v] && fill[L[v]]) {
-        M[v] = 2;
-        ++seg.filledVoxels;
-      }
-  }
+  // 4. Fill cavities.
+  CavityFillOptions fillOpt;
+  fillOpt.fill = opt.fillHoles;
+  fillOpt.closingRadiusVoxels = opt.closingRadiusVoxels;
+  fillOpt.maxHoleVolumeMm3 = opt.maxHoleVolumeMm3;
+  fillOpt.holeMinMeanHU = opt.holeMinMeanHU;
+  const CavityFillResult filled = FillCavities(mask, hu, fillOpt, progress.Range(0.45, 0.6));
+  seg.holesFilled = filled.holesFilled;
+  seg.borderHolesFilled = filled.borderHolesFilled;
+  seg.filledVoxels = filled.filledVoxels;
   progress(0.65, "segmenting bone: partial volume");
 
-  // 4. Bone fraction and bone HU. Band = voxels with a 26-neighbour on the other side of the mask.
+  // 5. Bone fraction and bone HU. Band = voxels with a 26-neighbour on the other side of the mask.
   seg.fraction = FractionImage::New();
   seg.fraction->SetRegions(region);
   seg.fraction->CopyInformation(hu);

@@ -1,31 +1,35 @@
-// bmBoneSegmenter.h - bone from a CT in Hounsfield units, with ITK filters.
+// bmBoneSegmenter.h - bone from a CT in Hounsfield units, with ITK filters: the segment stage of
+// the CT chain read -> intensity -> segment -> separate -> fill -> resample (Docs/Segmentation.md).
 //
 // Steps (each reported through Progress):
 //  1. threshold: voxels with HU >= thresholdHU are bone (default 200 HU: above soft tissue and
 //     marrow, below cancellous bone of ordinary density; InVesalius' bone preset is 226 HU);
-//  2. components (26-connected, itk::ConnectedComponentImageFilter + RelabelComponentImageFilter):
-//     keep the component holding the seed point, else the largest, else (keepAllComponents) all;
-//  3. fill interior holes: background components (6-connected) that do not touch the image border,
-//     are at most maxHoleVolumeMm3 and whose mean HU is at least holeMinMeanHU become bone. Marrow
-//     and low-density cancellous bone inside a cortical shell are bone; air cells (mastoid,
-//     sinuses, mean HU far below 0) and large cavities (the cranial cavity, above the volume limit)
-//     are not;
-//  4. partial volume: bone fraction per voxel. Voxels away from the bone surface are 1 (bone) or 0;
+//  2. components (26-connected, bmMask.h LabelComponents): keep the component holding the seed
+//     point, else the largest, else (keepAllComponents) all;
+//  3. separate (bmBoneSeparation.h): when an exclude seed lies on the kept component, the bones
+//     joined across a joint space are split and only the include seed's bone is kept;
+//  4. fill cavities (bmCavityFill.h): closing, cavities inside the bone and cavities cut open by
+//     the image border, up to maxHoleVolumeMm3, mean HU at least holeMinMeanHU;
+//  5. partial volume: bone fraction per voxel. Voxels away from the bone surface are 1 (bone) or 0;
 //     a voxel within one voxel of the surface gets (HU - soft) / (bone - soft) clamped to [0, 1],
 //     with soft = mean HU of the pure non-bone voxels and bone = the highest HU of the pure bone
 //     voxels within 2 voxels (so a voxel half filled with cortical bone counts half, not all, as a
-//     threshold would make it). Filled-hole voxels are 1.
+//     threshold would make it). Filled-cavity voxels are 1.
 //
 // The HU of the bone at each bone voxel (boneHU) is kept for the material scale: inside the bone
 // its own HU, at the surface the bone reference above (its own HU is diluted by the soft tissue).
 #pragma once
 
+#include "bmBoneSeparation.h"
 #include "bmCTImage.h"
+#include "bmCavityFill.h"
 #include "bmProgress.h"
 
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <string>
+#include <vector>
 
 namespace bm {
 
@@ -35,10 +39,17 @@ struct SegmentationOptions {
   /// World point (mm): keep the connected component containing it (or touching it within one
   /// voxel). Without a seed the largest component is kept.
   std::optional<std::array<double, 3>> seedMm;
+  /// World points (mm) on bones to drop: bones joined to the kept one are separated from it
+  /// (bmBoneSeparation.h). A point off all bone is reported in the warnings and ignored.
+  std::vector<std::array<double, 3>> excludeSeedsMm;
   /// Keep every component above the threshold (ignored when a seed is given).
   bool keepAllComponents = false;
-  /// Fill interior holes (see above).
+  /// Separation of touching bones (used when an exclude seed lies on the kept bone).
+  SeparationOptions separation;
+  /// Fill cavities (bmCavityFill.h; on by default).
   bool fillHoles = true;
+  /// Closing before the cavity fill, ball radius in voxels (0 = none). Default 1.
+  int closingRadiusVoxels = 1;
   /// Largest hole filled, mm^3 (default 20 cm^3: marrow spaces yes, the cranial cavity no).
   double maxHoleVolumeMm3 = 20000.0;
   /// Holes whose mean HU is below this stay empty (air cells), HU.
@@ -51,19 +62,23 @@ struct SegmentationOptions {
 using FractionImage = itk::Image<float, 3>;
 
 struct BoneSegmentation {
-  FractionImage::Pointer fraction; ///< bone fraction per CT voxel, 0..1
-  HUImage::Pointer boneHU;         ///< HU of the bone material where fraction > 0 (NaN elsewhere)
-  double boneVolumeMm3 = 0;        ///< sum of fractions x voxel volume, mm^3
-  Box3 boneBounds;                 ///< world box (mm) around the voxels with fraction > 0
-  int64_t thresholdVoxels = 0;     ///< voxels >= threshold (all components)
-  int64_t keptVoxels = 0;          ///< voxels of the kept component(s), before hole filling
-  int64_t filledVoxels = 0;        ///< voxels added by hole filling
-  int numComponents = 0;           ///< components above the threshold
-  int holesFilled = 0;             ///< number of holes filled
+  FractionImage::Pointer fraction;   ///< bone fraction per CT voxel, 0..1
+  HUImage::Pointer boneHU;           ///< HU of the bone material where fraction > 0 (NaN elsewhere)
+  double boneVolumeMm3 = 0;          ///< sum of fractions x voxel volume, mm^3
+  Box3 boneBounds;                   ///< world box (mm) around the voxels with fraction > 0
+  int64_t thresholdVoxels = 0;       ///< voxels >= threshold (all components)
+  int64_t keptVoxels = 0;            ///< voxels of the kept component(s), before hole filling
+  int64_t filledVoxels = 0;          ///< voxels added by hole filling
+  int numComponents = 0;             ///< components above the threshold
+  int holesFilled = 0;               ///< number of cavities filled
+  int borderHolesFilled = 0;         ///< of which cut open by the image border
+  SeparationResult separation;       ///< depthMm > 0 when touching bones were split
+  std::vector<std::string> warnings; ///< seeds off the bone, ...
 };
 
 /// Segment the bone of `ct` (HU). Throws std::runtime_error when no voxel reaches the threshold,
-/// when the seed lies outside the image or is not on bone. Progress stage "segmenting bone".
+/// when the (include) seed lies outside the image or is not on bone, or when the bones at the
+/// include and exclude seeds cannot be separated. Progress stage "segmenting bone".
 BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& options = {},
                              const Progress& progress = {});
 

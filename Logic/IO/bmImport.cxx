@@ -5,7 +5,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <iomanip>
 #include <sstream>
@@ -99,7 +101,22 @@ ImportResult ImportVoxmap(CTImage ct, const ImportOptions& opt, const Progress& 
   r.segmentedVolumeMm3 = seg.boneVolumeMm3;
   r.numComponents = seg.numComponents;
   r.holesFilled = seg.holesFilled;
-  r.roi = opt.roiMm ? *opt.roiMm : seg.boneBounds;
+  r.separationDepthMm = seg.separation.depthMm;
+  r.warnings.insert(r.warnings.end(), seg.warnings.begin(), seg.warnings.end());
+  if (opt.roiMm) {
+    r.roi = *opt.roiMm;
+  } else {
+    // The bone's voxels and the half CT voxel the resampler's interpolation reaches beyond them.
+    const auto sp = seg.fraction->GetSpacing();
+    const double grow = 0.5 * std::max({sp[0], sp[1], sp[2]});
+    const Box3 ctBox =
+        WorldBoxOfRegion(seg.fraction.GetPointer(), seg.fraction->GetLargestPossibleRegion());
+    r.roi = seg.boneBounds;
+    for (int a = 0; a < 3; ++a) {
+      r.roi.lo[a] = std::max(r.roi.lo[a] - grow, ctBox.lo[a]);
+      r.roi.hi[a] = std::min(r.roi.hi[a] + grow, ctBox.hi[a]);
+    }
+  }
 
   VoxmapGrid grid = GridForBox(r.roi, opt.resolution);
   const uint64_t segBytes = ctVoxels * 2 * sizeof(float);
@@ -149,6 +166,9 @@ std::string ImportResult::Report() const {
   if (numComponents > 0)
     os << ", " << holesFilled << " holes filled)";
   os << "\n";
+  if (separationDepthMm > 0)
+    os << std::setprecision(1) << "separated:   from the bones at the exclude seeds (erosion "
+       << separationDepthMm << " mm)\n";
   const auto& d = voxmap.Dims();
   os << std::setprecision(4) << "voxmap:      " << d[0] << " x " << d[1] << " x " << d[2]
      << " voxels of " << voxmap.Spacing() << " mm over " << Box(roi) << "\n";
@@ -157,6 +177,50 @@ std::string ImportResult::Report() const {
   for (const auto& w : warnings)
     os << "warning:     " << w << "\n";
   return os.str();
+}
+
+Box3 RoiFromCorners(const std::vector<double>& c, const std::string& what) {
+  if (c.size() != 6)
+    throw std::runtime_error(what + " must hold 6 numbers: x0, y0, z0, x1, y1, z1 (mm)");
+  Box3 b;
+  static const char* axis[3] = {"x", "y", "z"};
+  for (int a = 0; a < 3; ++a) {
+    if (!std::isfinite(c[size_t(a)]) || !std::isfinite(c[size_t(a) + 3]))
+      throw std::runtime_error(what + " holds a value that is not a finite number");
+    b.lo[a] = c[size_t(a)];
+    b.hi[a] = c[size_t(a) + 3];
+    if (!(b.hi[a] > b.lo[a])) {
+      std::ostringstream os;
+      os << what << " is inverted or empty along " << axis[a] << ": " << axis[a]
+         << "1 = " << b.hi[a] << " mm is not above " << axis[a] << "0 = " << b.lo[a]
+         << " mm (the order is x0, y0, z0, x1, y1, z1)";
+      throw std::runtime_error(os.str());
+    }
+  }
+  return b;
+}
+
+std::vector<std::array<double, 3>> ParsePointsMm(const std::string& text, const std::string& what) {
+  std::string t = text;
+  for (char& ch : t)
+    if (ch == ',' || ch == ';')
+      ch = ' ';
+  std::istringstream is(t);
+  std::vector<double> v;
+  std::string word;
+  while (is >> word) {
+    char* end = nullptr;
+    const double x = std::strtod(word.c_str(), &end);
+    if (end == word.c_str() || *end || !std::isfinite(x))
+      throw std::runtime_error(what + ": '" + word + "' is not a number");
+    v.push_back(x);
+  }
+  if (v.empty() || v.size() % 3)
+    throw std::runtime_error(what + " must be points x,y,z (mm), several separated by ';'");
+  std::vector<std::array<double, 3>> out;
+  for (size_t i = 0; i < v.size(); i += 3)
+    out.push_back({v[i], v[i + 1], v[i + 2]});
+  return out;
 }
 
 ImportOptions ImportOptionsFromJson(const nlohmann::json& j) {
@@ -192,14 +256,30 @@ ImportOptions ImportOptionsFromJson(const nlohmann::json& j) {
     auto s = vec("seed", 3);
     o.segmentation.seedMm = std::array<double, 3>{s[0], s[1], s[2]};
   }
-  if (j.contains("roi")) {
-    auto r = vec("roi", 6);
-    Box3 b;
-    for (int a = 0; a < 3; ++a) {
-      b.lo[a] = std::min(r[a], r[a + 3]);
-      b.hi[a] = std::max(r[a], r[a + 3]);
+  if (j.contains("roi"))
+    o.roiMm = RoiFromCorners(vec("roi", 6), "bone: 'roi'");
+  if (j.contains("exclude")) {
+    const auto& e = j["exclude"];
+    if (!e.is_array())
+      throw std::runtime_error("bone: 'exclude' must be an array of [x, y, z] points (mm)");
+    for (const auto& p : e) {
+      if (!p.is_array() || p.size() != 3 || !p[0].is_number() || !p[1].is_number() ||
+          !p[2].is_number())
+        throw std::runtime_error("bone: 'exclude' must be an array of [x, y, z] points (mm)");
+      o.segmentation.excludeSeedsMm.push_back(
+          {p[0].get<double>(), p[1].get<double>(), p[2].get<double>()});
     }
-    o.roiMm = b;
+  }
+  if (j.contains("closingRadius")) {
+    const double c = num("closingRadius");
+    if (c != std::floor(c) || c < 0 || c > 10)
+      throw std::runtime_error("bone: 'closingRadius' must be an integer 0 .. 10 (voxels)");
+    o.segmentation.closingRadiusVoxels = int(c);
+  }
+  if (j.contains("separationDepth")) {
+    o.segmentation.separation.maxDepthMm = num("separationDepth");
+    if (!(o.segmentation.separation.maxDepthMm > 0))
+      throw std::runtime_error("bone: 'separationDepth' must be > 0 mm");
   }
   if (j.contains("resolution")) {
     double n = num("resolution");
@@ -245,7 +325,7 @@ Voxmap VoxmapFromScene(const nlohmann::json& bone, const std::string& baseDir,
   if (bone.contains("ct"))
     return ImportVoxmap(resolve("ct"), opt, progress).voxmap;
   if (!bone["phantom"].is_string())
-    throw std::runtime_error("bone: 'phantom' must be glenoid or block");
+    throw std::runtime_error("bone: 'phantom' must be glenoid, block or shoulder");
   std::string name = bone["phantom"].get<std::string>();
   CTImage ct = MakePhantomCT(name, {}, progress.Range(0, 0.3));
   return ImportVoxmap(std::move(ct), opt, progress.Range(0.3, 1)).voxmap;

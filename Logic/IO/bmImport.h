@@ -15,15 +15,18 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include <array>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace bm {
 
 struct ImportOptions {
   ReadOptions read;                 ///< series choice, memory limit (also used for the later steps)
   SegmentationOptions segmentation; ///< threshold (HU), seed (mm), holes
-  /// Region of interest, world mm. Without one: the bounding box of the segmented bone.
+  /// Region of interest, world mm. Without one: the bounding box of the segmented bone grown by
+  /// half a CT voxel (the reach of the resampler's interpolation), within the CT.
   std::optional<Box3> roiMm;
   /// Voxmap resolution: cells along the ROI's longest axis (Docs/CostModel.md section 1).
   /// Default 256.
@@ -46,7 +49,8 @@ struct ImportResult {
   double segmentedVolumeMm3 = 0; ///< bone volume at CT resolution (sum of fractions), mm^3
   int numComponents = 0;
   int holesFilled = 0;
-  Box3 roi; ///< the box the voxmap covers, world mm
+  double separationDepthMm = 0; ///< erosion that split touching bones, mm (0: none needed)
+  Box3 roi;                     ///< the box the voxmap covers, world mm
   /// Human-readable summary (several lines): modality, size, spacing, HU range, bone volume.
   std::string Report() const;
 };
@@ -63,10 +67,22 @@ ImportResult ImportToFile(const std::string& input, const std::string& output,
 /// Check that `output` can receive a voxmap (.nrrd/.mha, its folder exists); throws otherwise.
 void CheckVoxmapOutputPath(const std::string& output);
 
+/// The box of a region of interest given as [x0, y0, z0, x1, y1, z1] (world mm, the one ROI
+/// order of the CLI, scenes and the plugin). Throws std::runtime_error naming `what` when the
+/// box is inverted or empty along an axis (x1 <= x0, ...) or a value is not finite.
+Box3 RoiFromCorners(const std::vector<double>& corners, const std::string& what);
+
+/// World points (mm) from text "x,y,z" or several "x,y,z;x,y,z" (a multiple of three numbers,
+/// separated by commas, semicolons or spaces). Throws std::runtime_error naming `what`.
+std::vector<std::array<double, 3>> ParsePointsMm(const std::string& text, const std::string& what);
+
 /// Options from a scene's bone description (all keys optional):
-///   "threshold": HU, "seed": [x, y, z] mm, "roi": [x0, y0, z0, x1, y1, z1] mm, "resolution": N,
-///   "series": SeriesInstanceUID, "keepAllComponents": bool, "fillHoles": bool,
-///   "maxHoleVolume": mm^3, "maxMemoryMB": MiB, "corticalHU": HU.
+///   "threshold": HU, "seed": [x, y, z] mm (the bone to keep), "exclude": [[x, y, z], ...] mm
+///   (bones to drop, separated from the kept one across joint spaces), "roi": [x0, y0, z0, x1,
+///   y1, z1] mm (inverted: an error), "resolution": N, "series": SeriesInstanceUID,
+///   "keepAllComponents": bool, "fillHoles": bool (cavities, default true), "closingRadius":
+///   voxels (default 1), "maxHoleVolume": mm^3, "separationDepth": mm (default 8),
+///   "maxMemoryMB": MiB, "corticalHU": HU.
 /// Throws std::runtime_error naming a key of the wrong type or value.
 ImportOptions ImportOptionsFromJson(const nlohmann::json& bone);
 

@@ -1,5 +1,8 @@
 #include "bmPhantom.h"
 
+#include <itkSmoothingRecursiveGaussianImageFilter.h>
+
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -18,6 +21,24 @@ constexpr float kCorticalHU = 1500, kCancellousHU = 300, kFluidHU = 0, kSoftHU =
 // Block.
 constexpr double bHalf = 3.0, bDepth = 4.0;
 constexpr float kBlockHU = 1600, kAirHU = -1000;
+
+// Shoulder.
+constexpr double sR = 22.0, sGap = 3.5, sT = 16.0, sHalfY = 20.0, sHalfZ = 30.0, sShell = 1.5;
+constexpr double sX1 = -(sR + sGap), sX0 = sX1 - sT; // the plate's x range
+constexpr float kHeadCancellousHU = 250, kPlateCancellousHU = 300;
+constexpr double kShoulderBlurMm = 1.5;
+
+float ShoulderHU(const std::array<double, 3>& p) {
+  const double r = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+  if (r <= sR)
+    return r >= sR - sShell ? kCorticalHU : kHeadCancellousHU;
+  if (p[0] >= sX0 && p[0] <= sX1 && std::abs(p[1]) <= sHalfY && std::abs(p[2]) <= sHalfZ) {
+    const double depth =
+        std::min({p[0] - sX0, sX1 - p[0], sHalfY - std::abs(p[1]), sHalfZ - std::abs(p[2])});
+    return depth <= sShell ? kCorticalHU : kPlateCancellousHU;
+  }
+  return kSoftHU;
+}
 
 double Dot(const std::array<double, 3>& a, const std::array<double, 3>& b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
@@ -62,7 +83,7 @@ double GlenoidVolume() {
 } // namespace
 
 std::vector<std::string> PhantomNames() {
-  return {"glenoid", "block"};
+  return {"glenoid", "block", "shoulder"};
 }
 
 PhantomInfo GetPhantomInfo(const std::string& name) {
@@ -84,8 +105,14 @@ PhantomInfo GetPhantomInfo(const std::string& name) {
     info.boneVolumeMm3 = (2 * bHalf) * (2 * bHalf) * bDepth;
     info.boneBounds.lo = {-bHalf, -bHalf, -bDepth};
     info.boneBounds.hi = {bHalf, bHalf, 0};
+  } else if (name == "shoulder") {
+    info.centreMm = {sX1, 0, 0};
+    info.axisOut = {1, 0, 0};
+    info.boneVolumeMm3 = 4.0 / 3.0 * kPi * sR * sR * sR + sT * (2 * sHalfY) * (2 * sHalfZ);
+    info.boneBounds.lo = {sX0, -sR, -sHalfZ};
+    info.boneBounds.hi = {sR, sR, sHalfZ};
   } else {
-    throw std::invalid_argument("unknown phantom '" + name + "' (glenoid or block)");
+    throw std::invalid_argument("unknown phantom '" + name + "' (glenoid, block or shoulder)");
   }
   return info;
 }
@@ -107,7 +134,9 @@ float PhantomHU(const std::string& name, const std::array<double, 3>& p) {
     return (std::abs(p[0]) <= bHalf && std::abs(p[1]) <= bHalf && p[2] <= 0 && p[2] >= -bDepth)
                ? kBlockHU
                : kAirHU;
-  throw std::invalid_argument("unknown phantom '" + name + "' (glenoid or block)");
+  if (name == "shoulder")
+    return ShoulderHU(p);
+  throw std::invalid_argument("unknown phantom '" + name + "' (glenoid, block or shoulder)");
 }
 
 bool PhantomIsBone(const std::string& name, const std::array<double, 3>& p) {
@@ -115,6 +144,8 @@ bool PhantomIsBone(const std::string& name, const std::array<double, 3>& p) {
     auto c = ClassifyGlenoid(p);
     return c == Glenoid::Cortical || c == Glenoid::Cancellous;
   }
+  if (name == "shoulder")
+    return ShoulderHU(p) != kSoftHU;
   return PhantomHU(name, p) == kBlockHU;
 }
 
@@ -158,12 +189,25 @@ CTImage MakePhantomCT(const std::string& name, const PhantomCTOptions& opt,
                                       centre[2] + ((c + 0.5) / ss - 0.5) * sp[2]};
               sum += PhantomHU(name, p);
             }
-        double hu = sum / (ss * ss * ss);
-        if (opt.noiseHU > 0)
-          hu += opt.noiseHU * noise(rng);
-        buf[i + n[0] * (j + n[1] * k)] = float(hu);
+        buf[i + n[0] * (j + n[1] * k)] = float(sum / (ss * ss * ss));
       }
   }
+  const double blur =
+      opt.blurSigmaMm ? *opt.blurSigmaMm : (name == "shoulder" ? kShoulderBlurMm : 0);
+  if (blur < 0)
+    throw std::invalid_argument("phantom CT blur must be >= 0 mm");
+  if (blur > 0) {
+    auto smooth = itk::SmoothingRecursiveGaussianImageFilter<HUImage, HUImage>::New();
+    smooth->SetInput(ct.hu);
+    smooth->SetSigma(blur);
+    RunFilter(smooth, Progress(), "blurring the " + name + " phantom");
+    ct.hu = smooth->GetOutput();
+    ct.hu->DisconnectPipeline();
+    buf = ct.hu->GetBufferPointer();
+  }
+  if (opt.noiseHU > 0)
+    for (size_t v = 0; v < n[0] * n[1] * n[2]; ++v)
+      buf[v] = float(buf[v] + opt.noiseHU * noise(rng));
   ct.source = "phantom:" + name;
   ct.format = "phantom";
   ct.modality = "CT";

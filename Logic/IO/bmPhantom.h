@@ -19,6 +19,15 @@
 //   x, y in [-3, 3] mm, z in [-4, 0] mm: top face at z = 0, centre C = (0, 0, 0), outward axis
 //   n = (0, 0, 1) (drilled along -z). Volume 144 mm^3.
 //
+// Shoulder phantom ("shoulder"): two bones across a joint space, for the separation of touching
+//   bones. A humeral head, a sphere of radius 22 mm centred at (0, 0, 0) (volume 44 602 mm^3),
+//   and a scapula-like glenoid plate x in [-41.5, -25.5], y in [-20, 20], z in [-30, 30] mm
+//   (volume 38 400 mm^3), 3.5 mm apart at x = -22 .. -25.5; each a 1.5 mm cortical shell
+//   (1500 HU) over cancellous bone (head 250 HU, plate 300 HU) in soft tissue (40 HU). Centre =
+//   the plate's face centre (-25.5, 0, 0), outward axis (1, 0, 0). Its CT is blurred by the
+//   scanner's point spread (Gaussian, sigma 1.5 mm by default), which joins the two bones across
+//   the joint space at the bone threshold, as in a patient's shoulder CT.
+//
 // CT sampling: 0.5 mm in-plane, 0.625 mm slices (axial, along z), 5 mm margin around the bone;
 // each voxel's HU is the mean over 4^3 sub-samples (partial volume, as a scanner's detector
 // integrates) plus Gaussian noise (sigma 10 HU, fixed seed: the same CT every time).
@@ -29,14 +38,15 @@
 #include "bmProgress.h"
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace bm {
 
 struct PhantomInfo {
-  std::string name;                 ///< "glenoid" or "block"
-  std::array<double, 3> centreMm{}; ///< glenoid face centre / block top-face centre, world mm
+  std::string name;                 ///< "glenoid", "block" or "shoulder"
+  std::array<double, 3> centreMm{}; ///< glenoid / plate face centre, block top-face centre, mm
   std::array<double, 3>
       axisOut{};                ///< outward unit axis at the centre (the tool feeds along -axisOut)
   double boneVolumeMm3 = 0;     ///< analytic bone volume, mm^3
@@ -51,6 +61,9 @@ struct PhantomCTOptions {
   double marginMm = 5.0;
   int supersample = 4;   ///< sub-samples per axis per voxel (partial volume)
   double noiseHU = 10.0; ///< Gaussian noise sigma, HU (0 = none)
+  /// Point spread of the scanner: Gaussian blur sigma, mm, before the noise (0 = none). Default
+  /// (unset): the phantom's own, 1.5 mm for "shoulder", none for the others.
+  std::optional<double> blurSigmaMm;
   unsigned noiseSeed = 20240607;
 };
 

@@ -50,14 +50,14 @@ struct Sampler {
   int nx = 0, ny = 0, nz = 0;
   double A[3][3]{}; // world offset (mm) -> continuous index
   double o[3]{};    // CT origin (mm)
-  double hs = 1;    // sample spacing, mm
 
   float At(int i, int j, int k) const {
     if (i < 0 || j < 0 || k < 0 || i >= nx || j >= ny || k >= nz)
       return 0.0f;
     return F[i + int64_t(nx) * (j + int64_t(ny) * k)];
   }
-  /// Bone share of a sample at continuous CT index c.
+  /// Bone fraction at continuous CT index c: trilinear interpolation of the voxel fractions
+  /// (0 outside the CT).
   double Share(const double c[3]) const {
     int i0[3];
     double t[3];
@@ -77,26 +77,11 @@ struct Sampler {
       return 0.0;
     if (all1)
       return 1.0;
-    // Trilinear value and its gradient in index space.
-    double x = t[0], y = t[1], z = t[2];
-    double c00 = v[0] + (v[1] - v[0]) * x, c10 = v[2] + (v[3] - v[2]) * x;
-    double c01 = v[4] + (v[5] - v[4]) * x, c11 = v[6] + (v[7] - v[6]) * x;
-    double c0 = c00 + (c10 - c00) * y, c1 = c01 + (c11 - c01) * y;
-    double Fv = c0 + (c1 - c0) * z;
-    double gx0 = (v[1] - v[0]) * (1 - y) + (v[3] - v[2]) * y,
-           gx1 = (v[5] - v[4]) * (1 - y) + (v[7] - v[6]) * y;
-    double gi = gx0 * (1 - z) + gx1 * z;
-    double gj = (c10 - c00) * (1 - z) + (c11 - c01) * z;
-    double gk = c1 - c0;
-    // World gradient = A^T * index gradient.
-    double gw[3];
-    for (int a = 0; a < 3; ++a)
-      gw[a] = A[0][a] * gi + A[1][a] * gj + A[2][a] * gk;
-    double gn = std::sqrt(gw[0] * gw[0] + gw[1] * gw[1] + gw[2] * gw[2]);
-    if (gn < 1e-9)
-      return Fv >= 0.5 ? 1.0 : 0.0;
-    double d = (Fv - 0.5) / gn;
-    return std::clamp(0.5 + d / hs, 0.0, 1.0);
+    const double x = t[0], y = t[1], z = t[2];
+    const double c00 = v[0] + (v[1] - v[0]) * x, c10 = v[2] + (v[3] - v[2]) * x;
+    const double c01 = v[4] + (v[5] - v[4]) * x, c11 = v[6] + (v[7] - v[6]) * x;
+    const double c0 = c00 + (c10 - c00) * y, c1 = c01 + (c11 - c01) * y;
+    return c0 + (c1 - c0) * z;
   }
   /// Bone HU near continuous index c (nearest voxel, else the nearest defined within one voxel).
   float BoneHU(const double c[3]) const {
@@ -139,9 +124,10 @@ Voxmap ResampleToVoxmap(const BoneSegmentation& seg, const VoxmapGrid& grid,
       s.A[r][c] = D[c][r] / sp[r]; // diag(1/s) * D^T
     s.o[r] = O[r];
   }
+  // Samples per axis: at least 1.5 per CT voxel across the voxmap voxel, so that the midpoint
+  // rule integrates the piecewise-trilinear field closely.
   const double minSp = std::min({sp[0], sp[1], sp[2]});
-  const int m = std::clamp(int(std::ceil(grid.spacing / minSp - 1e-9)), 1, 6);
-  s.hs = grid.spacing / m;
+  const int m = std::clamp(int(std::ceil(1.5 * grid.spacing / minSp - 1e-9)), 1, 8);
 
   Voxmap vm(grid.dims, grid.spacing, grid.origin);
   vm.SetMaterial(0, 1.0f); // allocate the material array before the workers write it

@@ -7,14 +7,14 @@
 // position (mm) of the centre of voxel (0, 0, 0); its axes are the world axes, so tools and CT
 // agree in mm whatever the CT's own orientation.
 //
-// Fill: each voxel is sampled at m^3 points (m = ceil(h / smallest CT spacing), at most 6; m = 1
-// when the voxmap is finer than the CT). At each point the CT bone fraction is interpolated
-// trilinearly and sharpened into a sub-voxel surface: the signed distance to the 0.5 iso-surface is
-// estimated as d = (F - 0.5) / |grad F| (mm) and the point's share of bone is clamp(0.5 + d / h_s)
-// with h_s = h / m the sample spacing. This keeps the CT's surface position (a symmetric ramp
-// conserves volume on average), gives a sharp surface at any voxmap resolution, and gives partial
-// voxels along it; bone structures thinner than about half a CT voxel are lost. fill =
-// round(share * Voxmap::kFull).
+// Fill: the voxel's bone fraction is the mean, over the voxel, of the CT bone fraction
+// (bmBoneSegmenter: partial-volume fractions at the CT's resolution) interpolated trilinearly,
+// estimated at m^3 points (m = ceil(1.5 h / smallest CT spacing), 1..8). The integral of a
+// trilinear interpolant equals the sum of its samples times the voxel volume, so the voxmap holds
+// the segmentation's bone volume at any resolution (within 3 %, Docs/Segmentation.md), thin
+// cortex included; the voxmap's 0.5 iso-surface is the CT's. fill = round(fraction *
+// Voxmap::kFull). The grid must cover the bone's voxels grown by half a CT voxel (the reach of
+// the interpolant) for the volume to be kept whole.
 //
 // Material scale (multiplies the cutting coefficients k_c, k_f): linear in HU, which is roughly
 // proportional to bone mineral density, scale = clamp(HU_bone / corticalHU, minScale, 1) with
