@@ -31,7 +31,12 @@ const char* kUsage =
     "                        across the joint space (a point off all bone is a warning)\n"
     "  --roi X0,Y0,Z0,X1,Y1,Z1  region of interest, world mm (default: the bone's bounding box;\n"
     "                        an inverted box is an error)\n"
-    "  --series UID          SeriesInstanceUID when the folder holds several series\n"
+    "  --series ID           series to read when the folder holds several: the id listed\n"
+    "                        (SeriesInstanceUID, or noUID-... for a series without one)\n"
+    "  --raw-threshold V     values are not HU: use them as stored, bone = values >= V in the\n"
+    "                        file's units (material scale uniform, not calibrated)\n"
+    "  --hu-mapping A,B      values are not HU: HU = A x value + B (then --threshold is in HU)\n"
+    "  --allow-outside-data  accept a header's data file outside the header's folder\n"
     "  --max-memory MB       memory the import may use (default 75 % of physical memory)\n"
     "  --keep-all            keep every bone component, not only the largest\n"
     "  --no-fill-holes       do not fill cavities inside the bone\n"
@@ -71,8 +76,8 @@ ProgressFn TerminalProgress(bool quiet) {
 static int ImportCommand(const Args& args) {
   const ParsedArgs p(args,
                      {"out", "resolution", "threshold", "seed", "exclude", "roi", "series",
-                      "max-memory"},
-                     {"help", "keep-all", "no-fill-holes", "quiet"},
+                      "max-memory", "raw-threshold", "hu-mapping"},
+                     {"help", "keep-all", "no-fill-holes", "quiet", "allow-outside-data"},
                      {{"o", "out"}, {"h", "help"}, {"q", "quiet"}}, kUsage);
   if (p.Has("help")) {
     std::cout << kUsage;
@@ -94,6 +99,20 @@ static int ImportCommand(const Args& args) {
     opt.segmentation.excludeSeedsMm = bm::ParsePointsMm(*e, "--exclude");
   if (const auto uid = p.Get("series"))
     opt.read.seriesUID = *uid;
+  if (const auto v = p.GetDouble("raw-threshold", -HUGE_VAL, HUGE_VAL)) {
+    if (p.Has("threshold"))
+      throw UsageError("--raw-threshold replaces --threshold (it is the threshold in the file's "
+                       "units): give one of them");
+    opt.read.intensity.rawThreshold = *v;
+  }
+  if (const auto m = p.GetDoubles("hu-mapping", 2)) {
+    if (p.Has("raw-threshold"))
+      throw UsageError("give either --raw-threshold or --hu-mapping, not both");
+    if ((*m)[0] == 0)
+      throw UsageError("--hu-mapping: the slope A must not be 0");
+    opt.read.intensity.huMapping = std::array<double, 2>{(*m)[0], (*m)[1]};
+  }
+  opt.read.allowDataOutsideFolder = p.Has("allow-outside-data");
   if (const auto mb = p.GetDouble("max-memory", -HUGE_VAL, HUGE_VAL)) {
     if (!(*mb > 0))
       throw UsageError("--max-memory must be a positive number of MB");

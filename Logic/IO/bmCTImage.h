@@ -1,10 +1,12 @@
-// bmCTImage.h - a CT volume in Hounsfield units with what was read about it.
+// bmCTImage.h - a CT volume in Hounsfield units (or raw values when the user asked for them,
+// see `intensity`) with what was read about it.
 //
 // World coordinates are the CT's patient coordinates in mm as ITK reads them (DICOM LPS: x toward
 // the patient's left, y posterior, z superior); the image may be oblique (its direction matrix).
 // Everything downstream (segmentation, the voxmap, tools in a scene) uses the same world mm.
 #pragma once
 
+#include "bmIntensityMapping.h"
 #include "bmVoxmap.h" // bm::Box3
 
 #include <itkImage.h>
@@ -30,6 +32,11 @@ struct CTImage {
   int numFiles = 0;              ///< number of files read (DICOM: slices)
   float huMin = 0, huMax = 0;    ///< HU range of the voxels
   std::vector<std::string> warnings; ///< things the user should know (odd HU range, ...)
+  /// How the series or file was chosen when that was not obvious (e.g. a series without
+  /// SeriesInstanceUID grouped by other attributes, one file standing for its series).
+  std::vector<std::string> notes;
+  /// What the voxel values mean (HU, a given mapping, raw values) and why (bmIntensityMapping.h).
+  IntensityMapping intensity;
 
   std::array<int, 3> Size() const;
   std::array<double, 3> Spacing() const; ///< mm, along the image's own axes

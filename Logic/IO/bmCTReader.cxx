@@ -1,5 +1,6 @@
 #include "bmCTReader.h"
 
+#include "bmHeaderCheck.h"
 #include "bmInvesaliusReader.h"
 
 #include <gdcmExplicitDataElement.h>
@@ -22,6 +23,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -103,13 +106,6 @@ void UpdateHURange(CTImage& ct) {
   }
   ct.huMin = lo;
   ct.huMax = hi;
-  if (ct.huMax < 200)
-    ct.warnings.push_back("the highest value is " + std::to_string(int(hi)) +
-                          ", below any bone in Hounsfield units: check that this is a CT in HU");
-  else if (ct.huMin >= 0 && ct.huMax > 1000)
-    ct.warnings.push_back(
-        "no value is below 0 (air is near -1000 HU, fat near -100 HU): the values may be "
-        "stored pixel values rather than Hounsfield units");
 }
 
 namespace {
@@ -134,13 +130,102 @@ bool IgnorableFile(const fs::path& p) {
 struct SliceHeader {
   fs::path file;
   std::string seriesUID, modality, description, transferSyntax, frames;
+  std::string seriesNumber, studyUID, rescaleType;
+  std::vector<double> rescaleSlope, rescaleIntercept; // empty when absent
+  int bitsAllocated = 0;
+  std::string seriesId; // seriesUID, or a "noUID-..." id from other attributes
   int rows = 0, cols = 0;
   std::vector<double> pixelSpacing, ipp, iop;
   bool hasPixelData = false;
   double position = 0; // along the slice normal, mm
 };
 
+/// Id of a series without SeriesInstanceUID, from the attributes that tell series apart:
+/// "noUID-<SeriesNumber>-<Modality>-<cols>x<rows>-<8 hex digits of FNV-1a(study UID,
+/// orientation)>".
+std::string FallbackSeriesId(const SliceHeader& h) {
+  std::ostringstream key;
+  key << h.studyUID << "|";
+  for (double v : h.iop)
+    key << std::lround(v * 1000) << ",";
+  uint32_t hash = 2166136261u;
+  for (unsigned char c : key.str())
+    hash = (hash ^ c) * 16777619u;
+  char hex[9];
+  std::snprintf(hex, sizeof hex, "%08x", hash);
+  std::string number;
+  for (char c : h.seriesNumber)
+    if (std::isalnum((unsigned char)c))
+      number.push_back(c);
+  std::string modality;
+  for (char c : h.modality)
+    if (std::isalnum((unsigned char)c))
+      modality.push_back(c);
+  return "noUID-" + (number.empty() ? std::string("x") : number) + "-" +
+         (modality.empty() ? std::string("x") : modality) + "-" + std::to_string(h.cols) + "x" +
+         std::to_string(h.rows) + "-" + hex;
+}
+
+/// True when the file has the DICOM Part 10 preamble ("DICM" at byte 128).
+bool HasDicomMagic(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  char buf[132];
+  return in.read(buf, sizeof buf) && std::memcmp(buf + 128, "DICM", 4) == 0;
+}
+
+/// GDCM asserts (aborts the process) on a file cut inside its file meta information, so walk that
+/// group (0002,xxxx: explicit VR little endian after "DICM") here first and refuse a file shorter
+/// than it declares.
+void CheckDicomMetaGroup(const fs::path& file) {
+  const uint64_t size = fs::file_size(file);
+  if (size < 132)
+    throw std::runtime_error("'" + file.string() + "' is too short (" + std::to_string(size) +
+                             " bytes) to be a DICOM file");
+  if (!HasDicomMagic(file))
+    return; // no Part 10 preamble: GDCM reads the data set directly
+  std::ifstream in(file, std::ios::binary);
+  const uint64_t limit = std::min<uint64_t>(size, uint64_t(1) << 20);
+  std::string buf(limit, '\0');
+  in.read(buf.data(), std::streamsize(limit));
+  auto u16 = [&](uint64_t at) {
+    return uint32_t(uint8_t(buf[at])) | uint32_t(uint8_t(buf[at + 1])) << 8;
+  };
+  auto u32 = [&](uint64_t at) { return u16(at) | u16(at + 2) << 16; };
+  const std::string cut = "'" + file.string() +
+                          "' is truncated or corrupt inside its DICOM file "
+                          "meta information";
+  uint64_t pos = 132;
+  while (true) {
+    if (pos + 8 > limit)
+      throw std::runtime_error(cut + " (it ends at byte " + std::to_string(size) + ")");
+    if (u16(pos) != 0x0002)
+      return; // the data set starts: the meta group is complete
+    const char v0 = buf[pos + 4], v1 = buf[pos + 5];
+    if (!std::isupper((unsigned char)v0) || !std::isupper((unsigned char)v1))
+      throw std::runtime_error(cut + " (no valid VR at byte " + std::to_string(pos + 4) + ")");
+    const std::string vr{v0, v1};
+    static const std::set<std::string> longVR = {"OB", "OW", "OF", "OD", "OL", "OV", "SQ",
+                                                 "UT", "UN", "UC", "UR", "SV", "UV"};
+    uint64_t header = 8, length = 0;
+    if (longVR.count(vr)) {
+      header = 12;
+      if (pos + 12 > limit)
+        throw std::runtime_error(cut + " (it ends at byte " + std::to_string(size) + ")");
+      length = u32(pos + 8);
+      if (length == 0xffffffffu)
+        throw std::runtime_error(cut + " (an element of undefined length)");
+    } else {
+      length = u16(pos + 6);
+    }
+    if (pos + header + length > limit)
+      throw std::runtime_error(cut + " (an element runs past the end, byte " +
+                               std::to_string(size) + ")");
+    pos += header + length;
+  }
+}
+
 SliceHeader ReadSliceHeader(const fs::path& file) {
+  CheckDicomMetaGroup(file);
   gdcm::Trace::WarningOff(); // problems are reported as errors below, not as GDCM console warnings
   gdcm::Reader reader;
   reader.SetFileName(file.c_str());
@@ -162,6 +247,15 @@ SliceHeader ReadSliceHeader(const fs::path& file) {
   h.modality = str(0x0008, 0x0060);
   h.description = str(0x0008, 0x103e);
   h.frames = str(0x0028, 0x0008);
+  h.seriesNumber = str(0x0020, 0x0011);
+  h.studyUID = str(0x0020, 0x000d);
+  h.rescaleType = str(0x0028, 0x1054);
+  h.rescaleSlope = ParseNumbers(str(0x0028, 0x1053));
+  h.rescaleIntercept = ParseNumbers(str(0x0028, 0x1052));
+  {
+    std::string bits = str(0x0028, 0x0100);
+    h.bitsAllocated = bits.empty() ? 0 : std::atoi(bits.c_str());
+  }
   std::string rows = str(0x0028, 0x0010), cols = str(0x0028, 0x0011);
   h.rows = rows.empty() ? 0 : std::atoi(rows.c_str());
   h.cols = cols.empty() ? 0 : std::atoi(cols.c_str());
@@ -200,22 +294,25 @@ SliceHeader ReadSliceHeader(const fs::path& file) {
   }
   // ReadUpToTag stops before the pixel data, so "has pixels" = it is an image (rows and columns).
   h.hasPixelData = h.rows > 0 && h.cols > 0;
+  h.seriesId = h.seriesUID.empty() ? FallbackSeriesId(h) : h.seriesUID;
   return h;
 }
 
 struct ScannedFolder {
-  std::map<std::string, std::vector<SliceHeader>> series; // by SeriesInstanceUID
+  std::map<std::string, std::vector<SliceHeader>> series; // by series id
 };
 
-ScannedFolder ScanFolder(const fs::path& dir, const Progress& progress) {
+/// Read the headers of the folder's files. magicOnly: only files with the DICM magic (the folder
+/// of a single file given on the command line may hold other files).
+ScannedFolder ScanFolder(const fs::path& dir, const Progress& progress, bool magicOnly = false) {
   if (!fs::exists(dir))
     throw std::runtime_error("'" + dir.string() + "' does not exist");
   if (!fs::is_directory(dir))
     throw std::runtime_error("'" + dir.string() + "' is not a folder");
   std::vector<fs::path> files;
   for (const auto& e : fs::directory_iterator(dir))
-    if (e.is_regular_file() && !IgnorableFile(e.path()))
-      files.push_back(e.path());
+    if (e.is_regular_file() && !IgnorableFile(e.path()) && (!magicOnly || HasDicomMagic(e.path())))
+      files.push_back(e.path()); // FIFOs, devices, sockets and folders are not files to read
   std::sort(files.begin(), files.end());
   if (files.empty())
     throw std::runtime_error("folder '" + dir.string() + "' is empty: no DICOM files to read");
@@ -226,9 +323,7 @@ ScannedFolder ScanFolder(const fs::path& dir, const Progress& progress) {
     SliceHeader h = ReadSliceHeader(files[i]);
     if (!h.hasPixelData)
       continue; // presentation states, reports, ... : not images
-    if (h.seriesUID.empty())
-      throw std::runtime_error("'" + files[i].string() + "' has no SeriesInstanceUID (0020,000E)");
-    out.series[h.seriesUID].push_back(std::move(h));
+    out.series[h.seriesId].push_back(std::move(h));
   }
   if (out.series.empty())
     throw std::runtime_error("folder '" + dir.string() + "' holds no DICOM image series (" +
@@ -240,37 +335,81 @@ std::string DescribeSeries(const std::vector<DicomSeriesInfo>& list) {
   std::ostringstream os;
   for (const auto& s : list)
     os << "\n  " << s.uid << "  " << (s.modality.empty() ? "?" : s.modality) << ", " << s.numFiles
-       << " files" << (s.description.empty() ? "" : ", \"" + s.description + "\"");
+       << " slices of " << s.cols << " x " << s.rows << " pixels"
+       << (s.seriesNumber.empty() ? "" : ", series number " + s.seriesNumber)
+       << (s.description.empty() ? "" : ", \"" + s.description + "\"")
+       << (s.hasUID ? "" : " (no SeriesInstanceUID)");
   return os.str();
 }
 
 std::vector<DicomSeriesInfo> Summaries(const ScannedFolder& sf) {
   std::vector<DicomSeriesInfo> v;
-  for (const auto& [uid, slices] : sf.series)
-    v.push_back({uid, slices.front().modality, slices.front().description, int(slices.size())});
+  for (const auto& [id, slices] : sf.series) {
+    const SliceHeader& f = slices.front();
+    v.push_back({id, f.modality, f.description, int(slices.size()), f.rows, f.cols, f.seriesNumber,
+                 !f.seriesUID.empty()});
+  }
   return v;
 }
 
-CTImage ReadDicomFolder(const fs::path& dir, const ReadOptions& opt, const Progress& progress) {
-  ScannedFolder scanned = ScanFolder(dir, progress.Range(0, 0.1));
-  std::vector<SliceHeader>* chosen = nullptr;
+struct ReadOutcome {
+  CTImage ct;
+  IntensityEvidence evidence;
+};
+
+ReadOutcome ReadDicomSeries(const fs::path& dir, std::vector<SliceHeader>& slices,
+                            const ReadOptions& opt, const Progress& progress);
+
+/// Choose the series to read from a scanned folder (opt.seriesUID, or the only one).
+std::vector<SliceHeader>& ChooseSeries(ScannedFolder& scanned, const fs::path& dir,
+                                       const ReadOptions& opt) {
   if (!opt.seriesUID.empty()) {
     auto it = scanned.series.find(opt.seriesUID);
     if (it == scanned.series.end())
       throw std::runtime_error("series " + opt.seriesUID + " is not in '" + dir.string() +
                                "'; the folder holds:" + DescribeSeries(Summaries(scanned)));
-    chosen = &it->second;
-  } else if (scanned.series.size() > 1) {
+    return it->second;
+  }
+  if (scanned.series.size() > 1)
     throw std::runtime_error("folder '" + dir.string() + "' holds " +
                              std::to_string(scanned.series.size()) +
-                             " DICOM series; choose one by its SeriesInstanceUID (--series UID):" +
+                             " DICOM series; choose one by the id listed (--series ID):" +
                              DescribeSeries(Summaries(scanned)));
-  } else {
-    chosen = &scanned.series.begin()->second;
-  }
-  std::vector<SliceHeader>& slices = *chosen;
+  return scanned.series.begin()->second;
+}
+
+ReadOutcome ReadDicomFolder(const fs::path& dir, const ReadOptions& opt, const Progress& progress) {
+  ScannedFolder scanned = ScanFolder(dir, progress.Range(0, 0.1));
+  return ReadDicomSeries(dir, ChooseSeries(scanned, dir, opt), opt, progress.Range(0.1, 1));
+}
+
+/// A single DICOM file: the series it belongs to in its folder.
+ReadOutcome ReadDicomFile(const fs::path& file, const ReadOptions& opt, const Progress& progress) {
+  SliceHeader h = ReadSliceHeader(file);
+  if (!h.hasPixelData)
+    throw std::runtime_error("'" + file.string() + "' is a DICOM file without an image");
+  if (!h.frames.empty() && std::atoi(h.frames.c_str()) > 1)
+    throw std::runtime_error("'" + file.string() + "' is a multi-frame DICOM image (" + h.frames +
+                             " frames); only series of single-frame slices are supported");
+  const fs::path dir = file.parent_path().empty() ? fs::path(".") : file.parent_path();
+  ScannedFolder scanned = ScanFolder(dir, progress.Range(0, 0.1), true);
+  auto it = scanned.series.find(h.seriesId);
+  if (it == scanned.series.end())
+    throw std::runtime_error("'" + file.string() + "': its series was not found in its folder");
+  if (!opt.seriesUID.empty() && opt.seriesUID != h.seriesId)
+    throw std::runtime_error("'" + file.string() + "' belongs to series " + h.seriesId + ", not " +
+                             opt.seriesUID);
+  ReadOutcome r = ReadDicomSeries(dir, it->second, opt, progress.Range(0.1, 1));
+  r.ct.notes.push_back("'" + file.filename().string() + "' is one slice of series " + h.seriesId +
+                       ": its " + std::to_string(r.ct.numFiles) + " slices in '" + dir.string() +
+                       "' were read");
+  return r;
+}
+
+ReadOutcome ReadDicomSeries(const fs::path& dir, std::vector<SliceHeader>& slices,
+                            const ReadOptions& opt, const Progress& progress) {
   const SliceHeader& first = slices.front();
-  const std::string where = "DICOM series " + first.seriesUID + " in '" + dir.string() + "'";
+  const std::string where = "DICOM series " + first.seriesId + " in '" + dir.string() + "'";
 
   if (first.modality != "CT" && !opt.allowNonCT)
     throw std::runtime_error(where + " has modality '" + first.modality +
@@ -289,8 +428,24 @@ CTImage ReadDicomFolder(const fs::path& dir, const ReadOptions& opt, const Progr
     if (s.ipp.size() != 3)
       throw std::runtime_error(
           f + " has no ImagePositionPatient (0020,0032): slices cannot be ordered");
+    if (!std::all_of(s.ipp.begin(), s.ipp.end(), [](double v) { return std::isfinite(v); }))
+      throw std::runtime_error(f + " has a non-finite ImagePositionPatient (0020,0032)");
     if (s.iop.size() != 6)
       throw std::runtime_error(f + " has no ImageOrientationPatient (0020,0037)");
+    if (!std::all_of(s.iop.begin(), s.iop.end(), [](double v) { return std::isfinite(v); }))
+      throw std::runtime_error(f + " has a non-finite ImageOrientationPatient (0020,0037)");
+    if (s.modality != first.modality)
+      throw std::runtime_error(f + " has modality '" + s.modality +
+                               "', unlike the series' first "
+                               "slice ('" +
+                               first.modality + "')");
+    for (const auto* v : {&s.rescaleSlope, &s.rescaleIntercept})
+      if (!v->empty() && (v->size() != 1 || !std::isfinite(v->front())))
+        throw std::runtime_error(
+            f + " has an invalid or non-finite Rescale" +
+            (v == &s.rescaleSlope ? "Slope (0028,1053)" : "Intercept (0028,1052)"));
+    if (!s.rescaleSlope.empty() && s.rescaleSlope.front() == 0)
+      throw std::runtime_error(f + " has a RescaleSlope (0028,1053) of 0");
     if (s.rows != first.rows || s.cols != first.cols)
       throw std::runtime_error(
           f + " is " + std::to_string(s.cols) + " x " + std::to_string(s.rows) +
@@ -344,11 +499,12 @@ CTImage ReadDicomFolder(const fs::path& dir, const ReadOptions& opt, const Progr
                     "the CT (" + std::to_string(first.cols) + " x " + std::to_string(first.rows) +
                         " x " + std::to_string(ns) + " voxels)");
 
-  CTImage ct;
+  ReadOutcome out;
+  CTImage& ct = out.ct;
   ct.source = dir.string();
   ct.format = "DICOM";
   ct.modality = first.modality;
-  ct.seriesUID = first.seriesUID;
+  ct.seriesUID = first.seriesId;
   ct.seriesDescription = first.description;
   ct.transferSyntax = first.transferSyntax;
   ct.numFiles = int(ns);
@@ -377,7 +533,7 @@ CTImage ReadDicomFolder(const fs::path& dir, const ReadOptions& opt, const Progr
   using SliceImage = itk::Image<float, 3>;
   const size_t perSlice = size_t(first.cols) * first.rows;
   for (size_t k = 0; k < ns; ++k) {
-    progress.Range(0.1, 1.0)(double(k) / ns, "reading DICOM");
+    progress(double(k) / ns, "reading DICOM");
     auto io = itk::GDCMImageIO::New();
     auto reader = itk::ImageFileReader<SliceImage>::New();
     reader->SetImageIO(io);
@@ -394,39 +550,27 @@ CTImage ReadDicomFolder(const fs::path& dir, const ReadOptions& opt, const Progr
       throw std::runtime_error("'" + slices[k].file.string() + "' decoded to an unexpected size");
     std::copy_n(img->GetBufferPointer(), perSlice, ct.hu->GetBufferPointer() + k * perSlice);
   }
-  progress.Range(0.1, 1.0)(1.0, "reading DICOM");
-  UpdateHURange(ct);
-  return ct;
+  progress(1.0, "reading DICOM");
+  if (first.seriesUID.empty())
+    ct.notes.push_back("the series has no SeriesInstanceUID (0020,000E): its " +
+                       std::to_string(ns) +
+                       " slices were grouped by SeriesNumber, "
+                       "ImageOrientationPatient, Rows/Columns, StudyInstanceUID and Modality as "
+                       "series " +
+                       first.seriesId);
+  IntensityEvidence& ev = out.evidence;
+  ev.modality = first.modality;
+  ev.hasRescale = !first.rescaleSlope.empty() || !first.rescaleIntercept.empty();
+  ev.rescaleType = first.rescaleType;
+  ev.storedBits = first.bitsAllocated;
+  ev.storedInteger = true;
+  return out;
 }
 
 // ---------------------------------------------------------------------------------------------
 // Single volume files
 
-/// True when the file's text header names its voxel spacing (NRRD: spacings or space directions;
-/// MetaImage: ElementSpacing or ElementSize). ITK silently assumes 1 mm when they are missing.
-bool HeaderNamesSpacing(const fs::path& file, const std::string& format) {
-  std::ifstream in(file, std::ios::binary);
-  std::string line;
-  int lines = 0;
-  while (std::getline(in, line) && lines++ < 200) {
-    if (format == "NRRD") {
-      if (line.empty() || line == "\r")
-        break; // end of the NRRD header
-      std::string l = ToLower(line);
-      if (l.rfind("spacings:", 0) == 0 || l.rfind("space directions:", 0) == 0)
-        return true;
-    } else {
-      std::string l = ToLower(Trim(line));
-      if (l.rfind("elementspacing", 0) == 0 || l.rfind("elementsize", 0) == 0)
-        return true;
-      if (l.rfind("elementdatafile", 0) == 0)
-        break;
-    }
-  }
-  return false;
-}
-
-CTImage ReadVolumeFile(const fs::path& file, const ReadOptions& opt, const Progress& progress) {
+ReadOutcome ReadVolumeFile(const fs::path& file, const ReadOptions& opt, const Progress& progress) {
   std::string name = ToLower(file.filename().string());
   auto endsWith = [&](const std::string& s) {
     return name.size() >= s.size() && name.compare(name.size() - s.size(), s.size(), s) == 0;
@@ -444,19 +588,17 @@ CTImage ReadVolumeFile(const fs::path& file, const ReadOptions& opt, const Progr
     format = "NIfTI";
   } else {
     throw std::runtime_error("'" + file.string() +
-                             "': unknown file type (expected a DICOM folder, .nrrd, .nhdr, .mha, "
-                             ".mhd, .nii, .nii.gz or .inv3)");
+                             "': unknown file type (expected a DICOM folder or file, .nrrd, "
+                             ".nhdr, .mha, .mhd, .nii, .nii.gz or .inv3)");
   }
+  // Our own header check first: ITK would allocate, follow data file paths or abort on these.
+  const VolumeHeader header =
+      CheckVolumeHeader(file, format, {opt.maxMemoryBytes, opt.allowDataOutsideFolder});
   if (!io->CanReadFile(file.c_str()))
     throw std::runtime_error("'" + file.string() + "' cannot be read as " + format +
                              " (corrupt or not " + format + ")");
   io->SetFileName(file.string());
-  try {
-    io->ReadImageInformation();
-  } catch (const itk::ExceptionObject& e) {
-    throw std::runtime_error("cannot read the header of '" + file.string() +
-                             "': " + e.GetDescription());
-  }
+  io->ReadImageInformation();
   if (io->GetNumberOfDimensions() != 3)
     throw std::runtime_error("'" + file.string() + "' is a " +
                              std::to_string(io->GetNumberOfDimensions()) +
@@ -465,20 +607,26 @@ CTImage ReadVolumeFile(const fs::path& file, const ReadOptions& opt, const Progr
     throw std::runtime_error("'" + file.string() + "' has " +
                              std::to_string(io->GetNumberOfComponents()) +
                              " components per voxel; a CT has one");
-  if ((format == "NRRD" || format == "MetaImage") && !HeaderNamesSpacing(file, format))
-    throw std::runtime_error("'" + file.string() +
-                             "' does not give its voxel spacing: the size in mm is unknown");
   uint64_t voxels = 1;
-  for (int a = 0; a < 3; ++a) {
+  for (unsigned a = 0; a < 3; ++a) {
     double s = io->GetSpacing(a);
     if (!(s > 0) || !std::isfinite(s))
       throw std::runtime_error("'" + file.string() +
                                "' has a zero or invalid voxel spacing along axis " +
                                std::to_string(a));
+    if (!std::isfinite(io->GetOrigin(a)))
+      throw std::runtime_error("'" + file.string() + "' has a non-finite origin");
+    for (double d : io->GetDirection(a))
+      if (!std::isfinite(d))
+        throw std::runtime_error("'" + file.string() + "' has a non-finite direction");
+    if (io->GetDimensions(a) != header.dims[a])
+      throw std::runtime_error("'" + file.string() +
+                               "': the header's sizes do not parse "
+                               "consistently");
     voxels *= io->GetDimensions(a);
   }
+  std::string mod;
   if (format == "MetaImage") {
-    std::string mod;
     if (itk::ExposeMetaData<std::string>(io->GetMetaDataDictionary(), "Modality", mod) &&
         !mod.empty() && mod != "MET_MOD_CT" && !opt.allowNonCT)
       throw std::runtime_error("'" + file.string() + "' has modality " + mod + ", not CT");
@@ -491,13 +639,78 @@ CTImage ReadVolumeFile(const fs::path& file, const ReadOptions& opt, const Progr
   reader->SetImageIO(io);
   reader->SetFileName(file.string());
   RunFilter(reader, progress, "reading volume");
-  CTImage ct;
+  ReadOutcome out;
+  CTImage& ct = out.ct;
   ct.hu = reader->GetOutput();
   ct.hu->DisconnectPipeline();
   ct.source = file.string();
   ct.format = format;
   ct.numFiles = 1;
+  out.evidence.modality = mod == "MET_MOD_CT" ? "CT" : mod;
+  out.evidence.hasRescale = header.hasRescale;
+  out.evidence.storedBits = 8 * header.componentBytes;
+  out.evidence.storedInteger = header.integerType;
+  return out;
+}
+
+/// A single file that is DICOM: the DICM magic, or a DICOM extension.
+bool LooksLikeDicomFile(const fs::path& file) {
+  std::string ext = ToLower(file.extension().string());
+  return HasDicomMagic(file) || ext == ".dcm" || ext == ".dicom";
+}
+
+CTImage ReadCTUnguarded(const std::string& path, const ReadOptions& options,
+                        const Progress& progress) {
+  fs::path p(path);
+  if (!fs::exists(p))
+    throw std::runtime_error("'" + path + "' does not exist");
+  ReadOutcome r;
+  const Progress reading = progress.Range(0, 0.95);
+  if (fs::is_directory(p)) {
+    r = ReadDicomFolder(p, options, reading);
+  } else {
+    CheckRegularFile(p, "the input");
+    std::string lower = ToLower(p.filename().string());
+    if (lower.size() > 5 && lower.compare(lower.size() - 5, 5, ".inv3") == 0) {
+      r.ct = ReadInvesaliusProject(path, options, reading);
+      r.evidence.modality = r.ct.modality;
+    } else if (LooksLikeDicomFile(p)) {
+      r = ReadDicomFile(p, options, reading);
+    } else {
+      r = ReadVolumeFile(p, options, reading);
+    }
+  }
+  CTImage& ct = r.ct;
+  IntensityEvidence& ev = r.evidence;
+  ev.file = path;
+  ev.format = ct.format;
+  // Value range, and whether every value is whole.
+  {
+    const float* v = ct.hu->GetBufferPointer();
+    const size_t n = ct.hu->GetLargestPossibleRegion().GetNumberOfPixels();
+    float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+    bool whole = true;
+    for (size_t i = 0; i < n; ++i) {
+      if (!std::isfinite(v[i]))
+        throw std::runtime_error("'" + path + "' holds a non-finite voxel value (NaN or infinite)");
+      lo = std::min(lo, v[i]);
+      hi = std::max(hi, v[i]);
+      whole = whole && v[i] == std::nearbyint(v[i]);
+    }
+    ev.minValue = lo;
+    ev.maxValue = hi;
+    ev.allIntegers = whole;
+  }
+  ct.intensity = DecideIntensity(ev, options.intensity, ct.warnings);
+  if (ct.intensity.kind == IntensityKind::GivenMapping) {
+    float* v = ct.hu->GetBufferPointer();
+    const size_t n = ct.hu->GetLargestPossibleRegion().GetNumberOfPixels();
+    const double a = ct.intensity.slope, b = ct.intensity.intercept;
+    for (size_t i = 0; i < n; ++i)
+      v[i] = float(a * double(v[i]) + b);
+  }
   UpdateHURange(ct);
+  progress(1.0, "checking the values");
   return ct;
 }
 
@@ -508,15 +721,23 @@ std::vector<DicomSeriesInfo> ListDicomSeries(const std::string& folder) {
 }
 
 CTImage ReadCT(const std::string& path, const ReadOptions& options, const Progress& progress) {
-  fs::path p(path);
-  if (!fs::exists(p))
-    throw std::runtime_error("'" + path + "' does not exist");
-  if (fs::is_directory(p))
-    return ReadDicomFolder(p, options, progress);
-  std::string lower = ToLower(p.filename().string());
-  if (lower.size() > 5 && lower.compare(lower.size() - 5, 5, ".inv3") == 0)
-    return ReadInvesaliusProject(path, options, progress);
-  return ReadVolumeFile(p, options, progress);
+  // The boundary: every library failure becomes a message naming the input.
+  try {
+    return ReadCTUnguarded(path, options, progress);
+  } catch (const Cancelled&) {
+    throw;
+  } catch (const itk::ExceptionObject& e) {
+    throw std::runtime_error("cannot read '" + path + "': " + e.GetDescription());
+  } catch (const std::bad_alloc&) {
+    throw std::runtime_error("not enough memory to read '" + path +
+                             "' (lower --max-memory's demand by cropping the CT, or free memory)");
+  } catch (const std::filesystem::filesystem_error& e) {
+    throw std::runtime_error("cannot read '" + path + "': " + e.what());
+  } catch (const std::runtime_error&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw std::runtime_error("cannot read '" + path + "': " + e.what());
+  }
 }
 
 } // namespace bm

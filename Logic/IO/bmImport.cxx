@@ -1,5 +1,6 @@
 #include "bmImport.h"
 
+#include "bmHeaderCheck.h"
 #include "bmPhantom.h"
 #include "bmVoxmapFile.h"
 
@@ -53,7 +54,9 @@ ImportResult ImportVoxmap(const std::string& input, const ImportOptions& opt,
   return ImportVoxmap(std::move(ct), opt, progress.Range(0.35, 1));
 }
 
-ImportResult ImportVoxmap(CTImage ct, const ImportOptions& opt, const Progress& progress) {
+ImportResult ImportVoxmap(CTImage ct, const ImportOptions& optIn, const Progress& progress) {
+  ImportOptions opt = optIn; // raw values set the threshold and a uniform material
+  AdjustForIntensity(ct.intensity, opt.segmentation, opt.material);
   if (opt.resolution < 8 || opt.resolution > 8192)
     throw std::runtime_error("resolution " + std::to_string(opt.resolution) +
                              " is out of range (8 .. 8192 cells)");
@@ -71,6 +74,8 @@ ImportResult ImportVoxmap(CTImage ct, const ImportOptions& opt, const Progress& 
   r.huMin = ct.huMin;
   r.huMax = ct.huMax;
   r.warnings = ct.warnings;
+  r.notes = ct.notes;
+  r.intensity = ct.intensity;
 
   const auto& seed = opt.segmentation.seedMm;
   if (seed && !Inside(r.ctBounds, *seed)) {
@@ -136,8 +141,12 @@ ImportResult ImportVoxmap(CTImage ct, const ImportOptions& opt, const Progress& 
 ImportResult ImportToFile(const std::string& input, const std::string& output,
                           const ImportOptions& opt, const Progress& progress) {
   CheckVoxmapOutputPath(output);
+  CheckOutputIsNotInput(input, output);
   ImportResult r = ImportVoxmap(input, opt, progress.Range(0, 0.9));
-  SaveVoxmap(r.voxmap, output, progress.Range(0.9, 1));
+  SaveVoxmap(r.voxmap, output, progress.Range(0.9, 1),
+             {{"bm_intensity_mapping", r.intensity.Key()},
+              {"bm_intensity", r.intensity.Describe()},
+              {"bm_material_calibrated", r.intensity.materialCalibrated ? "true" : "false"}});
   return r;
 }
 
@@ -148,8 +157,7 @@ std::string ImportResult::Report() const {
   if (numFiles > 1)
     os << ", " << numFiles << " files";
   os << ")\n";
-  os << "modality:    " << (modality.empty() ? "not stated (values taken as HU)" : modality)
-     << "\n";
+  os << "modality:    " << (modality.empty() ? "not stated" : modality) << "\n";
   if (!seriesUID.empty())
     os << "series:      " << seriesUID
        << (seriesDescription.empty() ? "" : " \"" + seriesDescription + "\"") << "\n";
@@ -159,7 +167,9 @@ std::string ImportResult::Report() const {
   os << std::setprecision(4) << "spacing:     " << ctSpacing[0] << " x " << ctSpacing[1] << " x "
      << ctSpacing[2] << " mm\n";
   os << "bounds:      " << Box(ctBounds) << "\n";
-  os << std::setprecision(0) << "HU range:    " << huMin << " .. " << huMax << " HU\n";
+  os << std::setprecision(0) << "HU range:    " << huMin << " .. " << huMax
+     << (intensity.kind == IntensityKind::Raw ? " (raw values, not HU)" : " HU") << "\n";
+  os << "intensity:   " << intensity.Describe() << "\n";
   os << std::setprecision(1) << "bone (CT):   " << segmentedVolumeMm3 << " mm^3";
   if (numComponents > 0)
     os << " (1 of " << numComponents << " components kept";
@@ -174,6 +184,8 @@ std::string ImportResult::Report() const {
      << " voxels of " << voxmap.Spacing() << " mm over " << Box(roi) << "\n";
   os << std::setprecision(1) << "bone volume: " << voxmap.BoneVolume() << " mm^3 ("
      << voxmap.CountBone() << " voxels with bone)\n";
+  for (const auto& n : notes)
+    os << "note:        " << n << "\n";
   for (const auto& w : warnings)
     os << "warning:     " << w << "\n";
   return os.str();

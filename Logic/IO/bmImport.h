@@ -45,6 +45,8 @@ struct ImportResult {
   Box3 ctBounds;                            ///< world mm
   float huMin = 0, huMax = 0;
   std::vector<std::string> warnings;
+  std::vector<std::string> notes; ///< how the series or file was chosen (CTImage::notes)
+  IntensityMapping intensity;     ///< what the CT's values meant (bmIntensityMapping.h)
   // Segmentation.
   double segmentedVolumeMm3 = 0; ///< bone volume at CT resolution (sum of fractions), mm^3
   int numComponents = 0;

@@ -54,7 +54,8 @@ bool ParseHexTriple(const std::string& s, double out[3]) {
 
 } // namespace
 
-void SaveVoxmap(const Voxmap& vm, const std::string& path, const Progress& progress) {
+void SaveVoxmap(const Voxmap& vm, const std::string& path, const Progress& progress,
+                const std::vector<std::pair<std::string, std::string>>& fields) {
   auto io = IOFor(path);
   if (vm.NumVoxels() == 0)
     throw std::runtime_error("cannot save an empty voxmap");
@@ -97,6 +98,8 @@ void SaveVoxmap(const Voxmap& vm, const std::string& path, const Progress& progr
                                         Hex(vm.Origin()[0]) + " " + Hex(vm.Origin()[1]) + " " +
                                             Hex(vm.Origin()[2]));
   itk::EncapsulateMetaData<std::string>(dict, "bm_components", "bone_fraction material_scale");
+  for (const auto& [key, value] : fields)
+    itk::EncapsulateMetaData<std::string>(dict, key, value);
 
   const std::string tmp = TemporarySibling(path);
   auto writer = itk::ImageFileWriter<FileImage>::New();

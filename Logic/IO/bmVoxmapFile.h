@@ -20,11 +20,15 @@
 #include "bmVoxmap.h"
 
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace bm {
 
 /// Save to path (.nrrd or .mha; other extensions are refused with std::runtime_error).
-void SaveVoxmap(const Voxmap& voxmap, const std::string& path, const Progress& progress = {});
+/// `fields`: extra key/value fields written into the header (e.g. bm_intensity_mapping).
+void SaveVoxmap(const Voxmap& voxmap, const std::string& path, const Progress& progress = {},
+                const std::vector<std::pair<std::string, std::string>>& fields = {});
 
 /// Load a voxmap saved by SaveVoxmap (or a compatible image). Throws std::runtime_error on a
 /// missing or unreadable file, an oblique (non-identity direction) or anisotropic image, or more

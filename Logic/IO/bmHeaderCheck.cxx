@@ -1,0 +1,618 @@
+#include "bmHeaderCheck.h"
+
+#include "bmCTReader.h" // CheckMemoryBudget
+
+#include <zlib.h>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace bm {
+
+namespace {
+
+std::string Q(const fs::path& p) {
+  return "'" + p.string() + "'";
+}
+
+std::string Lower(std::string s) {
+  for (auto& c : s)
+    c = char(std::tolower((unsigned char)c));
+  return s;
+}
+
+std::string Trim(const std::string& s) {
+  size_t a = 0, b = s.size();
+  while (a < b && std::isspace((unsigned char)s[a]))
+    ++a;
+  while (b > a && (std::isspace((unsigned char)s[b - 1]) || s[b - 1] == '\0'))
+    --b;
+  return s.substr(a, b - a);
+}
+
+/// Numbers in `s` separated by blanks, commas or parentheses ("nan" and "inf" parse, as non-finite
+/// values the callers refuse). Words such as "none" are returned in `words`.
+std::vector<double> Numbers(const std::string& s, std::vector<std::string>* words = nullptr) {
+  std::string t = s;
+  for (auto& c : t)
+    if (c == '(' || c == ')' || c == ',')
+      c = ' ';
+  std::istringstream is(t);
+  std::vector<double> v;
+  std::string tok;
+  while (is >> tok) {
+    char* end = nullptr;
+    double x = std::strtod(tok.c_str(), &end);
+    if (end && *end == '\0' && end != tok.c_str())
+      v.push_back(x);
+    else if (words)
+      words->push_back(tok);
+    else
+      v.push_back(std::nan(""));
+  }
+  return v;
+}
+
+void Sizes(const fs::path& file, const std::string& field, const std::string& value, int count,
+           uint64_t dims[3]) {
+  std::vector<std::string> words;
+  std::vector<double> n = Numbers(value, &words);
+  if (!words.empty() || int(n.size()) != count)
+    throw std::runtime_error(Q(file) + ": '" + field + "' must give " + std::to_string(count) +
+                             " whole numbers, not '" + value + "'");
+  for (int a = 0; a < count; ++a) {
+    if (!(n[size_t(a)] >= 1) || n[size_t(a)] != std::floor(n[size_t(a)]) || n[size_t(a)] > 1e9)
+      throw std::runtime_error(Q(file) + ": size " + value + " along axis " + std::to_string(a) +
+                               " is not a whole number 1 .. 10^9");
+    if (a < 3)
+      dims[a] = uint64_t(n[size_t(a)]);
+  }
+}
+
+void CheckFinite(const fs::path& file, const std::string& what, const std::vector<double>& v,
+                 size_t count) {
+  if (v.size() < count)
+    throw std::runtime_error(Q(file) + ": " + what + " needs " + std::to_string(count) +
+                             " numbers");
+  for (double x : v)
+    if (!std::isfinite(x))
+      throw std::runtime_error(Q(file) + " has a non-finite " + what + " (NaN or infinite)");
+}
+
+void CheckSpacing(const fs::path& file, const std::vector<double>& s) {
+  CheckFinite(file, "voxel spacing", s, 3);
+  for (size_t a = 0; a < 3; ++a)
+    if (!(s[a] > 0) || s[a] > 1e4)
+      throw std::runtime_error(Q(file) + " has a voxel spacing of " + std::to_string(s[a]) +
+                               " mm along axis " + std::to_string(a) +
+                               ": it must be > 0 and at most 10 000 mm");
+}
+
+/// Resolve a detached data file named in a header, refusing paths that leave the header's folder.
+fs::path DataFileBeside(const fs::path& header, const std::string& name,
+                        const HeaderLimits& limits) {
+  if (name.empty())
+    throw std::runtime_error(Q(header) + " names an empty data file");
+  if (name.find('%') != std::string::npos || name.rfind("LIST", 0) == 0)
+    throw std::runtime_error(Q(header) + " names its data as a list or pattern of files ('" + name +
+                             "'); only a single data file is supported");
+  fs::path p(name);
+  const fs::path folder = header.parent_path().empty() ? fs::path(".") : header.parent_path();
+  if (!limits.allowDataOutsideFolder) {
+    if (p.is_absolute())
+      throw std::runtime_error(Q(header) + " names its data file by an absolute path ('" + name +
+                               "'); data files must lie beside the header (allow other places "
+                               "with --allow-outside-data)");
+    for (const auto& part : p)
+      if (part == "..")
+        throw std::runtime_error(Q(header) + " names its data file with '..' ('" + name +
+                                 "'); data files must lie beside the header (allow other places "
+                                 "with --allow-outside-data)");
+  }
+  fs::path full = p.is_absolute() ? p : folder / p;
+  CheckRegularFile(full, "the data file named by " + Q(header));
+  if (!limits.allowDataOutsideFolder) {
+    const fs::path dir = fs::canonical(folder), real = fs::canonical(full);
+    auto rel = real.lexically_relative(dir);
+    if (rel.empty() || *rel.begin() == "..")
+      throw std::runtime_error(Q(header) + ": its data file '" + name +
+                               "' leads (through a link) to " + Q(real) +
+                               ", outside the header's folder (allow it with "
+                               "--allow-outside-data)");
+  }
+  return full;
+}
+
+int NrrdTypeBytes(const std::string& t, bool& integer) {
+  static const std::map<std::string, int> types = {{"signed char", 1},
+                                                   {"int8", 1},
+                                                   {"int8_t", 1},
+                                                   {"uchar", 1},
+                                                   {"unsigned char", 1},
+                                                   {"uint8", 1},
+                                                   {"uint8_t", 1},
+                                                   {"short", 2},
+                                                   {"short int", 2},
+                                                   {"signed short", 2},
+                                                   {"signed short int", 2},
+                                                   {"int16", 2},
+                                                   {"int16_t", 2},
+                                                   {"ushort", 2},
+                                                   {"unsigned short", 2},
+                                                   {"unsigned short int", 2},
+                                                   {"uint16", 2},
+                                                   {"uint16_t", 2},
+                                                   {"int", 4},
+                                                   {"signed int", 4},
+                                                   {"int32", 4},
+                                                   {"int32_t", 4},
+                                                   {"uint", 4},
+                                                   {"unsigned int", 4},
+                                                   {"uint32", 4},
+                                                   {"uint32_t", 4},
+                                                   {"longlong", 8},
+                                                   {"long long", 8},
+                                                   {"long long int", 8},
+                                                   {"signed long long", 8},
+                                                   {"signed long long int", 8},
+                                                   {"int64", 8},
+                                                   {"int64_t", 8},
+                                                   {"ulonglong", 8},
+                                                   {"unsigned long long", 8},
+                                                   {"unsigned long long int", 8},
+                                                   {"uint64", 8},
+                                                   {"uint64_t", 8},
+                                                   {"float", 4},
+                                                   {"double", 8}};
+  auto it = types.find(t);
+  if (it == types.end())
+    return 0;
+  integer = t != "float" && t != "double";
+  return it->second;
+}
+
+int MetaTypeBytes(const std::string& t, bool& integer) {
+  static const std::map<std::string, int> types = {
+      {"MET_CHAR", 1},      {"MET_UCHAR", 1},      {"MET_SHORT", 2}, {"MET_USHORT", 2},
+      {"MET_INT", 4},       {"MET_UINT", 4},       {"MET_LONG", 4},  {"MET_ULONG", 4},
+      {"MET_LONG_LONG", 8}, {"MET_ULONG_LONG", 8}, {"MET_FLOAT", 4}, {"MET_DOUBLE", 8}};
+  auto it = types.find(t);
+  if (it == types.end())
+    return 0;
+  integer = t != "MET_FLOAT" && t != "MET_DOUBLE";
+  return it->second;
+}
+
+/// Bytes a gzip stream starting at `offset` of `file` inflates to, reading at most `need` bytes.
+/// Throws when the stream is corrupt.
+uint64_t GzipBytes(const fs::path& file, uint64_t offset, uint64_t need) {
+  gzFile gz = gzopen(file.c_str(), "rb");
+  if (!gz)
+    throw std::runtime_error("cannot open " + Q(file));
+  std::vector<char> buf(1 << 16);
+  uint64_t total = 0;
+  if (offset > 0) {
+    // Skip the text header: open the file, seek past it, and inflate from there.
+    gzclose(gz);
+    int fd = ::open(file.c_str(), O_RDONLY);
+    if (fd < 0 || ::lseek(fd, off_t(offset), SEEK_SET) != off_t(offset)) {
+      if (fd >= 0)
+        ::close(fd);
+      throw std::runtime_error("cannot read " + Q(file));
+    }
+    gz = gzdopen(fd, "rb");
+    if (!gz) {
+      ::close(fd);
+      throw std::runtime_error("cannot read " + Q(file));
+    }
+  }
+  while (total < need) {
+    int n = gzread(gz, buf.data(), unsigned(buf.size()));
+    if (n < 0) {
+      int err = 0;
+      std::string msg = gzerror(gz, &err);
+      gzclose(gz);
+      throw std::runtime_error(Q(file) + ": its compressed data are corrupt (" + msg + ")");
+    }
+    if (n == 0)
+      break;
+    total += uint64_t(n);
+  }
+  gzclose(gz);
+  return total;
+}
+
+void CheckDataBytes(const fs::path& header, const fs::path& data, uint64_t offset, uint64_t need,
+                    bool gzip) {
+  uint64_t have = 0;
+  if (gzip)
+    have = GzipBytes(data, offset, need);
+  else {
+    uint64_t size = fs::file_size(data);
+    have = size > offset ? size - offset : 0;
+  }
+  if (have < need)
+    throw std::runtime_error(Q(header) + " is truncated: its voxels need " + std::to_string(need) +
+                             " bytes, " + (data == header ? "the file" : Q(data)) + " holds " +
+                             (gzip ? "(uncompressed) " : "") + std::to_string(have));
+}
+
+/// Read the text header lines of `file` (until `stop` says so), with the limits.
+template <class Stop>
+std::vector<std::string> HeaderLines(const fs::path& file, uint64_t& headerBytes, Stop stop) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in)
+    throw std::runtime_error("cannot open " + Q(file));
+  std::vector<std::string> lines;
+  std::string line;
+  headerBytes = 0;
+  while (true) {
+    line.clear();
+    char c;
+    bool got = false;
+    while (in.get(c)) {
+      got = true;
+      if (++headerBytes > kMaxHeaderBytes)
+        throw std::runtime_error(Q(file) + ": the header is longer than " +
+                                 std::to_string(kMaxHeaderBytes) +
+                                 " bytes (corrupt, or not an image header)");
+      if (c == '\n')
+        break;
+      line.push_back(c);
+    }
+    if (!got)
+      break;
+    if (!line.empty() && line.back() == '\r')
+      line.pop_back();
+    if (int(lines.size()) >= kMaxHeaderLines)
+      throw std::runtime_error(Q(file) + ": the header has more than " +
+                               std::to_string(kMaxHeaderLines) + " lines");
+    lines.push_back(line);
+    if (stop(line))
+      break;
+  }
+  return lines;
+}
+
+void CheckMemory(const fs::path& file, const VolumeHeader& h, const HeaderLimits& limits) {
+  const uint64_t voxels = h.dims[0] * h.dims[1] * h.dims[2]; // each <= 10^9: product < 2^90?
+  const long double exact = (long double)h.dims[0] * h.dims[1] * h.dims[2];
+  const uint64_t bytes = exact > 1e18L ? uint64_t(1e18) : voxels * sizeof(float);
+  CheckMemoryBudget(bytes, limits.maxMemoryBytes,
+                    "the CT " + Q(file) + " (" + std::to_string(h.dims[0]) + " x " +
+                        std::to_string(h.dims[1]) + " x " + std::to_string(h.dims[2]) + " voxels)");
+}
+
+VolumeHeader CheckNrrd(const fs::path& file, const HeaderLimits& limits) {
+  uint64_t headerBytes = 0;
+  auto lines = HeaderLines(file, headerBytes, [](const std::string& l) { return l.empty(); });
+  if (lines.empty() || lines[0].rfind("NRRD000", 0) != 0)
+    throw std::runtime_error(Q(file) + " is not a NRRD file (it does not start with NRRD000x)");
+  std::map<std::string, std::string> f;
+  for (size_t i = 1; i < lines.size(); ++i) {
+    const std::string& l = lines[i];
+    if (l.empty() || l[0] == '#' || l.find(":=") != std::string::npos)
+      continue;
+    size_t colon = l.find(": ");
+    if (colon == std::string::npos)
+      throw std::runtime_error(Q(file) + ": header line " + std::to_string(i + 1) +
+                               " is not 'field: value'");
+    f[Lower(Trim(l.substr(0, colon)))] = Trim(l.substr(colon + 2));
+  }
+  VolumeHeader h;
+  h.format = "NRRD";
+  if (!f.count("dimension") || !f.count("sizes") || !f.count("type"))
+    throw std::runtime_error(Q(file) + ": the NRRD header lacks dimension, sizes or type");
+  const std::string dim = f["dimension"];
+  if (dim != "3") {
+    uint64_t d4[4] = {1, 1, 1, 1};
+    if (dim == "4") {
+      uint64_t dims[3];
+      std::vector<double> n = Numbers(f["sizes"]);
+      Sizes(file, "sizes", f["sizes"], 4, dims);
+      d4[3] = uint64_t(n[3]);
+    }
+    throw std::runtime_error(
+        Q(file) + " is a " + dim + "-D image; a CT volume must be 3-D (one value per voxel)" +
+        (d4[3] > 1 ? " (its 4th axis has " + std::to_string(d4[3]) + " samples)" : std::string()));
+  }
+  Sizes(file, "sizes", f["sizes"], 3, h.dims);
+  h.componentBytes = NrrdTypeBytes(Lower(f["type"]), h.integerType);
+  if (!h.componentBytes)
+    throw std::runtime_error(Q(file) + ": unsupported NRRD type '" + f["type"] + "'");
+  CheckMemory(file, h, limits);
+  if (f.count("spacings")) {
+    CheckSpacing(file, Numbers(f["spacings"]));
+  } else if (f.count("space directions")) {
+    std::vector<std::string> words;
+    std::vector<double> d = Numbers(f["space directions"], &words);
+    if (!words.empty() || d.size() != 9)
+      throw std::runtime_error(Q(file) + ": 'space directions' must give three 3-vectors, not '" +
+                               f["space directions"] + "'");
+    CheckFinite(file, "space direction", d, 9);
+    for (int a = 0; a < 3; ++a) {
+      double len = std::sqrt(d[3 * a] * d[3 * a] + d[3 * a + 1] * d[3 * a + 1] +
+                             d[3 * a + 2] * d[3 * a + 2]);
+      if (!(len > 0) || len > 1e4)
+        throw std::runtime_error(Q(file) + ": space direction " + std::to_string(a) +
+                                 " has length " + std::to_string(len) +
+                                 " mm (the voxel spacing): it must be > 0 and at most 10 000");
+    }
+  } else {
+    throw std::runtime_error(Q(file) +
+                             " does not give its voxel spacing: the size in mm is unknown");
+  }
+  if (f.count("space origin"))
+    CheckFinite(file, "space origin", Numbers(f["space origin"]), 3);
+  if (f.count("axis mins"))
+    CheckFinite(file, "axis mins", Numbers(f["axis mins"]), 3);
+  std::string enc = Lower(f.count("encoding") ? f["encoding"] : "");
+  std::string dataName = f.count("data file")  ? f["data file"]
+                         : f.count("datafile") ? f["datafile"]
+                                               : "";
+  h.dataFile = dataName.empty() ? file : DataFileBeside(file, dataName, limits);
+  const uint64_t need = h.dims[0] * h.dims[1] * h.dims[2] * uint64_t(h.componentBytes);
+  long long byteSkip = 0;
+  if (f.count("byte skip"))
+    byteSkip = std::atoll(f["byte skip"].c_str());
+  const bool lineSkip = f.count("line skip") && std::atoll(f["line skip"].c_str()) != 0;
+  const uint64_t offset = dataName.empty() ? headerBytes : uint64_t(std::max(0LL, byteSkip));
+  if (enc == "raw" && byteSkip >= 0 && !lineSkip)
+    CheckDataBytes(file, h.dataFile, offset, need, false);
+  else if ((enc == "gzip" || enc == "gz") && byteSkip == 0 && !lineSkip)
+    CheckDataBytes(file, h.dataFile, offset, need, true);
+  return h;
+}
+
+VolumeHeader CheckMeta(const fs::path& file, const HeaderLimits& limits) {
+  uint64_t headerBytes = 0;
+  auto lines = HeaderLines(file, headerBytes, [](const std::string& l) {
+    return Lower(Trim(l)).rfind("elementdatafile", 0) == 0;
+  });
+  if (!lines.empty() && lines[0].rfind("NRRD", 0) == 0)
+    throw std::runtime_error(Q(file) + " is a NRRD file, not a MetaImage: rename it to .nrrd");
+  std::map<std::string, std::string> f;
+  for (size_t i = 0; i < lines.size(); ++i) {
+    const std::string l = Trim(lines[i]);
+    if (l.empty())
+      continue;
+    size_t eq = l.find('=');
+    if (eq == std::string::npos)
+      throw std::runtime_error(Q(file) + ": header line " + std::to_string(i + 1) +
+                               " is not 'Key = Value' (not a MetaImage header)");
+    f[Lower(Trim(l.substr(0, eq)))] = Trim(l.substr(eq + 1));
+  }
+  if (!f.count("elementdatafile"))
+    throw std::runtime_error(Q(file) + ": the MetaImage header has no ElementDataFile");
+  VolumeHeader h;
+  h.format = "MetaImage";
+  const std::string nd = f.count("ndims") ? f["ndims"] : "";
+  if (nd != "3")
+    throw std::runtime_error(Q(file) + " is a " + (nd.empty() ? "?" : nd) +
+                             "-D image (NDims); a CT volume must be 3-D");
+  if (!f.count("dimsize"))
+    throw std::runtime_error(Q(file) + ": the MetaImage header has no DimSize");
+  Sizes(file, "DimSize", f["dimsize"], 3, h.dims);
+  const std::string type = Trim(f.count("elementtype") ? f["elementtype"] : "");
+  h.componentBytes = MetaTypeBytes(type, h.integerType);
+  if (!h.componentBytes)
+    throw std::runtime_error(Q(file) + ": unsupported ElementType '" + type + "'");
+  const int channels =
+      f.count("elementnumberofchannels") ? std::atoi(f["elementnumberofchannels"].c_str()) : 1;
+  if (channels != 1)
+    throw std::runtime_error(Q(file) + " has " + std::to_string(channels) +
+                             " components per voxel; a CT has one");
+  CheckMemory(file, h, limits);
+  if (f.count("elementspacing"))
+    CheckSpacing(file, Numbers(f["elementspacing"]));
+  else if (f.count("elementsize"))
+    CheckSpacing(file, Numbers(f["elementsize"]));
+  else
+    throw std::runtime_error(Q(file) +
+                             " does not give its voxel spacing: the size in mm is unknown");
+  for (const char* k : {"offset", "origin", "position"})
+    if (f.count(k))
+      CheckFinite(file, std::string("origin (") + k + ")", Numbers(f[k]), 3);
+  for (const char* k : {"transformmatrix", "rotation", "orientation"})
+    if (f.count(k)) {
+      auto m = Numbers(f[k]);
+      CheckFinite(file, std::string("direction (") + k + ")", m, 9);
+      for (int a = 0; a < 3; ++a)
+        if (!(std::abs(m[size_t(3 * a)]) + std::abs(m[size_t(3 * a + 1)]) +
+                  std::abs(m[size_t(3 * a + 2)]) >
+              0))
+          throw std::runtime_error(Q(file) + ": direction axis " + std::to_string(a) + " is zero");
+    }
+  const std::string dataName = f["elementdatafile"];
+  const bool local = Lower(dataName) == "local";
+  h.dataFile = local ? file : DataFileBeside(file, dataName, limits);
+  const bool compressed = Lower(f.count("compresseddata") ? f["compresseddata"] : "") == "true";
+  const uint64_t need = h.dims[0] * h.dims[1] * h.dims[2] * uint64_t(h.componentBytes);
+  long long skip = f.count("headersize") ? std::atoll(f["headersize"].c_str()) : 0;
+  const uint64_t offset = local ? headerBytes : uint64_t(std::max(0LL, skip));
+  if (!compressed && skip >= 0) {
+    CheckDataBytes(file, h.dataFile, offset, need, false);
+  } else if (compressed && f.count("compresseddatasize")) {
+    const double cs = std::strtod(f["compresseddatasize"].c_str(), nullptr);
+    const uint64_t size = fs::file_size(h.dataFile);
+    const uint64_t have = size > offset ? size - offset : 0;
+    if (!(cs >= 0) || cs > double(have))
+      throw std::runtime_error(Q(file) + " is truncated: CompressedDataSize is " +
+                               f["compresseddatasize"] + " bytes, the file holds " +
+                               std::to_string(have));
+  }
+  return h;
+}
+
+template <class T> T Get(const unsigned char* p, bool swap) {
+  unsigned char b[sizeof(T)];
+  std::memcpy(b, p, sizeof(T));
+  if (swap)
+    std::reverse(b, b + sizeof(T));
+  T v;
+  std::memcpy(&v, b, sizeof(T));
+  return v;
+}
+
+VolumeHeader CheckNifti(const fs::path& file, const HeaderLimits& limits) {
+  unsigned char hdr[348];
+  {
+    gzFile gz = gzopen(file.c_str(), "rb"); // reads plain files as they are
+    if (!gz)
+      throw std::runtime_error("cannot open " + Q(file));
+    int n = gzread(gz, hdr, sizeof hdr);
+    gzclose(gz);
+    if (n != int(sizeof hdr))
+      throw std::runtime_error(Q(file) + " is too short for a NIfTI header (348 bytes)");
+  }
+  bool swap = false;
+  int32_t sz = Get<int32_t>(hdr, false);
+  if (sz != 348) {
+    swap = true;
+    sz = Get<int32_t>(hdr, true);
+  }
+  if (sz != 348)
+    throw std::runtime_error(Q(file) + " is not a NIfTI-1 file (its header size is not 348)");
+  if (std::memcmp(hdr + 344, "n+1", 4) != 0)
+    throw std::runtime_error(Q(file) + " is not a single-file NIfTI-1 image (magic n+1)");
+  VolumeHeader h;
+  h.format = "NIfTI";
+  int16_t dim[8];
+  for (int i = 0; i < 8; ++i)
+    dim[i] = Get<int16_t>(hdr + 40 + 2 * i, swap);
+  if (dim[0] < 1 || dim[0] > 7)
+    throw std::runtime_error(Q(file) + ": invalid NIfTI dim[0] " + std::to_string(dim[0]));
+  for (int i = 4; i <= dim[0]; ++i)
+    if (dim[i] > 1)
+      throw std::runtime_error(Q(file) + " is a " + std::to_string(dim[0]) + "-D image (axis " +
+                               std::to_string(i) + " has " + std::to_string(dim[i]) +
+                               " samples); a CT volume must be 3-D");
+  if (dim[0] < 3)
+    throw std::runtime_error(Q(file) + " is a " + std::to_string(dim[0]) +
+                             "-D image; a CT volume must be 3-D");
+  for (int a = 0; a < 3; ++a) {
+    if (dim[a + 1] < 1)
+      throw std::runtime_error(Q(file) + ": size " + std::to_string(dim[a + 1]) + " along axis " +
+                               std::to_string(a) + " is not positive");
+    h.dims[a] = uint64_t(dim[a + 1]);
+  }
+  const int16_t datatype = Get<int16_t>(hdr + 70, swap);
+  static const std::map<int, std::pair<int, bool>> types = {
+      {2, {1, true}},   {4, {2, true}},   {8, {4, true}},   {16, {4, false}},  {64, {8, false}},
+      {256, {1, true}}, {512, {2, true}}, {768, {4, true}}, {1024, {8, true}}, {1280, {8, true}}};
+  auto t = types.find(datatype);
+  if (t == types.end())
+    throw std::runtime_error(Q(file) + ": NIfTI datatype " + std::to_string(datatype) +
+                             " is not a scalar type a CT uses");
+  h.componentBytes = t->second.first;
+  h.integerType = t->second.second;
+  CheckMemory(file, h, limits);
+  std::vector<double> pixdim;
+  for (int i = 0; i < 4; ++i)
+    pixdim.push_back(Get<float>(hdr + 76 + 4 * i, swap));
+  CheckFinite(file, "pixdim", pixdim, 4);
+  CheckSpacing(file, {std::abs(pixdim[1]), std::abs(pixdim[2]), std::abs(pixdim[3])});
+  const double voxOffset = Get<float>(hdr + 108, swap);
+  const double slope = Get<float>(hdr + 112, swap), inter = Get<float>(hdr + 116, swap);
+  if (!std::isfinite(slope) || !std::isfinite(inter))
+    throw std::runtime_error(Q(file) + " has a non-finite rescale (scl_slope " +
+                             std::to_string(slope) + ", scl_inter " + std::to_string(inter) + ")");
+  h.hasRescale = slope != 0 && (slope != 1 || inter != 0);
+  const int16_t qcode = Get<int16_t>(hdr + 252, swap), scode = Get<int16_t>(hdr + 254, swap);
+  std::vector<double> q, s;
+  for (int i = 0; i < 6; ++i)
+    q.push_back(Get<float>(hdr + 256 + 4 * i, swap));
+  for (int i = 0; i < 12; ++i)
+    s.push_back(Get<float>(hdr + 280 + 4 * i, swap));
+  if (qcode > 0)
+    CheckFinite(file, "qform (orientation and origin)", q, 6);
+  if (scode > 0)
+    CheckFinite(file, "sform (orientation and origin)", s, 12);
+  if (!(voxOffset >= 348) || voxOffset > 1e9)
+    throw std::runtime_error(Q(file) + ": NIfTI vox_offset " + std::to_string(voxOffset) +
+                             " is not a valid data offset");
+  h.dataFile = file;
+  const uint64_t need = h.dims[0] * h.dims[1] * h.dims[2] * uint64_t(h.componentBytes);
+  const bool gz = Lower(file.extension().string()) == ".gz";
+  if (gz) {
+    const uint64_t have = GzipBytes(file, 0, uint64_t(voxOffset) + need);
+    if (have < uint64_t(voxOffset) + need)
+      throw std::runtime_error(
+          Q(file) + " is truncated: its voxels need " + std::to_string(need) +
+          " bytes after offset " + std::to_string(uint64_t(voxOffset)) +
+          ", it holds (uncompressed) " +
+          std::to_string(have > uint64_t(voxOffset) ? have - uint64_t(voxOffset) : 0));
+  } else {
+    CheckDataBytes(file, file, uint64_t(voxOffset), need, false);
+  }
+  return h;
+}
+
+} // namespace
+
+void CheckRegularFile(const fs::path& path, const std::string& role) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0)
+    throw std::runtime_error(role + " " + Q(path) + " does not exist or cannot be opened");
+  const char* kind = nullptr;
+  if (S_ISDIR(st.st_mode))
+    kind = "a folder";
+  else if (S_ISFIFO(st.st_mode))
+    kind = "a FIFO (named pipe)";
+  else if (S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode))
+    kind = "a device";
+  else if (S_ISSOCK(st.st_mode))
+    kind = "a socket";
+  else if (!S_ISREG(st.st_mode))
+    kind = "not a regular file";
+  if (kind)
+    throw std::runtime_error(role + " " + Q(path) + " is " + kind + ", not a regular file");
+}
+
+VolumeHeader CheckVolumeHeader(const fs::path& file, const std::string& format,
+                               const HeaderLimits& limits) {
+  CheckRegularFile(file, "the input");
+  if (format == "NRRD")
+    return CheckNrrd(file, limits);
+  if (format == "MetaImage")
+    return CheckMeta(file, limits);
+  if (format == "NIfTI")
+    return CheckNifti(file, limits);
+  throw std::invalid_argument("CheckVolumeHeader: unknown format " + format);
+}
+
+void CheckOutputIsNotInput(const std::string& input, const std::string& output) {
+  std::error_code ec;
+  const fs::path in = fs::weakly_canonical(input, ec);
+  const fs::path out = fs::weakly_canonical(output, ec);
+  if (fs::exists(output) && fs::exists(input) && fs::equivalent(input, output, ec))
+    throw std::runtime_error("the output '" + output + "' is the input '" + input +
+                             "': it would overwrite the CT; choose another output");
+  if (!in.empty() && in == out)
+    throw std::runtime_error("the output '" + output + "' is the input '" + input +
+                             "': it would overwrite the CT; choose another output");
+  if (fs::is_directory(input)) {
+    auto rel = out.lexically_relative(in);
+    if (!rel.empty() && *rel.begin() != "..")
+      throw std::runtime_error("the output '" + output + "' lies inside the input folder '" +
+                               input +
+                               "': it would be mixed with the CT's files; write it "
+                               "elsewhere");
+  }
+}
+
+} // namespace bm

@@ -1,0 +1,474 @@
+// The hostile-input corpus (Docs/Reliability.md, "CT import"): small bad files made here, each
+// refused by the import with a message naming the problem, no crash, no hang and nothing written.
+// Each format's generator also makes a valid control file that reads, so every refusal comes from
+// the one thing a case changes.
+#include "bmIOTestUtil.h"
+
+#include "bmCTReader.h"
+#include "bmImport.h"
+
+#include <gtest/gtest.h>
+
+#include <sys/stat.h>
+#include <zlib.h>
+
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <map>
+
+using namespace bmtest;
+
+namespace {
+
+/// 4 x 4 x 4 int16 voxels: air (-1000) with a cube of bone (1000).
+std::string Voxels(size_t count = 64) {
+  std::string s;
+  for (size_t i = 0; i < count; ++i) {
+    const int16_t v = (i % 64 >= 21 && i % 64 <= 42) ? 1000 : -1000;
+    s.append(reinterpret_cast<const char*>(&v), 2);
+  }
+  return s;
+}
+
+void WriteFile(const fs::path& p, const std::string& bytes) {
+  std::ofstream f(p, std::ios::binary);
+  f.write(bytes.data(), std::streamsize(bytes.size()));
+}
+
+void WriteGzip(const fs::path& p, const std::string& bytes) {
+  gzFile gz = gzopen(p.c_str(), "wb");
+  gzwrite(gz, bytes.data(), unsigned(bytes.size()));
+  gzclose(gz);
+}
+
+/// A NRRD header from fields (in order), attached data after it unless a field names a data file.
+std::string Nrrd(std::map<std::string, std::string> over, const std::string& data = Voxels()) {
+  std::vector<std::pair<std::string, std::string>> f = {{"type", "short"},    {"dimension", "3"},
+                                                        {"sizes", "4 4 4"},   {"spacings", "1 1 1"},
+                                                        {"endian", "little"}, {"encoding", "raw"}};
+  for (auto& [k, v] : f)
+    if (over.count(k)) {
+      v = over[k];
+      over.erase(k);
+    }
+  std::string s = "NRRD0004\n";
+  for (const auto& [k, v] : f)
+    if (v != "-")
+      s += k + ": " + v + "\n";
+  bool detached = false;
+  for (const auto& [k, v] : over) {
+    if (k == "data file")
+      detached = true;
+    if (v != "-")
+      s += k + ": " + v + "\n";
+  }
+  s += "\n";
+  return detached ? s : s + data;
+}
+
+/// A MetaImage (.mha) with LOCAL data unless ElementDataFile is given.
+std::string Mha(std::map<std::string, std::string> over, const std::string& data = Voxels()) {
+  std::vector<std::pair<std::string, std::string>> f = {
+      {"ObjectType", "Image"},     {"NDims", "3"},
+      {"DimSize", "4 4 4"},        {"ElementType", "MET_SHORT"},
+      {"ElementSpacing", "1 1 1"}, {"Offset", "0 0 0"},
+      {"BinaryData", "True"},      {"BinaryDataByteOrderMSB", "False"}};
+  for (auto& [k, v] : f)
+    if (over.count(k)) {
+      v = over[k];
+      over.erase(k);
+    }
+  std::string file = "LOCAL";
+  if (over.count("ElementDataFile")) {
+    file = over["ElementDataFile"];
+    over.erase("ElementDataFile");
+  }
+  std::string s;
+  for (const auto& [k, v] : f)
+    s += k + " = " + v + "\n";
+  for (const auto& [k, v] : over)
+    s += k + " = " + v + "\n";
+  s += "ElementDataFile = " + file + "\n";
+  return file == "LOCAL" ? s + data : s;
+}
+
+/// A single-file NIfTI-1 image; `edit` changes the 348-byte header before it is written.
+std::string Nifti(const std::function<void(char*)>& edit = {}, const std::string& data = Voxels()) {
+  char h[352] = {};
+  auto put32 = [&](int off, int32_t v) { std::memcpy(h + off, &v, 4); };
+  auto put16 = [&](int off, int16_t v) { std::memcpy(h + off, &v, 2); };
+  auto putf = [&](int off, float v) { std::memcpy(h + off, &v, 4); };
+  put32(0, 348);
+  const int16_t dim[8] = {3, 4, 4, 4, 1, 1, 1, 1};
+  for (int i = 0; i < 8; ++i)
+    put16(40 + 2 * i, dim[i]);
+  put16(70, 4);  // datatype int16
+  put16(72, 16); // bitpix
+  for (int i = 0; i < 8; ++i)
+    putf(76 + 4 * i, 1.0f);
+  putf(108, 352); // vox_offset
+  putf(112, 1);   // scl_slope
+  putf(116, 0);   // scl_inter
+  std::memcpy(h + 344, "n+1", 4);
+  if (edit)
+    edit(h);
+  return std::string(h, sizeof h) + data;
+}
+
+void PutFloat(char* h, int off, float v) {
+  std::memcpy(h + off, &v, 4);
+}
+void PutShort(char* h, int off, int16_t v) {
+  std::memcpy(h + off, &v, 2);
+}
+
+const float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+struct Case {
+  std::string name;   ///< file or folder name of the hostile input
+  std::string needle; ///< what the refusal must say
+  std::function<void(const fs::path& input)> make;
+  bool allowOutside = false;
+};
+
+/// Import `input` expecting a refusal naming `needle`, with nothing written.
+void ExpectRefused(const ScratchDir& dir, const Case& c, const fs::path& input) {
+  const auto before = dir.Entries();
+  const fs::path out = dir / "out.nrrd";
+  bm::ImportOptions opt;
+  opt.resolution = 16;
+  opt.read.allowDataOutsideFolder = c.allowOutside;
+  try {
+    bm::ImportToFile(input.string(), out.string(), opt);
+    ADD_FAILURE() << c.name << ": accepted; expected a refusal naming '" << c.needle << "'";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(c.needle), std::string::npos)
+        << c.name << ": message: " << e.what();
+  }
+  EXPECT_FALSE(fs::exists(out)) << c.name;
+  EXPECT_EQ(dir.Entries(), before) << c.name << ": something was written";
+}
+
+void RunCorpus(const std::string& tag, const std::vector<Case>& cases) {
+  ScratchDir d("hostile-" + tag);
+  for (const auto& c : cases) {
+    const fs::path folder = d / ("case-" + std::to_string(&c - cases.data()));
+    fs::create_directories(folder / "in");
+    const fs::path input = folder / "in" / c.name;
+    c.make(input);
+    ExpectRefused(d, c, input);
+  }
+}
+
+} // namespace
+
+TEST(HostileInput, ControlFilesRead) {
+  ScratchDir d("hostile-control");
+  WriteFile(d / "a.nrrd", Nrrd({}));
+  WriteFile(d / "a.mha", Mha({}));
+  WriteFile(d / "a.nii", Nifti());
+  WriteGzip(d / "b.nii.gz", Nifti());
+  WriteFile(d / "c.raw", Voxels());
+  WriteFile(d / "c.nhdr", Nrrd({{"data file", "c.raw"}}));
+  WriteFile(d / "c.mhd", Mha({{"ElementDataFile", "c.raw"}}));
+  for (const char* f : {"a.nrrd", "a.mha", "a.nii", "b.nii.gz", "c.nhdr", "c.mhd"}) {
+    bm::CTImage ct;
+    ASSERT_NO_THROW(ct = bm::ReadCT((d / f).string())) << f;
+    EXPECT_EQ(ct.Size(), (std::array<int, 3>{4, 4, 4})) << f;
+    EXPECT_EQ(ct.huMin, -1000.0f) << f;
+    EXPECT_EQ(ct.huMax, 1000.0f) << f;
+  }
+}
+
+TEST(HostileInput, NrrdCorpus) {
+  auto nrrd = [](std::map<std::string, std::string> f, std::string data = Voxels()) {
+    return [f, data](const fs::path& p) { WriteFile(p, Nrrd(f, data)); };
+  };
+  std::vector<Case> cases = {
+      {"fifo.nrrd", "FIFO", [](const fs::path& p) { ASSERT_EQ(::mkfifo(p.c_str(), 0600), 0); }},
+      {"text.nrrd", "not a NRRD file", [](const fs::path& p) { WriteFile(p, "hello\n"); }},
+      {"empty.nrrd", "not a NRRD file", [](const fs::path& p) { WriteFile(p, ""); }},
+      {"4d.nrrd", "4-D", nrrd({{"dimension", "4"}, {"sizes", "4 4 4 3"}})},
+      {"2d.nrrd", "2-D", nrrd({{"dimension", "2"}, {"sizes", "4 4"}})},
+      {"zero-size.nrrd", "size", nrrd({{"sizes", "0 4 4"}})},
+      {"neg-size.nrrd", "size", nrrd({{"sizes", "-4 4 4"}})},
+      {"word-size.nrrd", "whole numbers", nrrd({{"sizes", "4 x 4"}})},
+      {"huge.nrrd", "more than the", nrrd({{"sizes", "100000 100000 100000"}})},
+      {"nan-spacing.nrrd", "non-finite voxel spacing", nrrd({{"spacings", "nan 1 1"}})},
+      {"inf-spacing.nrrd", "non-finite voxel spacing", nrrd({{"spacings", "1 inf 1"}})},
+      {"zero-spacing.nrrd", "voxel spacing of 0", nrrd({{"spacings", "1 1 0"}})},
+      {"neg-spacing.nrrd", "voxel spacing of -1", nrrd({{"spacings", "-1 1 1"}})},
+      {"vast-spacing.nrrd", "at most 10 000", nrrd({{"spacings", "1e300 1 1"}})},
+      {"no-spacing.nrrd", "does not give its voxel spacing", nrrd({{"spacings", "-"}})},
+      {"nan-origin.nrrd", "non-finite space origin",
+       nrrd({{"spacings", "-"},
+             {"space", "left-posterior-superior"},
+             {"space directions", "(1,0,0) (0,1,0) (0,0,1)"},
+             {"space origin", "(nan,0,0)"}})},
+      {"nan-direction.nrrd", "non-finite space direction",
+       nrrd({{"spacings", "-"},
+             {"space", "left-posterior-superior"},
+             {"space directions", "(1,0,0) (0,nan,0) (0,0,1)"}})},
+      {"zero-direction.nrrd", "has length 0",
+       nrrd({{"spacings", "-"},
+             {"space", "left-posterior-superior"},
+             {"space directions", "(1,0,0) (0,0,0) (0,0,1)"}})},
+      {"bad-type.nrrd", "unsupported NRRD type", nrrd({{"type", "block"}})},
+      {"no-type.nrrd", "lacks dimension, sizes or type", nrrd({{"type", "-"}})},
+      {"truncated.nrrd", "truncated", nrrd({}, Voxels(20))},
+      {"abs-data.nhdr", "absolute path", nrrd({{"data file", "/etc/passwd"}})},
+      {"parent-data.nhdr", "'..'", nrrd({{"data file", "../secret.raw"}})},
+      {"list-data.nhdr", "list or pattern", nrrd({{"data file", "LIST"}})},
+      {"pattern-data.nhdr", "list or pattern", nrrd({{"data file", "slice%03d.raw 1 4 1"}})},
+      {"missing-data.nhdr", "does not exist", nrrd({{"data file", "nothing.raw"}})},
+      {"folder-data.nhdr", "is a folder",
+       [](const fs::path& p) {
+         fs::create_directory(p.parent_path() / "sub");
+         WriteFile(p, Nrrd({{"data file", "sub"}}));
+       }},
+      {"devzero.nhdr", "is a device", nrrd({{"data file", "/dev/zero"}}), true},
+      {"link-out.nhdr", "outside the header's folder",
+       [](const fs::path& p) {
+         WriteFile(p.parent_path().parent_path() / "elsewhere.raw", Voxels());
+         fs::create_symlink("../elsewhere.raw", p.parent_path() / "link.raw");
+         WriteFile(p, Nrrd({{"data file", "link.raw"}}));
+       }},
+      {"short-data.nhdr", "truncated",
+       [](const fs::path& p) {
+         WriteFile(p.parent_path() / "short.raw", Voxels(10));
+         WriteFile(p, Nrrd({{"data file", "short.raw"}}));
+       }},
+      {"gzip-cut.nrrd", "",
+       [](const fs::path& p) {
+         WriteGzip(p.parent_path() / "v.gz", Voxels());
+         std::ifstream in(p.parent_path() / "v.gz", std::ios::binary);
+         std::string gz((std::istreambuf_iterator<char>(in)), {});
+         fs::remove(p.parent_path() / "v.gz");
+         WriteFile(p, Nrrd({{"encoding", "gzip"}}, gz.substr(0, gz.size() / 2)));
+       }},
+      {"many-lines.nrrd", "more than 4096 lines",
+       [](const fs::path& p) {
+         std::string s = Nrrd({});
+         std::string kv;
+         for (int i = 0; i < 100000; ++i)
+           kv += "key" + std::to_string(i) + ":=v\n";
+         WriteFile(p, "NRRD0004\n" + kv + s.substr(9));
+       }},
+      {"long-line.nrrd", "header is longer than",
+       [](const fs::path& p) { WriteFile(p, "NRRD0004\n" + std::string(3 << 20, 'a')); }},
+      {"nan-voxels.nrrd", "non-finite voxel value",
+       [](const fs::path& p) {
+         std::string data;
+         for (int i = 0; i < 64; ++i) {
+           const float v = i == 5 ? kNaN : -1000.0f + 40.0f * float(i);
+           data.append(reinterpret_cast<const char*>(&v), 4);
+         }
+         WriteFile(p, Nrrd({{"type", "float"}}, data));
+       }},
+      {"uchar.nrrd", "8-bit",
+       [](const fs::path& p) {
+         WriteFile(p, Nrrd({{"type", "uchar"}}, std::string(64, '\x80')));
+       }},
+      {"folder.nrrd", "is empty", [](const fs::path& p) { fs::create_directory(p); }},
+  };
+  // The gzip case's message depends on where the stream breaks: "truncated" or "corrupt".
+  for (auto& c : cases)
+    if (c.name == "gzip-cut.nrrd")
+      c.needle = "gzip-cut.nrrd";
+  RunCorpus("nrrd", cases);
+}
+
+TEST(HostileInput, MetaImageCorpus) {
+  auto mha = [](std::map<std::string, std::string> f, std::string data = Voxels()) {
+    return [f, data](const fs::path& p) { WriteFile(p, Mha(f, data)); };
+  };
+  std::vector<Case> cases = {
+      {"etc-passwd.mha", "absolute path", mha({{"ElementDataFile", "/etc/passwd"}})},
+      {"etc-passwd-dotdot.mhd", "'..'",
+       mha({{"ElementDataFile", "../../../../../../../../etc/passwd"}})},
+      {"is-nrrd.mha", "NRRD file, not a MetaImage",
+       [](const fs::path& p) { WriteFile(p, Nrrd({})); }},
+      {"4d.mha", "4-D", mha({{"NDims", "4"}, {"DimSize", "4 4 4 2"}})},
+      {"no-ndims.mha", "-D image", mha({{"NDims", "three"}})},
+      {"zero-dim.mha", "size", mha({{"DimSize", "4 0 4"}})},
+      {"huge.mha", "more than the", mha({{"DimSize", "70000 70000 70000"}})},
+      {"truncated.mha", "truncated", mha({}, Voxels(30))},
+      {"nan-spacing.mha", "non-finite voxel spacing", mha({{"ElementSpacing", "1 nan 1"}})},
+      {"zero-spacing.mha", "voxel spacing of 0", mha({{"ElementSpacing", "0 1 1"}})},
+      {"nan-offset.mha", "non-finite origin", mha({{"Offset", "0 0 nan"}})},
+      {"inf-transform.mha", "non-finite direction",
+       mha({{"TransformMatrix", "1 0 0 0 inf 0 0 0 1"}})},
+      {"zero-transform.mha", "direction axis 1 is zero",
+       mha({{"TransformMatrix", "1 0 0 0 0 0 0 0 1"}})},
+      {"list.mha", "list or pattern", mha({{"ElementDataFile", "LIST"}})},
+      {"channels.mha", "components per voxel", mha({{"ElementNumberOfChannels", "3"}})},
+      {"bad-type.mha", "unsupported ElementType", mha({{"ElementType", "MET_STRING"}})},
+      {"garbage.mha", "not 'Key = Value'",
+       [](const fs::path& p) { WriteFile(p, std::string("\x01\x02\x03 binary\n", 11)); }},
+      {"no-datafile.mha", "no ElementDataFile",
+       [](const fs::path& p) { WriteFile(p, "NDims = 3\nDimSize = 4 4 4\n"); }},
+      {"compressed-cut.mha", "truncated",
+       mha({{"CompressedData", "True"}, {"CompressedDataSize", "100000"}}, "xx")},
+      {"fifo.mha", "FIFO", [](const fs::path& p) { ASSERT_EQ(::mkfifo(p.c_str(), 0600), 0); }},
+  };
+  RunCorpus("mha", cases);
+}
+
+TEST(HostileInput, NiftiCorpus) {
+  auto nii = [](std::function<void(char*)> edit, std::string data = Voxels()) {
+    return [edit, data](const fs::path& p) { WriteFile(p, Nifti(edit, data)); };
+  };
+  std::vector<Case> cases = {
+      {"nan-pixdim.nii", "non-finite pixdim", nii([](char* h) { PutFloat(h, 80, kNaN); })},
+      {"inf-pixdim.nii", "non-finite pixdim",
+       nii([](char* h) { PutFloat(h, 84, std::numeric_limits<float>::infinity()); })},
+      {"zero-pixdim.nii", "voxel spacing of 0", nii([](char* h) { PutFloat(h, 88, 0); })},
+      {"nan-slope.nii", "non-finite rescale", nii([](char* h) { PutFloat(h, 112, kNaN); })},
+      {"inf-inter.nii", "non-finite rescale",
+       nii([](char* h) { PutFloat(h, 116, -std::numeric_limits<float>::infinity()); })},
+      {"4d.nii", "4-D", nii([](char* h) {
+         PutShort(h, 40, 4);
+         PutShort(h, 48, 3);
+       })},
+      {"2d.nii", "2-D", nii([](char* h) { PutShort(h, 40, 2); })},
+      {"bad-dim0.nii", "dim[0]", nii([](char* h) { PutShort(h, 40, 9); })},
+      {"neg-size.nii", "not positive", nii([](char* h) { PutShort(h, 44, -4); })},
+      {"huge.nii", "more than the", nii([](char* h) {
+         PutShort(h, 42, 32767);
+         PutShort(h, 44, 32767);
+         PutShort(h, 46, 32767);
+       })},
+      {"rgb.nii", "not a scalar type", nii([](char* h) { PutShort(h, 70, 128); })},
+      {"nan-qform.nii", "non-finite qform", nii([](char* h) {
+         PutShort(h, 252, 1);
+         PutFloat(h, 268, kNaN);
+       })},
+      {"nan-sform.nii", "non-finite sform", nii([](char* h) {
+         PutShort(h, 254, 1);
+         PutFloat(h, 300, kNaN);
+       })},
+      {"bad-offset.nii", "vox_offset", nii([](char* h) { PutFloat(h, 108, kNaN); })},
+      {"bad-magic.nii", "magic n+1", nii([](char* h) { std::memcpy(h + 344, "xyz", 4); })},
+      {"truncated.nii", "truncated", nii({}, Voxels(40))},
+      {"short.nii", "too short", [](const fs::path& p) { WriteFile(p, std::string(100, 'x')); }},
+      {"not-nifti.nii", "not a NIfTI-1 file",
+       [](const fs::path& p) { WriteFile(p, std::string(400, 'x')); }},
+      {"truncated.nii.gz", "truncated.nii.gz",
+       [](const fs::path& p) { WriteGzip(p, Nifti({}, Voxels(30))); }},
+      {"gz-cut.nii.gz", "gz-cut.nii.gz",
+       [](const fs::path& p) {
+         WriteGzip(p, Nifti());
+         fs::resize_file(p, fs::file_size(p) / 2);
+       }},
+  };
+  RunCorpus("nifti", cases);
+}
+
+TEST(HostileInput, DicomCorpus) {
+  ScratchDir base("hostile-dicom-base");
+  WriteBlock(base / "ct");
+  const auto files = SeriesFiles(base / "ct");
+  const size_t mid = files.size() / 2;
+  // A copy of the series with `edit` applied to the data set of file `which` (every file: -1).
+  auto series = [&](long which, std::function<void(gdcm::DataSet&)> edit) {
+    return [&, which, edit](const fs::path& p) {
+      fs::copy(base / "ct", p);
+      const auto copies = SeriesFiles(p);
+      for (size_t i = 0; i < copies.size(); ++i)
+        if (which < 0 || size_t(which) == i)
+          EditDicom(copies[i], edit);
+    };
+  };
+  auto tag = [](uint16_t g, uint16_t e, gdcm::VR vr, std::string v) {
+    return [=](gdcm::DataSet& ds) { SetTag(ds, g, e, vr, v); };
+  };
+  std::vector<Case> cases = {
+      {"nan-position", "non-finite ImagePositionPatient",
+       series(long(mid), tag(0x0020, 0x0032, gdcm::VR::DS, "0\\nan\\3"))},
+      {"inf-position", "non-finite ImagePositionPatient",
+       series(long(mid), tag(0x0020, 0x0032, gdcm::VR::DS, "inf\\0\\3"))},
+      {"nan-orientation", "non-finite ImageOrientationPatient",
+       series(-1, tag(0x0020, 0x0037, gdcm::VR::DS, "1\\0\\0\\0\\nan\\0"))},
+      {"nan-slope", "RescaleSlope", series(long(mid), tag(0x0028, 0x1053, gdcm::VR::DS, "nan"))},
+      {"inf-intercept", "RescaleIntercept",
+       series(long(mid), tag(0x0028, 0x1052, gdcm::VR::DS, "-inf"))},
+      {"zero-slope", "RescaleSlope (0028,1053) of 0",
+       series(-1, tag(0x0028, 0x1053, gdcm::VR::DS, "0"))},
+      {"mixed-modality", "unlike the series' first slice",
+       series(long(mid), tag(0x0008, 0x0060, gdcm::VR::CS, "MR"))},
+      {"no-position", "no ImagePositionPatient",
+       series(long(mid), [](gdcm::DataSet& ds) { ds.Remove(gdcm::Tag(0x0020, 0x0032)); })},
+      {"tilted-slice", "orientation different",
+       series(long(mid), tag(0x0020, 0x0037, gdcm::VR::DS, "1\\0\\0\\0\\0.8\\0.6"))},
+      {"other-spacing", "pixel spacing different",
+       series(long(mid), tag(0x0028, 0x0030, gdcm::VR::DS, "0.7\\0.7"))},
+      {"missing-slice", "inconsistent slice spacing",
+       [&](const fs::path& p) {
+         fs::copy(base / "ct", p);
+         fs::remove(SeriesFiles(p)[mid]);
+       }},
+      {"same-position", "lie at the same position",
+       [&](const fs::path& p) {
+         fs::copy(base / "ct", p);
+         const auto c = SeriesFiles(p);
+         std::string pos;
+         EditDicom(c[mid], [&](gdcm::DataSet& ds) {
+           const auto& de = ds.GetDataElement(gdcm::Tag(0x0020, 0x0032));
+           pos.assign(de.GetByteValue()->GetPointer(), de.GetByteValue()->GetLength());
+         });
+         EditDicom(c[mid + 1], tag(0x0020, 0x0032, gdcm::VR::DS, pos));
+       }},
+      {"truncated-slice", "truncated",
+       [&](const fs::path& p) {
+         fs::copy(base / "ct", p);
+         const auto c = SeriesFiles(p)[mid];
+         fs::resize_file(c, fs::file_size(c) - 100);
+       }},
+      {"cut-at-131", "too short",
+       [&](const fs::path& p) {
+         fs::copy(base / "ct", p);
+         fs::resize_file(SeriesFiles(p)[mid], 131);
+       }},
+      {"cut-at-140", "truncated or corrupt",
+       [&](const fs::path& p) {
+         fs::copy(base / "ct", p);
+         fs::resize_file(SeriesFiles(p)[mid], 140);
+       }},
+      {"cut-at-150", "truncated or corrupt",
+       [&](const fs::path& p) {
+         fs::copy(base / "ct", p);
+         fs::resize_file(SeriesFiles(p)[mid], 150);
+       }},
+      {"cut-at-200", "truncated or corrupt",
+       [&](const fs::path& p) {
+         fs::copy(base / "ct", p);
+         fs::resize_file(SeriesFiles(p)[mid], 200);
+       }},
+      {"cut-at-260", "truncated or corrupt",
+       [&](const fs::path& p) {
+         fs::copy(base / "ct", p);
+         fs::resize_file(SeriesFiles(p)[mid], 260);
+       }},
+      {"single-file.dcm", "single slice", [&](const fs::path& p) { fs::copy(files[mid], p); }},
+  };
+  RunCorpus("dicom", cases);
+}
+
+TEST(HostileInput, OutputEqualToTheInputIsRefused) {
+  ScratchDir d("hostile-out");
+  WriteFile(d / "ct.nrrd", Nrrd({}));
+  const auto before = fs::file_size(d / "ct.nrrd");
+  try {
+    bm::ImportToFile((d / "ct.nrrd").string(), (d / "ct.nrrd").string());
+    ADD_FAILURE() << "the output overwrote the input";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("is the input"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(fs::file_size(d / "ct.nrrd"), before);
+  WriteBlock(d / "dicom");
+  EXPECT_THROW(bm::ImportToFile((d / "dicom").string(), (d / "dicom" / "v.nrrd").string()),
+               std::runtime_error);
+  EXPECT_FALSE(fs::exists(d / "dicom" / "v.nrrd"));
+}
