@@ -46,6 +46,8 @@ constexpr HDerror kDeviceFault = 0x0300, kDeviceAlreadyInitiated = 0x0301, kComm
 constexpr HDerror kIllegalBegin = 0x0400, kIllegalEnd = 0x0401, kFrameError = 0x0402;
 constexpr HDerror kInvalidPriority = 0x0500, kSchedulerFull = 0x0501;
 constexpr HDerror kInvalidLicense = 0x0600;
+/// Not an OpenHaptics code: the Touch device's own latch for a non-finite position or transform.
+constexpr HDerror kNonFinitePose = 0xFF01;
 
 // Parameters
 constexpr HDenum kCurrentButtons = 0x2000;

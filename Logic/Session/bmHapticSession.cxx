@@ -1,5 +1,6 @@
 #include "bmHapticSession.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -38,6 +39,8 @@ const char* ToString(PauseReason r) {
     return "device not answering";
   case PauseReason::FrameError:
     return "frame error";
+  case PauseReason::Runaway:
+    return "runaway";
   }
   return "?";
 }
@@ -53,6 +56,12 @@ HapticSession::HapticSession(MachiningSetup& setup, std::shared_ptr<Device> devi
   SpeedRpm_.store(O_.speedRpm >= 0 ? O_.speedRpm : setup.GetScene().trial.speedRpm);
   Proxy_ = std::make_unique<Proxy>(Setup_, Device_->Limits(), Period_, O_.proxy);
   OverrunWindow_.assign(size_t(std::max(1, O_.overrunWindow)), 0);
+  const Voxmap& bone = setup.Bone();
+  const auto d = bone.Dims();
+  const auto lo = bone.GridToWorld({0.0, 0.0, 0.0});
+  const auto hi = bone.GridToWorld({double(d[0] - 1), double(d[1] - 1), double(d[2] - 1)});
+  BoneLo_ = Eigen::Vector3d(lo[0], lo[1], lo[2]).cwiseMin(Eigen::Vector3d(hi[0], hi[1], hi[2]));
+  BoneHi_ = Eigen::Vector3d(lo[0], lo[1], lo[2]).cwiseMax(Eigen::Vector3d(hi[0], hi[1], hi[2]));
   Publish(true);
 }
 
@@ -93,9 +102,12 @@ void HapticSession::Pause() {
   PauseFlag_.store(true);
 }
 
-void HapticSession::Resume() {
+bool HapticSession::Resume() {
+  if (DeviceFailed_.load())
+    return false;
   Reason_.store(int(PauseReason::None));
   PauseFlag_.store(false);
+  return true;
 }
 
 void HapticSession::Stop() {
@@ -153,6 +165,8 @@ bool HapticSession::Publish(bool wait) {
 
 void HapticSession::Fault(PauseReason why) {
   // Zero force within this frame; the proxy and the cut stay as they are.
+  if (why == PauseReason::DeviceError)
+    DeviceFailed_.store(true);
   Device_->Write(Eigen::Vector3d::Zero());
   Work_.deviceForceN.setZero();
   Reason_.store(int(why));
@@ -189,6 +203,13 @@ void HapticSession::Loop() {
       WasPaused_ = false;
       Proxy_->ForgetDeviceMotion();
       Resumed_ = true;
+      // Re-arm the overrun rule: an empty window, and a warm-up whose overruns do not count.
+      std::fill(OverrunWindow_.begin(), OverrunWindow_.end(), uint8_t(0));
+      OverrunsInWindow_ = 0;
+      WarmupLeft_ = std::max(0, O_.resumeWarmupFrames);
+      // The proxy follows a device that moved while paused from where the proxy is.
+      Target_ = Proxy_->Position();
+      CatchingUp_ = O_.catchUpSpeedMmPerS > 0;
       Work_.state = SessionState::Running;
       Work_.pauseReason = PauseReason::None;
       State_.store(int(SessionState::Running));
@@ -218,8 +239,25 @@ void HapticSession::RunFrame() {
     Fault(st == DeviceStatus::Error ? PauseReason::DeviceError : PauseReason::DeviceSilent);
     return;
   }
-  const Eigen::Vector3d xd =
+  if (!Pose_.positionMm.allFinite() || !Pose_.rotation.allFinite()) {
+    Fault(PauseReason::DeviceError); // a non-finite pose is a device fault: zero force now
+    return;
+  }
+  const Eigen::Vector3d device =
       O_.deviceOffsetMm + O_.deviceScale * (O_.deviceRotation * Pose_.positionMm);
+  // After a resume the target walks to the device at a bounded speed; then it is the device.
+  Eigen::Vector3d xd = device;
+  if (CatchingUp_) {
+    const double step = O_.catchUpSpeedMmPerS * Period_;
+    const Eigen::Vector3d gap = device - Target_;
+    const double n = gap.norm();
+    if (n <= step) {
+      CatchingUp_ = false;
+    } else {
+      Target_ += gap * (step / n);
+      xd = Target_;
+    }
+  }
   // The orientation goes through the recorded quaternion, so a replay sees bit-identical input.
   const Eigen::Quaterniond q = Eigen::Quaterniond(O_.deviceRotation * Pose_.rotation).normalized();
   const Eigen::Matrix3d R = ToolRotationFromQuaternion({q.w(), q.x(), q.y(), q.z()});
@@ -231,20 +269,27 @@ void HapticSession::RunFrame() {
     Fault(PauseReason::FrameError);
     return;
   }
-  // World force back to the device frame; the final guard: finite and within the limit.
-  const Eigen::Vector3d fDev = VirtualCoupling::Clamp(
-      O_.deviceRotation.transpose() * pf.deviceForceN, Device_->Limits().maxForceN);
+  // World force back to the device frame; the final guard: finite and within the limit, and
+  // nothing after a device error.
+  const Eigen::Vector3d fDev =
+      DeviceFailed_.load(std::memory_order_relaxed)
+          ? Eigen::Vector3d::Zero()
+          : VirtualCoupling::Clamp(O_.deviceRotation.transpose() * pf.deviceForceN,
+                                   Device_->Limits().maxForceN);
   const DeviceStatus ws = Device_->Write(fDev);
   const double ms = std::chrono::duration<double, std::milli>(clock::now() - t0).count();
   const bool overrun = ms > Period_ * 1000.0;
   Hist_.Add(ms, overrun);
   uint8_t& slot = OverrunWindow_[size_t(Work_.frame % int64_t(OverrunWindow_.size()))];
-  OverrunsInWindow_ += int(overrun) - int(slot);
-  slot = overrun;
+  const bool counts = overrun && WarmupLeft_ == 0;
+  OverrunsInWindow_ += int(counts) - int(slot);
+  slot = counts;
+  if (WarmupLeft_ > 0)
+    --WarmupLeft_;
 
   Work_.frame += 1;
   Work_.timeS = double(Work_.frame) * Period_;
-  Work_.devicePositionMm = xd;
+  Work_.devicePositionMm = device;
   Work_.toolRotation = R;
   Work_.proxyPositionMm = pf.proxyPositionMm;
   Work_.deviceForceN = O_.deviceRotation * fDev;
@@ -279,8 +324,16 @@ void HapticSession::RunFrame() {
   if ((Work_.frame & 63) == 0)
     Work_.timing = Hist_.Stats();
   Unpublished_ = !Publish();
+  const double scale = std::abs(O_.deviceScale) > 0 ? std::abs(O_.deviceScale) : 1.0;
+  const bool farFromProxy =
+      O_.runawayDistanceMm > 0 && (xd - pf.proxyPositionMm).norm() / scale > O_.runawayDistanceMm;
+  const bool outOfRegion =
+      O_.runawayMarginMm > 0 && ((pf.proxyPositionMm - BoneLo_).minCoeff() < -O_.runawayMarginMm ||
+                                 (BoneHi_ - pf.proxyPositionMm).minCoeff() < -O_.runawayMarginMm);
   if (ws != DeviceStatus::Ok)
     Fault(ws == DeviceStatus::Error ? PauseReason::DeviceError : PauseReason::DeviceSilent);
+  else if (farFromProxy || outOfRegion)
+    Fault(PauseReason::Runaway);
   else if (O_.overrunLimit >= 0 && OverrunsInWindow_ > O_.overrunLimit)
     Fault(PauseReason::Overrun);
 }

@@ -13,10 +13,16 @@
 // clamped coupling force (mapped back) -> timing, record, snapshot. Frame time is the compute
 // time from the read to the write; a frame longer than the period is an overrun.
 //
-// Safety: when more than `overrunLimit` frames of the last `overrunWindow` overran, or the device
-// reports an error or stops answering, or the frame throws, the session sends zero force in that
+// Safety (Docs/Session.md): when more than `overrunLimit` frames of the last `overrunWindow`
+// overran, or the device reports an error, stops answering or gives a non-finite pose, or the frame
+// throws, or the session runs away (the device more than runawayDistanceMm from the proxy, or the
+// proxy more than runawayMarginMm outside the bone's box), the session sends zero force in that
 // same frame (the force is gone within one frame) and pauses; the cut, the proxy and the records
-// are kept and Resume() goes on from them.
+// are kept and Resume() goes on from them. A device error is final: Resume() refuses it and no
+// non-zero force is sent again. After a resume the overrun window starts empty and the first
+// resumeWarmupFrames frames do not count toward the rule; the proxy's target moves from where the
+// proxy is toward the device at no more than catchUpSpeedMmPerS (a device moved while paused is
+// followed, swept, over frames, never in one jump).
 //
 // Units: Hz, s, ms, mm, N, N mm, rpm, mm/rev, mm^3.
 #pragma once
@@ -37,7 +43,16 @@
 namespace bm {
 
 enum class SessionState { Idle, Running, Paused, Stopped };
-enum class PauseReason { None, User, Finished, Overrun, DeviceError, DeviceSilent, FrameError };
+enum class PauseReason {
+  None,
+  User,
+  Finished,
+  Overrun,
+  DeviceError, ///< the device reported an error or a non-finite pose (final: no resume)
+  DeviceSilent,
+  FrameError,
+  Runaway ///< device far from the proxy, or the proxy far outside the bone's region
+};
 const char* ToString(SessionState s);
 const char* ToString(PauseReason r);
 
@@ -53,9 +68,21 @@ struct SessionOptions {
   int overrunLimit =
       5; ///< pause when more than this many of the last overrunWindow frames overran; < 0 = never
   int overrunWindow = 100; ///< frames
-  bool realTime = true;    ///< false: frames back to back (no sleeping; tests and replay)
-  int64_t maxFrames = -1;  ///< pause (reason Finished) after this many frames; < 0 = no limit
-  bool record = true;      ///< push a FrameRecord per frame into the ring
+  /// Frames after a resume whose overruns do not count toward the pause rule (they still count in
+  /// the timing statistics); the window itself starts empty. Default 200 (0.2 s at 1 kHz).
+  int resumeWarmupFrames = 200;
+  /// After a resume, the proxy's target moves toward the device at most this fast, world mm/s
+  /// (default 20); once it reaches the device it follows it directly again. <= 0: no limit.
+  double catchUpSpeedMmPerS = 20;
+  /// Runaway: pause when the device is further than this from the proxy, device mm (default 50,
+  /// six times the Touch coupling's 8 mm stretch at full force); <= 0: never.
+  double runawayDistanceMm = 50;
+  /// Runaway: pause when the proxy leaves the bone's bounding box grown by this margin, world mm
+  /// (default 150); <= 0: never.
+  double runawayMarginMm = 150;
+  bool realTime = true;   ///< false: frames back to back (no sleeping; tests and replay)
+  int64_t maxFrames = -1; ///< pause (reason Finished) after this many frames; < 0 = no limit
+  bool record = true;     ///< push a FrameRecord per frame into the ring
   size_t recordCapacity = 1 << 16; ///< ring size, records
 };
 
@@ -92,7 +119,8 @@ public:
   /// session already ran.
   void Start();
   void Pause();
-  void Resume();
+  /// Resumes a paused session. Returns false, and the session stays paused, after a device error.
+  bool Resume();
   /// Stops and joins the thread, zero force, closes the device. Idempotent.
   void Stop();
   /// Spindle speed from now on, rpm (0 = stopped). Any thread.
@@ -135,6 +163,11 @@ private:
   TimingHistogram Hist_;
   std::vector<uint8_t> OverrunWindow_;
   int OverrunsInWindow_ = 0;
+  int WarmupLeft_ = 0;                               // frames before overruns count again
+  bool CatchingUp_ = false;                          // the target is still on its way to the device
+  Eigen::Vector3d Target_ = Eigen::Vector3d::Zero(); // world mm, what the proxy followed
+  std::atomic<bool> DeviceFailed_{false};            // a device error: zero force from now on
+  Eigen::Vector3d BoneLo_, BoneHi_;                  // the bone's world box, mm
   bool WasPaused_ = false, Resumed_ = false, Unpublished_ = false;
   DevicePose Pose_;
   // Double-buffered snapshot.

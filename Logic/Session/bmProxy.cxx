@@ -37,6 +37,8 @@ Proxy::Proxy(MachiningSetup& setup, const DeviceLimits& limits, double frameS,
       Balance_(setup.Tool(), setup.Model()) {
   if (!(frameS > 0))
     throw std::invalid_argument("proxy: frame period must be > 0");
+  if (!(o.maxFeedMmPerRev > 0))
+    throw std::invalid_argument("proxy: the largest feed must be > 0 mm/rev");
   Sdf_ = std::make_unique<ToolDistanceField>(setup.Tool(), o.sdfResolution);
   Shell_ = std::make_unique<BoneSurfaceShell>(setup.Bone());
   Contact_ = std::make_unique<KimParkContact>(*Sdf_, *Shell_, o.contactStiffnessPerArea);
@@ -147,7 +149,9 @@ void Proxy::CuttingStep(const Eigen::Vector3d& xd, const Eigen::Vector3d& vd,
     p = P_ - u * a;
   } else {
     if (Fraction_ > 0)
-      p = P_ - Balance_.SolveAdvance(Fraction_, f0, Kc, n, T_, maxStep) * a;
+      p = P_ - Balance_.SolveAdvance(Fraction_, f0, Kc, n, T_,
+                                     std::min(maxStep, O_.maxFeedMmPerRev * n * T_ / 60.0)) *
+                   a;
     else
       p = Sweep(P_, P_ - (f0 / Kc) * a, R, 0.0);
     // Leading non-cutting surfaces are a rigid contact: the advance stops where they meet bone.
@@ -250,7 +254,7 @@ ProxyFrame Proxy::Step(const Eigen::Vector3d& xd, const Eigen::Matrix3d& R, doub
     }
     P_ = xd;
     f.couplingForceN = onTool;
-    f.deviceForceN = VirtualCoupling::Clamp(onTool, Coupling_.MaxForce());
+    f.deviceForceN = Coupling_.ToDevice(onTool);
   } else {
     if (O_.method == ContactMethod::Cutting && spinning) {
       CuttingStep(xd, vd, R, speedRpm, f);

@@ -27,7 +27,10 @@
 //
 // The proxy never tunnels: every motion of the proxy toward bone is swept in sub-steps of at most
 // half a voxel (maxStepVoxels), stopping at first contact; the equilibrium solve also limits its
-// steps to that length. Orientation follows the device (3-DoF force output, like the Touch).
+// steps to that length. While cutting, the advance per frame is also bounded by the largest feed
+// (maxFeedMmPerRev), so no frame cuts at a feed the force model does not cover. Orientation follows
+// the device (3-DoF force output, like the Touch). With a force scale s (CouplingOptions) the
+// coupling works in tool units and the device is sent the tool force / s.
 //
 // Units: world mm, N, N mm, rpm, mm/rev, s.
 #pragma once
@@ -58,10 +61,15 @@ struct ProxyOptions {
   Rendering rendering = Rendering::Coupled;
   CouplingOptions coupling;              ///< K, B (defaults: device nominal K, B = K T)
   double contactStiffnessPerArea = 2000; ///< k_A of the rigid contact, N/mm^3
-  int sdfResolution = 256;        ///< tool distance field: cells along the tool's longest side
-  double maxStepVoxels = 0.5;     ///< longest proxy step toward bone, voxels
-  int maxIterations = 24;         ///< equilibrium iterations per frame
-  double deadBandVoxels = 1.0;    ///< Cutting: lateral contact dead band, voxels
+  int sdfResolution = 256;     ///< tool distance field: cells along the tool's longest side
+  double maxStepVoxels = 0.5;  ///< longest proxy step toward bone, voxels
+  int maxIterations = 24;      ///< equilibrium iterations per frame
+  double deadBandVoxels = 1.0; ///< Cutting: lateral contact dead band, voxels
+  /// Cutting: the largest feed the proxy cuts at, mm/rev (default 1.0, the top of the feed-balance
+  /// table). It bounds the advance per frame to f n T / 60, so that a device far ahead of the proxy
+  /// (a resume after a move, a mouse depth step) is followed over frames at a feed the force model
+  /// covers, and the engaged fraction changes little within a frame.
+  double maxFeedMmPerRev = 1.0;
   double kimCutDepthVoxels = 0.5; ///< KimPark: removal depth inside the tool, voxels
   /// Contact queries within this distance (voxels) of the pose where the contact last gathered its
   /// candidate points, at the same orientation and with the shell unchanged, read only those

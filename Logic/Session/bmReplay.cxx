@@ -11,10 +11,40 @@ namespace bm {
 Scene RecordedScene(const Recording& rec) {
   if (!rec.meta.contains("scene"))
     throw std::runtime_error("the recording has no scene");
-  return Scene::FromJson(rec.meta.at("scene"));
+  Scene s = Scene::FromJson(rec.meta.at("scene"));
+  if (rec.meta.contains("scene_base_dir") && rec.meta.at("scene_base_dir").is_string())
+    s.baseDir = rec.meta.at("scene_base_dir").get<std::string>();
+  return s;
+}
+
+void CheckReplayable(const Recording& rec) {
+  if (rec.frames.empty())
+    throw std::runtime_error("the recording has no frames");
+  auto finite = [](const auto& a) {
+    for (double x : a)
+      if (!std::isfinite(x))
+        return false;
+    return true;
+  };
+  for (size_t i = 0; i < rec.frames.size(); ++i) {
+    const FrameRecord& r = rec.frames[i];
+    const char* bad = !finite(r.devicePos)          ? "device position"
+                      : !finite(r.deviceQuat)       ? "device orientation"
+                      : !std::isfinite(r.speedRpm)  ? "spindle speed"
+                      : !finite(r.couplingForce)    ? "coupling force"
+                      : !finite(r.deviceForce)      ? "device force"
+                      : !std::isfinite(r.thrustN)   ? "thrust"
+                      : !std::isfinite(r.torqueNmm) ? "torque"
+                      : !finite(r.proxyPos)         ? "proxy position"
+                                                    : nullptr;
+    if (bad)
+      throw std::runtime_error("frame " + std::to_string(i) +
+                               " of the recording has a non-finite " + bad);
+  }
 }
 
 ReplayResult Replay(const Recording& rec, MachiningSetup& setup) {
+  CheckReplayable(rec);
   DeviceLimits limits;
   const SessionOptions o =
       SessionOptionsFromJson(rec.meta.value("session", nlohmann::json::object()), limits);

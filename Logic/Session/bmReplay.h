@@ -26,11 +26,16 @@ struct ReplayResult {
   std::vector<FrameRecord> replayed; ///< the replayed records (frameMs = this run's compute time)
 };
 
-/// Replays `rec` on `setup` (built from the recording's scene, with an untouched bone).
+/// Throws std::runtime_error naming the frame and the field when the recording cannot be replayed:
+/// no frames, or a non-finite device pose, spindle speed, or recorded force, thrust or torque.
+void CheckReplayable(const Recording& rec);
+
+/// Replays `rec` on `setup` (built from the recording's scene, with an untouched bone). Checks
+/// the recording first (CheckReplayable).
 ReplayResult Replay(const Recording& rec, MachiningSetup& setup);
 
-/// Builds the scene of a recording (block scenes). Throws std::runtime_error when the metadata
-/// has no scene.
+/// Builds the scene of a recording (any bone type; a CT scene's relative paths resolve against
+/// the recorded "scene_base_dir"). Throws std::runtime_error when the metadata has no scene.
 Scene RecordedScene(const Recording& rec);
 
 } // namespace bm

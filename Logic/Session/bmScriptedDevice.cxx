@@ -2,13 +2,21 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <stdexcept>
 
 #include <Eigen/Geometry>
 
+#include "bmVirtualCoupling.h"
+
 namespace bm {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+} // namespace
 
 const char* ToString(ScriptMode m) {
   switch (m) {
@@ -18,6 +26,8 @@ const char* ToString(ScriptMode m) {
     return "force";
   case ScriptMode::Trajectory:
     return "trajectory";
+  case ScriptMode::Hand:
+    return "hand";
   }
   return "?";
 }
@@ -71,6 +81,32 @@ ScriptedDevice::ScriptedDevice(const ScriptedDeviceOptions& o) : O_(o) {
   }
   if (!(O_.massKg > 0))
     throw std::invalid_argument("scripted device: mass must be > 0");
+  if (O_.mode == ScriptMode::Force || O_.mode == ScriptMode::Hand) {
+    if (!(O_.appliedForceN >= 0 && O_.appliedForceN <= O_.limits.maxForceN)) {
+      std::ostringstream m;
+      m << "scripted device: applied force must be in [0, " << O_.limits.maxForceN
+        << "] N (the device's maximum force), not " << O_.appliedForceN;
+      throw std::invalid_argument(m.str());
+    }
+  }
+  if (O_.mode == ScriptMode::Hand) {
+    if (!(O_.handRampS >= 0 && O_.handRampS <= 60))
+      throw std::invalid_argument("scripted device: hand ramp must be in [0, 60] s");
+    if (!(O_.handTremorN >= 0 && O_.handTremorN <= 0.5 * O_.limits.maxForceN))
+      throw std::invalid_argument(
+          "scripted device: hand tremor must be in [0, half the device's maximum force] N");
+    std::mt19937_64 rng(O_.handSeed);
+    std::uniform_real_distribution<double> phase(0, 2 * kPi), tremorHz(8, 12), waverHz(0.3, 0.7);
+    Waver_.push_back({0.1, waverHz(rng), phase(rng)});
+    for (auto* v : {&TremorU_, &TremorV_})
+      for (int i = 0; i < 3; ++i)
+        v->push_back({O_.handTremorN / 3.0, tremorHz(rng), phase(rng)});
+    // Two unit directions across the axis.
+    const Eigen::Vector3d ref =
+        std::abs(O_.axis(0)) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+    U_ = O_.axis.cross(ref).normalized();
+    V_ = O_.axis.cross(U_).normalized();
+  }
   Pose_ = PoseAt(0);
 }
 
@@ -82,6 +118,7 @@ DevicePose ScriptedDevice::PoseAt(double t) const {
     p.rotation = O_.rotation;
     break;
   case ScriptMode::Force:
+  case ScriptMode::Hand:
     p = Pose_;
     if (t == 0) {
       p.positionMm = O_.startMm;
@@ -116,11 +153,29 @@ DevicePose ScriptedDevice::PoseAt(double t) const {
   return p;
 }
 
+Eigen::Vector3d ScriptedDevice::HandForce(double t) const {
+  if (O_.mode == ScriptMode::Force)
+    return -O_.axis * O_.appliedForceN;
+  if (O_.mode != ScriptMode::Hand)
+    return Eigen::Vector3d::Zero();
+  auto sum = [t](const std::vector<Sine>& v) {
+    double x = 0;
+    for (const Sine& s : v)
+      x += s.amplitude * std::sin(2 * kPi * s.hz * t + s.phase);
+    return x;
+  };
+  const double ramp =
+      O_.handRampS > 0 && t < O_.handRampS ? 0.5 * (1 - std::cos(kPi * t / O_.handRampS)) : 1.0;
+  const double push = O_.appliedForceN * ramp * (1.0 + sum(Waver_));
+  const Eigen::Vector3d f = -O_.axis * push + ramp * (U_ * sum(TremorU_) + V_ * sum(TremorV_));
+  return VirtualCoupling::Clamp(f, O_.limits.maxForceN); // within the device's range
+}
+
 void ScriptedDevice::Advance(double timeS, double dtS) {
-  if (O_.mode == ScriptMode::Force) {
+  if (O_.mode == ScriptMode::Force || O_.mode == ScriptMode::Hand) {
     // Semi-implicit Euler: m dv/dt = F_applied + F_device - c v (N, kg, mm/s: 1 N/kg = 1000
     // mm/s^2).
-    const Eigen::Vector3d f = -O_.axis * O_.appliedForceN + Force_;
+    const Eigen::Vector3d f = HandForce(timeS) + Force_;
     const double m = O_.massKg, c = O_.dampingNsPerMm * 1000.0; // N s/m
     Velocity_ = (Velocity_ + dtS * 1000.0 * f / m) / (1.0 + dtS * c / m);
     Pose_.positionMm += Velocity_ * dtS;

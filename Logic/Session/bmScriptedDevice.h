@@ -9,12 +9,20 @@
 //    settles where the rendered force balances the applied one.
 //  - Trajectory: poses interpolated (linearly; rotation by slerp) from timed samples, e.g. read
 //    from a file (LoadTrajectoryCsv) or a recorded session (bmReplay.h).
+//  - Hand: the Force mode's mass and damping pushed the way a hand pushes: the push along -axis
+//    rises smoothly (half cosine over handRampS) to appliedForceN, then wavers slowly (+-10 % at
+//    0.3-0.7 Hz), and a physiological tremor of handTremorN (three sines each across two lateral
+//    directions, 8-12 Hz) acts across the axis. Frequencies and phases come from handSeed
+//    (std::mt19937_64), so a seed gives the same run every time; the total push never exceeds
+//    the device's maximum force.
+// Force and Hand modes take an applied force in [0, limits.maxForceN] (the device's range).
 // Faults can be scripted for safety tests and fault drills: from `errorAtS` on Read reports an
 // error, from `silentAtS` on the device stops answering.
 //
 // Units: mm, s, N, kg, rpm, mm/rev.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -33,7 +41,7 @@ struct TrajectorySample {
 /// increasing. Throws std::runtime_error naming the file and line on bad input.
 std::vector<TrajectorySample> LoadTrajectoryCsv(const std::string& path);
 
-enum class ScriptMode { Feed, Force, Trajectory };
+enum class ScriptMode { Feed, Force, Trajectory, Hand };
 const char* ToString(ScriptMode m);
 
 struct ScriptedDeviceOptions {
@@ -43,13 +51,16 @@ struct ScriptedDeviceOptions {
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity(); ///< stylus orientation (Feed, Force)
   double feedMmPerRev = 0.02;                             ///< Feed: f, mm/rev
   double speedRpm = 1000;                                 ///< Feed: n, rpm
-  double appliedForceN = 2.0;                             ///< Force: push along -axis, N
-  double massKg = 0.1;                                    ///< Force: moving mass, kg
-  double dampingNsPerMm = 0.005;                          ///< Force: c, N s/mm (5 N s/m)
-  std::vector<TrajectorySample> trajectory;               ///< Trajectory: samples, times increasing
-  DeviceLimits limits;                                    ///< nominal limits (default: the Touch)
-  double errorAtS = -1;  ///< >= 0: Read reports an error from then on
-  double silentAtS = -1; ///< >= 0: the device stops answering from then on
+  double appliedForceN = 2.0;    ///< Force: push along -axis; Hand: the firm push it rises to, N
+  double handRampS = 0.5;        ///< Hand: rise time of the push, s
+  double handTremorN = 0.1;      ///< Hand: lateral tremor amplitude (each direction), N
+  uint64_t handSeed = 1;         ///< Hand: seed of the tremor's and waver's frequencies and phases
+  double massKg = 0.1;           ///< Force: moving mass, kg
+  double dampingNsPerMm = 0.005; ///< Force: c, N s/mm (5 N s/m)
+  std::vector<TrajectorySample> trajectory; ///< Trajectory: samples, times increasing
+  DeviceLimits limits;                      ///< nominal limits (default: the Touch)
+  double errorAtS = -1;                     ///< >= 0: Read reports an error from then on
+  double silentAtS = -1;                    ///< >= 0: the device stops answering from then on
 };
 
 class ScriptedDevice final : public Device {
@@ -63,8 +74,11 @@ public:
   DeviceStatus Write(const Eigen::Vector3d& forceN) override;
   std::string LastError() const override { return Error_; }
   const ScriptedDeviceOptions& Options() const { return O_; }
-  /// The pose at time t (s) for Feed and Trajectory modes (Force mode: the current pose).
+  /// The pose at time t (s) for Feed and Trajectory modes (Force and Hand modes: the current pose).
   DevicePose PoseAt(double timeS) const;
+  /// Hand mode: the hand's applied force at time t (s), device frame, N (Force mode: the constant
+  /// push; other modes: zero).
+  Eigen::Vector3d HandForce(double timeS) const;
 
 private:
   ScriptedDeviceOptions O_;
@@ -73,6 +87,11 @@ private:
   Eigen::Vector3d Velocity_ = Eigen::Vector3d::Zero(); // Force mode, mm/s
   Eigen::Vector3d Force_ = Eigen::Vector3d::Zero();    // last written, N
   std::string Error_;
+  struct Sine {
+    double amplitude, hz, phase; // N (or fraction), Hz, rad
+  };
+  std::vector<Sine> Waver_, TremorU_, TremorV_; // Hand mode, drawn from handSeed
+  Eigen::Vector3d U_ = Eigen::Vector3d::UnitX(), V_ = Eigen::Vector3d::UnitY(); // across axis
 };
 
 } // namespace bm

@@ -23,6 +23,9 @@ nlohmann::json SessionOptionsToJson(const SessionOptions& o, const DeviceLimits&
           {"rendering", ToString(p.rendering)},
           {"coupling_stiffness_N_per_mm", p.coupling.stiffnessNPerMm},
           {"coupling_damping_Ns_per_mm", p.coupling.dampingNsPerMm},
+          {"force_scale", p.coupling.forceScale},
+          {"max_feed_mm_per_rev", p.maxFeedMmPerRev},
+          {"catch_up_speed_mm_per_s", o.catchUpSpeedMmPerS},
           {"contact_stiffness_N_per_mm3", p.contactStiffnessPerArea},
           {"sdf_resolution", p.sdfResolution},
           {"max_step_voxels", p.maxStepVoxels},
@@ -46,6 +49,10 @@ SessionOptions SessionOptionsFromJson(const nlohmann::json& j, DeviceLimits& l) 
   p.rendering = RenderingFromString(j.value("rendering", std::string("coupled")));
   p.coupling.stiffnessNPerMm = j.value("coupling_stiffness_N_per_mm", p.coupling.stiffnessNPerMm);
   p.coupling.dampingNsPerMm = j.value("coupling_damping_Ns_per_mm", p.coupling.dampingNsPerMm);
+  // Recordings from before force scaling were unscaled.
+  p.coupling.forceScale = j.value("force_scale", 1.0);
+  p.maxFeedMmPerRev = j.value("max_feed_mm_per_rev", 1e30); // older recordings: no feed bound
+  o.catchUpSpeedMmPerS = j.value("catch_up_speed_mm_per_s", o.catchUpSpeedMmPerS);
   p.contactStiffnessPerArea = j.value("contact_stiffness_N_per_mm3", p.contactStiffnessPerArea);
   p.sdfResolution = j.value("sdf_resolution", p.sdfResolution);
   p.maxStepVoxels = j.value("max_step_voxels", p.maxStepVoxels);
@@ -70,20 +77,22 @@ bool IsHdf5Path(const std::string& path) {
 }
 } // namespace
 
+void WriteRecordingCsv(std::ostream& out, const Recording& r) {
+  out << "# bmsession " << r.meta.dump() << '\n';
+  const auto& cols = FrameRecord::Columns();
+  for (size_t i = 0; i < cols.size(); ++i)
+    out << (i ? "," : "") << cols[i];
+  out << '\n' << std::setprecision(17);
+  for (const auto& f : r.frames) {
+    const auto row = f.ToRow();
+    for (size_t i = 0; i < row.size(); ++i)
+      out << (i ? "," : "") << row[i];
+    out << '\n';
+  }
+}
+
 void WriteRecordingCsv(const std::string& path, const Recording& r) {
-  WriteFileAtomic(path, [&](std::ostream& out) {
-    out << "# bmsession " << r.meta.dump() << '\n';
-    const auto& cols = FrameRecord::Columns();
-    for (size_t i = 0; i < cols.size(); ++i)
-      out << (i ? "," : "") << cols[i];
-    out << '\n' << std::setprecision(17);
-    for (const auto& f : r.frames) {
-      const auto row = f.ToRow();
-      for (size_t i = 0; i < row.size(); ++i)
-        out << (i ? "," : "") << row[i];
-      out << '\n';
-    }
-  });
+  WriteFileAtomic(path, [&](std::ostream& out) { WriteRecordingCsv(out, r); });
 }
 
 #ifdef BM_SESSION_HDF5

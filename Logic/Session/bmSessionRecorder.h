@@ -11,6 +11,7 @@
 // functions throw std::runtime_error and HasHdf5() is false.
 #pragma once
 
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,8 @@ SessionOptions SessionOptionsFromJson(const nlohmann::json& j, DeviceLimits& lim
 bool HasHdf5();
 /// Throws std::runtime_error naming the file on failure (nothing is left half written).
 void WriteRecordingCsv(const std::string& path, const Recording& r);
+/// The CSV form into a stream (for writers that save several files together).
+void WriteRecordingCsv(std::ostream& out, const Recording& r);
 void WriteRecordingHdf5(const std::string& path, const Recording& r);
 /// By extension: .h5/.hdf5 -> HDF5, otherwise CSV.
 void WriteRecording(const std::string& path, const Recording& r);

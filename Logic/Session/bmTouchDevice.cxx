@@ -55,6 +55,8 @@ const char* hd::ErrorName(HDerror code) {
     return "HD_SCHEDULER_FULL";
   case kInvalidLicense:
     return "HD_INVALID_LICENSE";
+  case kNonFinitePose:
+    return "non-finite pose from the device";
   default:
     return "HD error";
   }
@@ -189,7 +191,18 @@ HDCallbackCode TouchDevice::ServoTick() {
   Api_->getDoublev(hd::kCurrentPosition, pos);
   Api_->getDoublev(hd::kCurrentTransform, m);
   Api_->getIntegerv(hd::kCurrentButtons, &buttons);
-  Eigen::Vector3d f = State_.GetForce();
+  bool finite = std::isfinite(pos[0]) && std::isfinite(pos[1]) && std::isfinite(pos[2]);
+  for (double x : m)
+    finite = finite && std::isfinite(x);
+  if (!finite) {
+    HDerror none = hd::kSuccess;
+    Error_.compare_exchange_strong(none, hd::kNonFinitePose);
+  }
+  // After any error (latched in an earlier tick, or a bad pose now) the motors get zero in this
+  // same tick, whatever the session last wrote.
+  Eigen::Vector3d f = Error_.load(std::memory_order_relaxed) == hd::kSuccess
+                          ? State_.GetForce()
+                          : Eigen::Vector3d::Zero();
   const HDdouble force[3] = {f(0), f(1), f(2)};
   Api_->setDoublev(hd::kCurrentForce, force);
   Api_->endFrame(Handle_);
@@ -198,6 +211,10 @@ HDCallbackCode TouchDevice::ServoTick() {
     InternalError_.store(e.internalErrorCode, std::memory_order_relaxed);
     HDerror none = hd::kSuccess;
     Error_.compare_exchange_strong(none, e.errorCode); // latch the first error
+  }
+  if (!finite) {
+    Ticks_.fetch_add(1, std::memory_order_relaxed);
+    return hd::kCallbackContinue; // the session sees the latched error, never the bad pose
   }
   DevicePose p;
   p.positionMm = {pos[0], pos[1], pos[2]};

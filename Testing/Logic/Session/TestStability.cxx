@@ -7,6 +7,9 @@
 //  4. Extrapolation across spindle speed: leave-one-condition-out calibration, ours vs Zheng's.
 //  5. Force ripple on a coarse (128^3) and a fine (512^3) voxmap, ours vs Kim et al.'s.
 //  6. No frame ever sends more than the device's maximum force.
+// Tests 1 and 6 also run with force scaling on (tool force = s x device force, s the default of a
+// session run from bmsim or the panel, kDefaultSessionForceScale): passivity and the force limit
+// hold at the device.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -23,10 +26,11 @@ using bm::test::BurrScene;
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kT = 0.001; // 1 kHz
 
-bm::ProxyOptions Options(bm::ContactMethod m, bm::Rendering r) {
+bm::ProxyOptions Options(bm::ContactMethod m, bm::Rendering r, double forceScale = 1.0) {
   bm::ProxyOptions o;
   o.method = m;
   o.rendering = r;
+  o.coupling.forceScale = forceScale;
   return o;
 }
 
@@ -34,9 +38,9 @@ bm::ProxyOptions Options(bm::ContactMethod m, bm::Rendering r) {
 double gMaxSentN = 0, gLimitN = 1e300;
 void Note(const bm::ProxyFrame& f, const bm::Proxy& p) {
   gMaxSentN = std::max(gMaxSentN, f.deviceForceN.norm());
-  gLimitN = std::min(gLimitN, p.Coupling().MaxForce());
+  gLimitN = std::min(gLimitN, p.Coupling().DeviceMaxForce());
   ASSERT_TRUE(f.deviceForceN.allFinite());
-  ASSERT_LE(f.deviceForceN.norm(), p.Coupling().MaxForce());
+  ASSERT_LE(f.deviceForceN.norm(), p.Coupling().DeviceMaxForce());
 }
 
 // 1 ---------------------------------------------------------------------------------------------
@@ -45,10 +49,11 @@ void Note(const bm::ProxyFrame& f, const bm::Proxy& p) {
 // over the frame, as the device's zero-order hold does). A passive environment has E <= 0 at all
 // times. Direct penalty F = k_dev * depth leaks ~k dx^2 / 2 per frame and E grows; the coupling's
 // damper B = K T dissipates ~K dx^2 per frame and E stays <= 0 (epsilon: 1e-6 N mm, rounding).
-double PassivityRun(bm::Rendering r, std::vector<double>& cycleEnergy) {
+double PassivityRun(bm::Rendering r, std::vector<double>& cycleEnergy, double forceScale = 1.0) {
   const bm::Scene scene = BurrScene(0.5, {3, 3, 1.5}, 96, 64, 0);
   bm::MachiningSetup setup(scene, bm::MakeSceneBlock(scene));
-  bm::Proxy proxy(setup, bm::DeviceLimits{}, kT, Options(bm::ContactMethod::Cutting, r));
+  bm::Proxy proxy(setup, bm::DeviceLimits{}, kT,
+                  Options(bm::ContactMethod::Cutting, r, forceScale));
   const int perCycle = 100, cycles = 10;
   auto z = [&](int k) {
     return 0.05 - 0.35 * 0.5 * (1 - std::cos(2 * kPi * k / perCycle));
@@ -83,6 +88,18 @@ TEST(Stability, PassivityDirectPenaltyGainsEnergyCouplingStaysPassive) {
     EXPECT_GT(direct[c], direct[c - 1]); // grows every cycle
   EXPECT_LE(maxCoupled, 1e-6);
   EXPECT_LT(coupled.back(), 0.0);
+  // Force scaling on: the tool-side coupling is s times stiffer and stronger, the device gets 1/s
+  // of its force; the energy the device puts into the hand still never grows.
+  std::vector<double> scaled;
+  const double maxScaled =
+      PassivityRun(bm::Rendering::Coupled, scaled, bm::kDefaultSessionForceScale);
+  std::cout << "[passivity] coupled with force scale " << bm::kDefaultSessionForceScale << ":";
+  for (double e : scaled)
+    std::cout << ' ' << std::setprecision(4) << e;
+  std::cout << "\n[passivity] max E scaled " << maxScaled << " N mm\n";
+  ASSERT_EQ(scaled.size(), 10u);
+  EXPECT_LE(maxScaled, 1e-6);
+  EXPECT_LT(scaled.back(), 0.0);
 }
 
 // 2 ---------------------------------------------------------------------------------------------
@@ -284,15 +301,16 @@ TEST(Stability, NoFrameEverSendsMoreThanTheDevicesMaximumForce) {
   const bm::Scene scene = BurrScene(0.5, {3, 3, 1.5}, 48, 64, 1000);
   for (auto m : {bm::ContactMethod::Cutting, bm::ContactMethod::KimPark})
     for (auto r : {bm::Rendering::Coupled, bm::Rendering::Direct})
-      for (double rpm : {0.0, 1000.0}) {
-        bm::MachiningSetup setup(scene, bm::MakeSceneBlock(scene));
-        bm::Proxy proxy(setup, bm::DeviceLimits{}, kT, Options(m, r));
-        for (int k = 0; k < 30; ++k) { // a 3 mm plunge, twice the block's depth
-          const bm::ProxyFrame f =
-              proxy.Step({0, 0, 0.05 - 0.1 * k}, Eigen::Matrix3d::Identity(), rpm);
-          Note(f, proxy);
+      for (double rpm : {0.0, 1000.0})
+        for (double scale : {1.0, bm::kDefaultSessionForceScale}) {
+          bm::MachiningSetup setup(scene, bm::MakeSceneBlock(scene));
+          bm::Proxy proxy(setup, bm::DeviceLimits{}, kT, Options(m, r, scale));
+          for (int k = 0; k < 30; ++k) { // a 3 mm plunge, twice the block's depth
+            const bm::ProxyFrame f =
+                proxy.Step({0, 0, 0.05 - 0.1 * k}, Eigen::Matrix3d::Identity(), rpm);
+            Note(f, proxy);
+          }
         }
-      }
   std::cout << "[max force] largest force sent in the suite " << gMaxSentN << " N (limit "
             << gLimitN << " N)\n";
   EXPECT_LE(gMaxSentN, 20.0); // the ripple runs use a 20 N robot; Touch runs are checked per frame

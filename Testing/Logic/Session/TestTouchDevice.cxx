@@ -183,6 +183,46 @@ TEST(TouchDevice, ReportsErrorCodesAndAStalledServoLoop) {
   EXPECT_THROW(missing.Start(), std::runtime_error);
 }
 
+TEST(TouchDevice, ANonFinitePoseOrAnErrorZeroesTheForceInTheServoLoopItself) {
+  FakeHD fake;
+  ASSERT_NE(fake.lib, nullptr);
+  // Whatever the session wrote last, a servo tick that reads a non-finite pose sends zero, and
+  // so does every tick after it (the error is latched): the force does not wait for the session.
+  for (bool nanPose : {true, false}) {
+    fake.reset();
+    bm::TouchDevice touch(BM_FAKE_HD_PATH);
+    touch.Start();
+    touch.Write({0, 0, 1.0});
+    ASSERT_TRUE(WaitForTicks(touch, 3));
+    const long n0 = fake.forceCount();
+    ASSERT_GT(n0, 0);
+    EXPECT_EQ(fake.Force(n0 - 1), Eigen::Vector3d(0, 0, 1.0));
+    if (nanPose)
+      fake.setPosition(std::nan(""), 0, 0);
+    else
+      fake.injectError(bm::hd::kCommError, 5);
+    ASSERT_TRUE(WaitForTicks(touch, 3));
+    touch.Write({0, 0, 1.0}); // a session that had not noticed yet
+    ASSERT_TRUE(WaitForTicks(touch, 5));
+    bm::DevicePose p;
+    EXPECT_EQ(touch.Read(p), bm::DeviceStatus::Error);
+    if (nanPose)
+      EXPECT_NE(touch.LastError().find("non-finite pose"), std::string::npos) << touch.LastError();
+    const long n1 = fake.forceCount();
+    long firstZero = -1;
+    for (long i = n0; i < n1; ++i)
+      if (fake.Force(i).isZero(0.0) && firstZero < 0)
+        firstZero = i;
+    ASSERT_GE(firstZero, 0) << (nanPose ? "NaN pose" : "error") << ": the force never went to zero";
+    // Zero from the tick that saw the NaN (it is read before the force is sent), or from the
+    // tick after the error was reported, and never anything else again, even though the last
+    // write asked for 1 N.
+    for (long i = firstZero; i < n1; ++i)
+      ASSERT_TRUE(fake.Force(i).isZero(0.0)) << "tick " << i << " after the fault sent force";
+    touch.Stop();
+  }
+}
+
 TEST(TouchDevice, SessionSendsOnlyLimitedForcesAndPausesWithZeroForceOnADeviceError) {
   FakeHD fake;
   ASSERT_NE(fake.lib, nullptr);
