@@ -7,6 +7,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iomanip>
@@ -19,6 +20,7 @@ const char* kUsage =
     "cortical\n"
     "                        shell at 1500 HU over 300 HU cancellous bone, 3.2 mm pilot hole)\n"
     "  block                 6 x 6 x 4 mm cortical block (1600 HU) in air, top face at z = 0\n"
+    "  scapula               scapula with glenoid and humeral head (bmsim phantom scapula --help)\n"
     "  --out DIR             folder to create (must not exist or be empty; written atomically)\n"
     "  --compress SYNTAX     rle, jpeg-lossless, jpeg-ls or jpeg2000 (default: uncompressed)\n"
     "  --noise HU            Gaussian noise sigma (default 10)\n"
@@ -28,8 +30,15 @@ const char* kUsage =
 namespace bm::cli {
 
 ProgressFn TerminalProgress(bool quiet); // bmsimImport.cxx
+#ifdef BM_PLANNING_WITH_IO
+int ScapulaPhantomCommand(const Args& args); // bmsimPlan.cxx
+#endif
 
 static int PhantomCommand(const Args& args) {
+#ifdef BM_PLANNING_WITH_IO
+  if (std::find(args.begin(), args.end(), "scapula") != args.end())
+    return ScapulaPhantomCommand(args);
+#endif
   const ParsedArgs p(args, {"out", "compress", "noise"}, {"help", "quiet"},
                      {{"o", "out"}, {"h", "help"}, {"q", "quiet"}}, kUsage);
   if (p.Has("help")) {

@@ -1,0 +1,174 @@
+#include "bmGlenoidPlan.h"
+
+#include "bmToolModel.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+
+namespace bm {
+
+namespace {
+constexpr double kDeg = std::numbers::pi / 180.0;
+std::string Fixed(double v, int digits = 1) {
+  std::ostringstream s;
+  s.precision(digits);
+  s << std::fixed << v;
+  return s.str();
+}
+} // namespace
+
+void PlanOptions::Validate() const {
+  auto need = [](bool ok, const std::string& what) {
+    if (!ok)
+      throw std::invalid_argument("plan: " + what);
+  };
+  need(std::abs(targetVersionDeg) < 45, "target version must be within (-45, 45) deg");
+  need(std::abs(targetInclinationDeg) < 45, "target inclination must be within (-45, 45) deg");
+  need(reamerDiameterMm > 10 && reamerDiameterMm <= 60, "reamer diameter must be in (10, 60] mm");
+  need(reamDepthMm > 0 && reamDepthMm <= 10, "reaming depth must be in (0, 10] mm");
+  const ArcLipParams reamer;
+  need(pinRadiusMm > reamer.nippleRadius && pinRadiusMm <= 5,
+       "guide-pin radius must exceed the reamer nipple's " + Fixed(reamer.nippleRadius) +
+           " mm and be <= 5 mm");
+  need(pinDepthMm == 0 || (pinDepthMm > 0 && pinDepthMm <= 40),
+       "guide-pin depth must be 0 (automatic) or in (0, 40] mm");
+  need(pinFeedMmPerRev > 0 && pinSpeedRpm > 0 && reamFeedMmPerRev > 0 && reamSpeedRpm > 0,
+       "feeds (mm/rev) and speeds (rpm) must be > 0");
+  need(voxmapResolution >= 8 && voxmapResolution <= 4096 && shellResolution >= 8 &&
+           shellResolution <= 4096,
+       "resolutions must be in [8, 4096] cells");
+  need(roiHalfMm > 5 && roiHalfMm <= 100, "the bone region's half size must be in (5, 100] mm");
+}
+
+GlenoidPlan MakeGlenoidPlan(const GlenoidLandmarks& L, const GlenoidMeasurements& m,
+                            const PlanOptions& opt) {
+  opt.Validate();
+  GlenoidPlan p;
+  p.options = opt;
+  p.entry = L.glenoidCentre;
+  p.axis = DirectionFromAngles(m.frame, opt.targetVersionDeg, opt.targetInclinationDeg);
+  p.correctionDeg = AngleDeg(L.faceNormal, p.axis);
+  p.axisVersionDeg = Version3DDeg(m.frame, p.axis);
+  p.axisInclinationDeg = InclinationDeg(m.frame, p.axis);
+  const ArcLipParams reamer;
+  p.pinDepthMm = opt.pinDepthMm > 0 ? opt.pinDepthMm : opt.reamDepthMm + reamer.nippleLength + 2;
+  if (p.pinDepthMm < opt.reamDepthMm + reamer.nippleLength)
+    p.warnings.push_back("the guide-pin hole (" + Fixed(p.pinDepthMm) +
+                         " mm) is shallower than the reamer's nipple reaches (" +
+                         Fixed(opt.reamDepthMm + reamer.nippleLength) +
+                         " mm): the nipple will meet solid bone");
+  double rimTop = 0;
+  for (const auto& q : L.rim)
+    rimTop = std::max(rimTop, Dot(Sub(q, p.entry), p.axis));
+  p.clearanceMm = rimTop + 1.0;
+  p.reamerOverhangApMm = std::max(0.0, 0.5 * (opt.reamerDiameterMm - m.widthMm));
+  p.reamerOverhangSiMm = std::max(0.0, 0.5 * (opt.reamerDiameterMm - m.heightMm));
+  p.reamerFits = p.reamerOverhangApMm == 0 && p.reamerOverhangSiMm == 0;
+  if (!p.reamerFits)
+    p.warnings.push_back("the " + Fixed(opt.reamerDiameterMm) + " mm reamer overhangs the " +
+                         Fixed(m.heightMm) + " x " + Fixed(m.widthMm) + " mm glenoid by " +
+                         Fixed(p.reamerOverhangApMm) + " mm anteriorly and posteriorly and " +
+                         Fixed(p.reamerOverhangSiMm) + " mm superiorly and inferiorly");
+  if (p.correctionDeg > 15)
+    p.warnings.push_back("the correction (" + Fixed(p.correctionDeg) +
+                         " deg) exceeds 15 deg: reaming alone removes much of the vault's "
+                         "anterior bone; consider an augmented implant");
+  return p;
+}
+
+nlohmann::json GlenoidPlan::CtBoneJson(const std::string& ctPath) const {
+  const Vec3 seed = AddScaled(entry, axis, -1.0);
+  const double h = options.roiHalfMm;
+  return {
+      {"type", "ct"},
+      {"ct",
+       {{"ct", ctPath},
+        {"seed", seed},
+        {"roi",
+         {entry[0] - h, entry[1] - h, entry[2] - h, entry[0] + h, entry[1] + h, entry[2] + h}}}}};
+}
+
+nlohmann::json GlenoidPlan::StepSceneJson(int i, const nlohmann::json& bone) const {
+  if (i != 0 && i != 1)
+    throw std::invalid_argument("plan: step must be 0 (guide pin) or 1 (ream)");
+  const double pinClearance = 1.0 +
+                              options.pinRadiusMm * std::tan(std::min(correctionDeg, 60.0) * kDeg) +
+                              options.pinRadiusMm * options.pinRadiusMm / 20.0;
+  nlohmann::json s;
+  if (i == 0) {
+    s = {{"name", "guide pin"},
+         {"description", "Guide-pin hole along the planned axis, " + Fixed(pinDepthMm) +
+                             " mm deep, for the reamer's nipple"},
+         {"tool",
+          {{"type", "drill"},
+           {"radius_mm", options.pinRadiusMm},
+           {"flute_length_mm", pinDepthMm + 5}}},
+         {"trial",
+          {{"feed_mm_per_rev", options.pinFeedMmPerRev},
+           {"speed_rpm", options.pinSpeedRpm},
+           {"entry_mm", entry},
+           {"axis", axis},
+           {"clearance_mm", pinClearance},
+           {"depth_mm", pinDepthMm}}}};
+  } else {
+    s = {{"name", "ream"},
+         {"description", "Nipple-guided reaming along the planned axis to " +
+                             Fixed(options.reamDepthMm) + " mm below the glenoid centre"},
+         {"tool", {{"type", "reamer"}}},
+         {"trial",
+          {{"feed_mm_per_rev", options.reamFeedMmPerRev},
+           {"speed_rpm", options.reamSpeedRpm},
+           {"entry_mm", entry},
+           {"axis", axis},
+           {"clearance_mm", clearanceMm},
+           {"depth_mm", options.reamDepthMm}}}};
+  }
+  s["bone"] = bone;
+  s["voxmap_resolution"] = options.voxmapResolution;
+  s["shell_resolution"] = options.shellResolution;
+  s["method"] = "lazar";
+  return s;
+}
+
+nlohmann::json GlenoidPlan::SceneJson(const nlohmann::json& bone) const {
+  nlohmann::json steps = nlohmann::json::array();
+  for (int i = 0; i < 2; ++i) {
+    nlohmann::json s = StepSceneJson(i, bone);
+    steps.push_back({{"name", s["name"]}, {"tool", s["tool"]}, {"trial", s["trial"]}});
+  }
+  return {{"name", "glenoid plan"},
+          {"description", "Guide pin, then nipple-guided reaming, on the same bone, along the "
+                          "planned axis (version " +
+                              Fixed(axisVersionDeg) + " deg, inclination " +
+                              Fixed(axisInclinationDeg) + " deg)"},
+          {"bone", bone},
+          {"steps", steps},
+          {"voxmap_resolution", options.voxmapResolution},
+          {"shell_resolution", options.shellResolution},
+          {"method", "lazar"},
+          {"planning", ToJson()}};
+}
+
+nlohmann::json GlenoidPlan::ToJson() const {
+  return {{"target_version_deg", options.targetVersionDeg},
+          {"target_inclination_deg", options.targetInclinationDeg},
+          {"entry_mm", entry},
+          {"axis", axis},
+          {"correction_deg", correctionDeg},
+          {"axis_version_deg", axisVersionDeg},
+          {"axis_inclination_deg", axisInclinationDeg},
+          {"ream_depth_mm", options.reamDepthMm},
+          {"pin_radius_mm", options.pinRadiusMm},
+          {"pin_depth_mm", pinDepthMm},
+          {"reamer_diameter_mm", options.reamerDiameterMm},
+          {"reamer_fits", reamerFits},
+          {"reamer_overhang_ap_mm", reamerOverhangApMm},
+          {"reamer_overhang_si_mm", reamerOverhangSiMm},
+          {"clearance_mm", clearanceMm},
+          {"warnings", warnings}};
+}
+
+} // namespace bm

@@ -1,0 +1,65 @@
+// bmGlenoidPlan.h - the glenoid reaming plan (Docs/Planning.md, "The plan"): the corrected
+// reaming axis through the glenoid centre at the target version and inclination, a check of the
+// reamer's size against the glenoid, and the two steps on one bone as a scene: the guide-pin
+// hole drilled along the axis, then the nipple-guided reamer to a set depth. World mm (LPS).
+#pragma once
+
+#include "bmGlenoidMeasurements.h"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+namespace bm {
+
+struct PlanOptions {
+  double targetVersionDeg = 0.0;     ///< deg, within (-45, 45)
+  double targetInclinationDeg = 0.0; ///< deg, within (-45, 45)
+  /// Reamer diameter, mm (default: the built-in reamer's 36.5 mm, bmToolModel.h ArcLipParams).
+  double reamerDiameterMm = 36.5;
+  double reamDepthMm = 2.0; ///< reaming depth below the glenoid centre along the axis, mm (> 0)
+  double pinRadiusMm = 3.2; ///< guide-pin hole radius, mm (> the reamer nipple's 3 mm)
+  double pinDepthMm = 0.0;  ///< mm below the centre; 0 = reamDepth + nipple length (6) + 2 mm
+  double pinFeedMmPerRev = 0.05, pinSpeedRpm = 1000; ///< drilling the guide hole
+  double reamFeedMmPerRev = 0.1, reamSpeedRpm = 500; ///< reaming
+  int voxmapResolution = 192; ///< the scene bone's cells along its region's longest side
+  int shellResolution = 340;  ///< the tools' point-shell cells
+  double roiHalfMm = 25.0;    ///< the scene bone: a box of +- this around the glenoid centre, mm
+  /// Throws std::invalid_argument naming an option out of range.
+  void Validate() const;
+};
+
+struct GlenoidPlan {
+  PlanOptions options;
+  Vec3 entry{};                  ///< glenoid centre, world mm
+  Vec3 axis{};                   ///< reaming axis, unit, out of the bone (tools feed along -axis)
+  double correctionDeg = 0;      ///< angle between the face normal and the axis
+  double axisVersionDeg = 0;     ///< the axis' 3D version (= the target)
+  double axisInclinationDeg = 0; ///< the axis' inclination (= the target)
+  double pinDepthMm = 0;         ///< resolved guide-pin depth, mm
+  double clearanceMm = 0;        ///< tool start above the centre: clears the rim, mm
+  double reamerOverhangApMm = 0; ///< per side beyond the glenoid's width (0 = within), mm
+  double reamerOverhangSiMm = 0; ///< per side beyond its height, mm
+  bool reamerFits = false;       ///< no overhang
+  std::vector<std::string> warnings;
+
+  /// The plan as a scene with steps (bone = `bone`, a scene bone object):
+  /// {"name", "description", "bone", "steps": [{"name": "guide pin", "tool", "trial"},
+  ///  {"name": "ream", "tool", "trial"}], "voxmap_resolution", "shell_resolution", "method",
+  ///  "planning": {...}}.
+  nlohmann::json SceneJson(const nlohmann::json& bone) const;
+  /// Step `i` (0: guide pin, 1: ream) as a plain single-step scene (bmScene.h), on the bone as
+  /// the CT gives it.
+  nlohmann::json StepSceneJson(int i, const nlohmann::json& bone) const;
+  /// The bone object of a scene for a CT at `ctPath` (relative to the scene's folder or
+  /// absolute): the glenoid's bone only (seed 1 mm under the centre), in the box of +- roiHalfMm.
+  nlohmann::json CtBoneJson(const std::string& ctPath) const;
+  nlohmann::json ToJson() const;
+};
+
+/// Plan from the landmarks and measurements. Throws std::invalid_argument on bad options.
+GlenoidPlan MakeGlenoidPlan(const GlenoidLandmarks& landmarks, const GlenoidMeasurements& m,
+                            const PlanOptions& options = {});
+
+} // namespace bm
