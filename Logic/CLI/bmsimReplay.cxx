@@ -1,6 +1,7 @@
 // bmsim replay - re-run a recorded session (bmSessionRecorder.h) and compare its forces.
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 
 #include "bmAtomicFile.h"
 #include "bmMachiningSetup.h"
@@ -8,6 +9,7 @@
 #include "bmSessionRecorder.h"
 #include "bmsimArgs.h"
 #include "bmsimCommand.h"
+#include "bmsimRunSession.h"
 
 namespace {
 
@@ -16,7 +18,9 @@ const char* kUsage = R"(usage: bmsim replay FILE [options]
   --out DIR          write DIR/replay.csv and DIR/replay_summary.json (default: none)
   --tolerance N      largest accepted force difference, N (default 1e-9)
 Exit status 0 when every frame's coupling force, thrust and torque match the recording within
-the tolerance, 1 otherwise.
+the tolerance, 1 otherwise; the outputs are written (together) only when they match. A recording
+with no frames or a non-finite pose, speed or force is refused before anything runs. Recordings
+of any scene replay: a CT or phantom scene's bone is rebuilt from the recorded scene.
 )";
 
 int ReplayCommand(const bm::cli::Args& args) {
@@ -28,14 +32,18 @@ int ReplayCommand(const bm::cli::Args& args) {
   if (p.Positional().size() != 1)
     throw bm::cli::UsageError(std::string("needs exactly one FILE\n") + kUsage);
   const double tol = p.GetDouble("tolerance", 0.0, 1e6).value_or(1e-9);
+  const auto out = p.Get("out");
+  if (out)
+    bm::cli::CheckWritableOutput("--out", *out, true);
   const bm::Recording rec = bm::ReadRecording(p.Positional()[0]);
+  bm::CheckReplayable(rec);
   bm::Scene scene;
   try {
     scene = bm::RecordedScene(rec);
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error(std::string("recorded scene: ") + e.what());
   }
-  bm::MachiningSetup setup(scene, bm::MakeSceneBlock(scene));
+  bm::MachiningSetup setup(scene, bm::cli::SceneBone(scene));
   const bm::ReplayResult r = bm::Replay(rec, setup);
   const bool ok =
       r.maxCouplingForceDiffN <= tol && r.maxThrustDiffN <= tol && r.maxTorqueDiffNmm <= tol;
@@ -48,18 +56,25 @@ int ReplayCommand(const bm::cli::Args& args) {
                       {"max_proxy_diff_mm", r.maxProxyDiffMm},
                       {"tolerance_N", tol},
                       {"reproduced", ok}};
-  if (auto out = p.Get("out")) {
-    std::filesystem::create_directories(*out);
-    bm::Recording again{rec.meta, r.replayed};
-    bm::WriteRecordingCsv((std::filesystem::path(*out) / "replay.csv").string(), again);
-    bm::WriteFileAtomic((std::filesystem::path(*out) / "replay_summary.json").string(),
-                        s.dump(2) + "\n");
-  }
   std::cout << "replayed " << r.frames << " frames of " << p.Positional()[0] << "\n"
             << "  max |coupling force difference| " << r.maxCouplingForceDiffN << " N, thrust "
             << r.maxThrustDiffN << " N, torque " << r.maxTorqueDiffNmm << " N mm, proxy "
             << r.maxProxyDiffMm << " mm\n"
             << (ok ? "  forces reproduced\n" : "  forces NOT reproduced\n");
+  // A replay that fails leaves nothing; one that succeeds writes both files together.
+  if (out && ok) {
+    std::filesystem::create_directories(*out);
+    bm::Recording again{rec.meta, r.replayed};
+    const std::string csv = (std::filesystem::path(*out) / "replay.csv").string();
+    std::ostringstream table;
+    bm::WriteRecordingCsv(table, again);
+    bm::WriteFilesAtomic(
+        {{csv, table.str()},
+         {(std::filesystem::path(*out) / "replay_summary.json").string(), s.dump(2) + "\n"}});
+    std::cout << "wrote " << csv << " and replay_summary.json\n";
+  } else if (out) {
+    std::cout << "  nothing written to " << *out << " (the replay did not reproduce the forces)\n";
+  }
   return ok ? 0 : 1;
 }
 

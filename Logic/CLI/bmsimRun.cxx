@@ -3,9 +3,6 @@
 #include <iostream>
 
 #include "bmFeedTrial.h"
-#ifdef BM_WITH_IO
-#include "bmCTVoxmap.h"
-#endif
 #include "bmMachiningSetup.h"
 #ifdef BM_WITH_REPORT
 #include "bmTrialReport.h"
@@ -15,21 +12,9 @@
 #include "bmsimCommand.h"
 #include "bmsimProgressBar.h"
 #include "bmsimRunSession.h"
+#include "bmsimRunSteps.h"
 
 namespace {
-
-bm::Voxmap SceneBone(const bm::Scene& scene) {
-  if (scene.bone.type == "block")
-    return bm::MakeSceneBlock(scene);
-#ifdef BM_WITH_IO
-  bm::cli::ProgressBar bar("import bone");
-  return bm::MakeCTVoxmap(scene.bone.ct, scene.baseDir, scene.voxmapResolution,
-                          [&](double f, const std::string&) { return bar.Update(f); });
-#else
-  throw std::runtime_error("scene '" + scene.name +
-                           "' needs CT import, which this build leaves out");
-#endif
-}
 
 const char* kUsage = R"(usage: bmsim run SCENE [options]
   SCENE                    built-in scene (drilling, glenoid, ...) or a scene file (.json)
@@ -46,8 +31,10 @@ const char* kUsage = R"(usage: bmsim run SCENE [options]
   --lips averaged|instantaneous   lip model (default averaged)
   --no-report              skip the report (report.md/.html, cut surface .vtp/.stl, PNG charts
                            and picture; rendering starts a private Xvfb when DISPLAY is unset)
-  --device scripted|touch  run through a haptic session (bmsimRunSession.h lists its options:
-                           --mode feed|force|trajectory, --force N, --duration S, --record FILE)
+  --device scripted|touch  run through a haptic session, on any scene (bmsimRunSession.h lists
+                           its options: --mode feed|force|trajectory|hand, --force N (device N,
+                           at most the device's maximum), --force-scale S (tool N per device N,
+                           default 20), --seed N, --duration S, --record FILE)
 )";
 
 int RunCommand(const bm::cli::Args& args) {
@@ -98,9 +85,15 @@ int RunCommand(const bm::cli::Args& args) {
     throw UsageError(e.what());
   }
   const std::string out = p.Get("out", "out/" + scene.name);
+  if (!scene.steps.empty()) { // a plan: its steps in order on one bone (bmsimRunSteps.h)
+    if (bm::cli::WantsSession(p))
+      throw UsageError("scene '" + scene.name +
+                       "' is a plan of steps, which run scripted; a session runs one scene");
+    return bm::cli::RunSceneSteps(scene, p, out);
+  }
   if (bm::cli::WantsSession(p))
     return bm::cli::RunSessionScene(scene, p, out);
-  bm::MachiningSetup setup(scene, SceneBone(scene), p.Get("device", ""));
+  bm::MachiningSetup setup(scene, bm::cli::SceneBone(scene), p.Get("device", ""));
   bm::FeedTrial trial(setup);
   {
     bm::cli::ProgressBar bar("run " + scene.name);

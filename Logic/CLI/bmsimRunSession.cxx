@@ -1,11 +1,18 @@
 #include "bmsimRunSession.h"
 
+#include <unistd.h>
+
 #include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 
 #include "bmAtomicFile.h"
+#ifdef BM_WITH_IO
+#include "bmCTVoxmap.h"
+#endif
+#include "bmsimCommand.h"
+#include "bmsimProgressBar.h"
 #include "bmEdgeQuadrature.h"
 #include "bmHapticSession.h"
 #include "bmMachiningSetup.h"
@@ -16,8 +23,46 @@
 namespace bm::cli {
 
 const std::set<std::string> kSessionRunOptions = {
-    "device", "mode",    "force",     "trajectory", "duration",
-    "record", "contact", "rendering", "rate",       "overrun-limit"};
+    "device",  "mode",      "force", "trajectory",    "duration",    "record",
+    "contact", "rendering", "rate",  "overrun-limit", "force-scale", "seed"};
+
+Voxmap SceneBone(const bm::Scene& scene) {
+  if (scene.bone.type == "block")
+    return bm::MakeSceneBlock(scene);
+#ifdef BM_WITH_IO
+  ProgressBar bar("import bone");
+  return bm::MakeCTVoxmap(scene.bone.ct, scene.baseDir, scene.voxmapResolution,
+                          [&](double f, const std::string&) { return bar.Update(f); });
+#else
+  throw std::runtime_error("scene '" + scene.name +
+                           "' needs CT import, which this build leaves out");
+#endif
+}
+
+void CheckWritableOutput(const std::string& what, const std::string& path, bool isFolder) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path p = fs::absolute(path, ec);
+  if (ec || path.empty())
+    throw UsageError(what + " '" + path + "': not a usable path");
+  if (!isFolder && fs::is_directory(p, ec))
+    throw UsageError(what + " '" + path + "' is a folder, expected a file");
+  if (isFolder && fs::exists(p, ec) && !fs::is_directory(p, ec))
+    throw UsageError(what + " '" + path + "' is a file, expected a folder");
+  // A folder is created with its parents: the nearest existing folder above it must be writable.
+  // A file is written into its folder, which must exist.
+  fs::path dir = isFolder ? p : p.parent_path();
+  if (!isFolder && !fs::is_directory(dir, ec))
+    throw UsageError(what + " '" + path + "': the folder '" + dir.string() + "' does not exist");
+  while (!dir.empty() && !fs::exists(dir, ec) && dir != dir.parent_path())
+    dir = dir.parent_path();
+  if (!fs::is_directory(dir, ec))
+    throw UsageError(what + " '" + path + "': '" + dir.string() + "' is not a folder");
+  if (::access(dir.c_str(), W_OK | X_OK) != 0)
+    throw UsageError(what + " '" + path + "': cannot write in '" + dir.string() + "'");
+  if (!isFolder && fs::exists(p, ec) && ::access(p.c_str(), W_OK) != 0)
+    throw UsageError(what + " '" + path + "': the file is not writable");
+}
 
 bool WantsSession(const ParsedArgs& args) {
   if (args.Has("mode"))
@@ -57,11 +102,11 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
     throw UsageError("--device must be scripted or touch for a session run, not '" + deviceName +
                      "'");
   const std::string mode = args.Get("mode", "feed");
-  if (mode != "feed" && mode != "force" && mode != "trajectory")
-    throw UsageError("--mode must be feed, force or trajectory, not '" + mode + "'");
-  if (scene.bone.type != "block")
-    throw UsageError("scene '" + scene.name + "': session runs need a block scene");
+  if (mode != "feed" && mode != "force" && mode != "trajectory" && mode != "hand")
+    throw UsageError("--mode must be feed, force, trajectory or hand, not '" + mode + "'");
   SessionOptions so;
+  so.proxy.coupling.forceScale =
+      args.GetDouble("force-scale", 1e-3, kMaxForceScale).value_or(kDefaultSessionForceScale);
   try {
     so.proxy.method = ContactMethodFromString(args.Get("contact", "cutting"));
     so.proxy.rendering = RenderingFromString(args.Get("rendering", "coupled"));
@@ -76,9 +121,16 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
   if (auto r = args.GetDouble("rate", 10, 10000))
     so.rateHz = *r;
   so.realTime = true;
-  const double appliedN = args.GetDouble("force", 0.0, 100.0).value_or(2.0);
+  // The push is the hand's at the device: at most the device's maximum force (the Touch's for a
+  // scripted device, the nominal one for the Touch before it reports its own).
+  const DeviceLimits nominal;
+  const double appliedN = args.GetDouble("force", 0.0, nominal.maxForceN).value_or(2.5);
+  const auto seed = args.GetInt("seed", 0, 1000000000);
   const auto durationOpt = args.GetDouble("duration", 0.001, 3600);
   const auto record = args.Get("record");
+  CheckWritableOutput("--out", outDir, true);
+  if (record)
+    CheckWritableOutput("--record", *record, false);
   if (record &&
       (std::filesystem::path(*record).extension() == ".h5" ||
        std::filesystem::path(*record).extension() == ".hdf5") &&
@@ -92,7 +144,7 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
     trajectory = LoadTrajectoryCsv(*file);
   }
 
-  MachiningSetup setup(scene, MakeSceneBlock(scene));
+  MachiningSetup setup(scene, SceneBone(scene));
   const TrialSpec& t = scene.trial;
   const Eigen::Vector3d axis = t.axis.normalized();
   std::shared_ptr<Device> device;
@@ -103,8 +155,14 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
     ScriptedDeviceOptions o;
     o.mode = mode == "feed"    ? ScriptMode::Feed
              : mode == "force" ? ScriptMode::Force
+             : mode == "hand"  ? ScriptMode::Hand
                                : ScriptMode::Trajectory;
-    o.startMm = t.entry + axis * t.clearanceMm;
+    if (seed)
+      o.handSeed = uint64_t(*seed);
+    // The tool's foremost cutting point starts `clearance` above the entry (as in the feed trial):
+    // a reamer's origin is not at its face.
+    o.startMm = t.entry + axis * t.clearanceMm -
+                setup.ToolRotation() * Eigen::Vector3d(0, 0, ForemostCuttingZ(setup.Tool()));
     o.axis = axis;
     o.rotation = setup.ToolRotation();
     o.feedMmPerRev = t.feedMmPerRev;
@@ -116,7 +174,7 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
         t.depthMm >= 0 ? t.depthMm : FullEngagementDepth(setup.Tool()) + t.extraDepthMm;
     if (mode == "feed")
       duration = (depth + t.clearanceMm) / (t.feedMmPerRev * t.speedRpm / 60.0);
-    else if (mode == "force")
+    else if (mode == "force" || mode == "hand")
       duration = 2.0;
     else
       duration = trajectory.back().timeS;
@@ -131,7 +189,8 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
   session.Start();
   std::cout << "session " << scene.name << ": " << deviceName << " device, " << mode << " mode, "
             << ToString(so.proxy.method) << "/" << ToString(so.proxy.rendering) << ", " << so.rateHz
-            << " Hz, " << duration << " s\n";
+            << " Hz, " << duration << " s, force scale " << so.proxy.coupling.forceScale
+            << " (tool N per device N)\n";
   while (!session.WaitUntilPaused(0.05))
     session.DrainRecords(frames);
   const SessionSnapshot last = session.Snapshot();
@@ -148,7 +207,9 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
       feed.push_back(f.feedMmPerRev);
     }
   }
-  const Eigen::Vector3d p0 = t.entry;
+  // Depth of the foremost cutting point below the entry.
+  const Eigen::Vector3d p0 =
+      t.entry - setup.ToolRotation() * Eigen::Vector3d(0, 0, ForemostCuttingZ(setup.Tool()));
   const double depth = frames.empty()
                            ? 0.0
                            : -(Eigen::Vector3d(frames.back().proxyPos[0], frames.back().proxyPos[1],
@@ -158,7 +219,9 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
   nlohmann::json s = {{"scene", scene.name},
                       {"device", deviceName},
                       {"mode", mode},
-                      {"applied_force_N", mode == "force" ? appliedN : 0.0},
+                      {"applied_force_N", mode == "force" || mode == "hand" ? appliedN : 0.0},
+                      {"force_scale", so.proxy.coupling.forceScale},
+                      {"tool_max_force_N", session.Coupling().MaxForce()},
                       {"contact", ToString(so.proxy.method)},
                       {"rendering", ToString(so.proxy.rendering)},
                       {"engine", setup.GetEngine().Name()},
@@ -185,7 +248,9 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
                       {"voxmap_resolution", scene.voxmapResolution},
                       {"shell_resolution", scene.shellResolution}};
   Recording rec;
-  rec.meta = {{"scene", scene.ToJson()}, {"session", SessionOptionsToJson(so, device->Limits())}};
+  rec.meta = {{"scene", scene.ToJson()},
+              {"scene_base_dir", scene.baseDir},
+              {"session", SessionOptionsToJson(so, device->Limits())}};
   rec.frames = std::move(frames);
   std::filesystem::create_directories(outDir);
   WriteRecordingCsv((std::filesystem::path(outDir) / "session.csv").string(), rec);

@@ -1,29 +1,36 @@
-// bmsimRunSession.h - `bmsim run SCENE --device scripted|touch [--mode feed|force|trajectory]`:
-// the scene run through a haptic session (bmHapticSession.h) on its own thread at the haptic rate,
-// instead of the offline feed trial. Called by bmsimRun.cxx when --mode is given or --device names
-// a haptic device.
+// bmsimRunSession.h - `bmsim run SCENE --device scripted|touch [--mode
+// feed|force|trajectory|hand]`: the scene (a block, a CT or phantom scene such as glenoid or skull)
+// run through a haptic session (bmHapticSession.h) on its own thread at the haptic rate, instead of
+// the offline feed trial. Called by bmsimRun.cxx when --mode is given or --device names a haptic
+// device.
 //
 // Outputs in DIR: session.csv (the per-frame record) and summary.json (frame_ms_p50/p99/max,
-// overruns, thrust/torque/feed statistics, forces sent, removed volume, the pause reason);
-// --record FILE.h5|FILE.csv writes the record there too (for `bmsim replay`). All atomically.
+// overruns, thrust/torque/feed statistics, forces sent, force scale, removed volume, the pause
+// reason); --record FILE.h5|FILE.csv writes the record there too (for `bmsim replay`). All
+// atomically, and every output path is checked before the session starts.
 #pragma once
 
 #include <set>
 #include <string>
 
 #include "bmScene.h"
+#include "bmVoxmap.h"
 #include "bmsimArgs.h"
 
 namespace bm::cli {
 
 /// Valued options RunSessionScene reads (bmsimRun adds them to its parser):
 ///  --device scripted|touch   the haptic device (touch: OpenHaptics libHD.so, $BM_LIBHD overrides)
-///  --mode feed|force|trajectory  scripted device: prescribed feed and speed (default), prescribed
-///                            applied force, or a trajectory file
-///  --force N                 force mode: applied force along the feed, N (default 2.0)
+///  --mode feed|force|trajectory|hand  scripted device: prescribed feed and speed (default),
+///                            prescribed applied force, a trajectory file, or a hand's push
+///                            (ScriptMode::Hand: a rising push plus lateral tremor)
+///  --force N                 force and hand modes: the push along the feed at the device, N, in
+///                            [0, the device's maximum] (default 2.5, a firm Touch push)
+///  --force-scale S           tool force = S x device force (default kDefaultSessionForceScale)
+///  --seed N                  hand mode: tremor seed (default 1)
 ///  --trajectory FILE         trajectory mode: time_s,x_mm,y_mm,z_mm[,qw,qx,qy,qz] rows
 ///  --duration S              seconds of session time (default: feed mode the trial's depth,
-///                            force mode 2 s, trajectory its length, touch 10 s)
+///                            force and hand modes 2 s, trajectory its length, touch 10 s)
 ///  --record FILE             also write the record to FILE (.h5 needs HDF5, else .csv)
 ///  --contact cutting|kim     contact model (default cutting, ours)
 ///  --rendering coupled|direct  (default coupled)
@@ -34,6 +41,16 @@ extern const std::set<std::string> kSessionRunOptions;
 
 /// Whether `bmsim run` should hand these arguments to RunSessionScene.
 bool WantsSession(const ParsedArgs& args);
+
+/// The scene's bone: a block, or a CT / phantom / saved voxmap through the IO library (throws
+/// std::runtime_error when this build has no IO library).
+Voxmap SceneBone(const bm::Scene& scene);
+
+/// Throws UsageError naming `what` and `path` when the output could not be created there: a file
+/// whose folder is missing or not writable, or that is an existing folder; a folder (isFolder,
+/// created with its parents) that is an existing file or whose nearest existing ancestor is not
+/// writable. Creates nothing.
+void CheckWritableOutput(const std::string& what, const std::string& path, bool isFolder);
 
 /// Runs the scene through a session; writes outDir/session.csv and outDir/summary.json. Returns the
 /// exit code (0, or 1 when the session paused on a fault). Throws UsageError on bad options.

@@ -6,6 +6,12 @@
 #   threads  --threads 1 and --threads 2 give identical thrust, torque and removed voxels
 #   zheng    --method zheng runs through the same command and reports positive forces
 #   badargs  bad arguments exit non-zero with a message and leave no output folder
+#   session  haptic sessions on scenes that are not blocks, at small resolutions: the glenoid
+#            phantom in force mode at the default force scale runs, records, and `bmsim replay`
+#            rebuilds its bone and reproduces the forces; the skull CT (when Debian's
+#            invesalius-examples is installed) is cut by the scripted hand and replayed; --force
+#            above the Touch's 3.3 N, an unwritable --record and a broken recording are refused,
+#            leaving no output
 cmake_minimum_required(VERSION 3.20)
 foreach(var BMSIM WORK_DIR MODE)
   if(NOT DEFINED ${var})
@@ -162,6 +168,84 @@ elseif(MODE STREQUAL "badargs")
       message(FATAL_ERROR "${what}: left an output folder ${out}")
     endif()
   endforeach()
+
+elseif(MODE STREQUAL "session")
+  set(small --voxmap-resolution 40 --shell-resolution 72)
+  # expect_refused(<what> <pattern> <out folder> <args...>): bmsim fails, says <pattern>, no <out>.
+  function(expect_refused what pattern out)
+    execute_process(COMMAND "${BMSIM}" ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE stdout
+                    ERROR_VARIABLE stderr)
+    message(STATUS "${what}: exit ${rc}: ${stderr}")
+    if(rc EQUAL 0 OR NOT stderr MATCHES "${pattern}")
+      message(FATAL_ERROR "${what}: expected a failure saying '${pattern}', got exit ${rc}:\n"
+                          "${stdout}\n${stderr}")
+    endif()
+    if(EXISTS "${out}")
+      message(FATAL_ERROR "${what}: left ${out} behind")
+    endif()
+  endfunction()
+  execute_process(COMMAND "${BMSIM}" run glenoid --no-report --device scripted --mode force
+                          --duration 0.4 --record "${dir}/rec.csv" --out "${dir}/out" ${small}
+                  WORKING_DIRECTORY "${dir}"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE stdout ERROR_VARIABLE stderr)
+  message(STATUS "bmsim run glenoid --mode force: exit ${rc}\n${stdout}")
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "the glenoid session failed (${rc}):\n${stderr}")
+  endif()
+  foreach(key force_scale pause_reason frames removed_volume_mm3 device_max_force_N)
+    summary_get(s_${key} "${dir}/out" ${key})
+    message(STATUS "summary ${key} = ${s_${key}}")
+  endforeach()
+  summary_get(s_force_max "${dir}/out" device_force_N)
+  string(JSON s_force_max GET "${s_force_max}" max)
+  if(NOT s_pause_reason STREQUAL "finished" OR NOT s_frames EQUAL 400 OR NOT s_force_scale EQUAL 50)
+    message(FATAL_ERROR "summary: pause ${s_pause_reason}, ${s_frames} frames, scale ${s_force_scale}")
+  endif()
+  expect_range(device_force_max_N "${s_force_max}" 0.5 3.3)
+  file(STRINGS "${dir}/rec.csv" meta LIMIT_COUNT 1)
+  if(NOT meta MATCHES "\"force_scale\":50")
+    message(FATAL_ERROR "the recording's metadata has no force scale: ${meta}")
+  endif()
+  execute_process(COMMAND "${BMSIM}" replay "${dir}/rec.csv" --out "${dir}/replay"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE stdout ERROR_VARIABLE stderr)
+  message(STATUS "bmsim replay: exit ${rc}\n${stdout}")
+  if(NOT rc EQUAL 0 OR NOT stdout MATCHES "forces reproduced" OR NOT EXISTS "${dir}/replay/replay.csv"
+     OR NOT EXISTS "${dir}/replay/replay_summary.json")
+    message(FATAL_ERROR "the glenoid recording did not replay (${rc}):\n${stderr}")
+  endif()
+  set(cranium /usr/share/doc/invesalius-examples/examples/Cranium.inv3)
+  if(EXISTS "${cranium}")
+    execute_process(COMMAND "${BMSIM}" run skull --no-report --device scripted --mode hand --force 1
+                            --force-scale 5 --duration 0.5 --record "${dir}/skull.csv"
+                            --out "${dir}/skull_out" --voxmap-resolution 48 --shell-resolution 64
+                    WORKING_DIRECTORY "${dir}"
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE stdout ERROR_VARIABLE stderr)
+    message(STATUS "bmsim run skull --mode hand: exit ${rc}\n${stdout}")
+    if(NOT rc EQUAL 0)
+      message(FATAL_ERROR "the skull session failed (${rc}):\n${stderr}")
+    endif()
+    summary_get(v "${dir}/skull_out" removed_volume_mm3)
+    expect_range(skull_removed_volume_mm3 "${v}" 0 100)
+    execute_process(COMMAND "${BMSIM}" replay "${dir}/skull.csv" RESULT_VARIABLE rc
+                    OUTPUT_VARIABLE stdout ERROR_VARIABLE stderr)
+    if(NOT rc EQUAL 0 OR NOT stdout MATCHES "forces reproduced")
+      message(FATAL_ERROR "the skull recording did not replay (${rc}):\n${stdout}\n${stderr}")
+    endif()
+  endif()
+  expect_refused("--force above the Touch's maximum" "must be in \\[0, 3.3\\]" "${dir}/o1"
+                 run glenoid --device scripted --mode force --force 4 --out "${dir}/o1" ${small})
+  expect_refused("--record into a missing folder" "--record" "${dir}/o2"
+                 run glenoid --device scripted --mode force --record /nonexistent/dir/r.csv
+                 --out "${dir}/o2" ${small})
+  # A recording with an infinite pose: refused before anything runs, nothing written.
+  file(STRINGS "${dir}/rec.csv" lines)
+  list(GET lines 0 l0)
+  list(GET lines 1 l1)
+  list(GET lines 2 l2)
+  string(REGEX REPLACE "^([^,]*,[^,]*,)[^,]*" "\\1inf" l2 "${l2}")
+  file(WRITE "${dir}/bad.csv" "${l0}\n${l1}\n${l2}\n")
+  expect_refused("a recording with an infinite pose" "non-finite device position" "${dir}/o3"
+                 replay "${dir}/bad.csv" --out "${dir}/o3")
 
 else()
   message(FATAL_ERROR "unknown MODE '${MODE}'")
