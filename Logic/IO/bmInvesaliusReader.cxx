@@ -2,6 +2,7 @@
 
 #include <zlib.h>
 
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -104,6 +105,17 @@ private:
 using PlistValues = std::map<std::string, std::string>;
 
 void ParsePlist(const std::string& xml, PlistValues& out) {
+  // std::regex matches recursively: a very long tag name would exhaust the stack. main.plist's tags
+  // are short words; refuse anything else before matching.
+  for (size_t i = xml.find('<'); i != std::string::npos; i = xml.find('<', i + 1)) {
+    size_t j = i + 1, letters = 0;
+    if (j < xml.size() && xml[j] == '/')
+      ++j;
+    while (j < xml.size() && std::isalpha((unsigned char)xml[j]) && letters <= 64)
+      ++j, ++letters;
+    if (letters > 64)
+      throw std::runtime_error("main.plist: a tag name is implausibly long (corrupt project)");
+  }
   // A small recursive descent over <dict>, <array>, <key> and scalar elements.
   std::regex tagRe(R"(<(/?)([A-Za-z]+)(/?)>)");
   std::vector<std::pair<std::string, int>> stack; // container kind, array counter
@@ -196,7 +208,7 @@ CTImage ReadInvesaliusProject(const std::string& path, const ReadOptions& opt,
       std::string base =
           name.substr(name.find_last_of('/') == std::string::npos ? 0 : name.find_last_of('/') + 1);
       if (base == "main.plist") {
-        if (size > (16u << 20))
+        if (size > (1u << 20))
           throw std::runtime_error("'" + path + "': main.plist is implausibly large");
         ParsePlist(tar.ReadAll(size), plist);
         found = true;
@@ -213,11 +225,23 @@ CTImage ReadInvesaliusProject(const std::string& path, const ReadOptions& opt,
   const std::string file = Need(plist, "matrix/filename", path);
   size_t shape[3];
   double spacing[3];
+  // A number of main.plist, refused with the key's name when it does not parse completely.
+  auto number = [&](const std::string& key) {
+    const std::string text = Need(plist, key, path);
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (end == text.c_str() || *end != '\0')
+      throw std::runtime_error("'" + path + "': main.plist's '" + key + "' is not a number ('" +
+                               text + "')");
+    return v;
+  };
   for (int a = 0; a < 3; ++a) {
-    shape[a] = size_t(std::stoll(Need(plist, "matrix/shape/" + std::to_string(a), path)));
-    spacing[a] = std::stod(Need(plist, "spacing/" + std::to_string(a), path));
-    if (shape[a] == 0)
-      throw std::runtime_error("'" + path + "': matrix shape has a zero dimension");
+    const double n = number("matrix/shape/" + std::to_string(a));
+    spacing[a] = number("spacing/" + std::to_string(a));
+    if (!(n >= 1) || n > 1e6 || n != std::floor(n))
+      throw std::runtime_error("'" + path + "': matrix shape " + std::to_string(a) + " is " +
+                               std::to_string(n) + ", not a whole number 1 .. 10^6");
+    shape[a] = size_t(n);
     if (!(spacing[a] > 0) || !std::isfinite(spacing[a]))
       throw std::runtime_error("'" + path + "' has a zero or invalid voxel spacing");
   }

@@ -12,6 +12,7 @@
 #include <sys/stat.h>
 #include <zlib.h>
 
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <functional>
@@ -454,6 +455,76 @@ TEST(HostileInput, DicomCorpus) {
       {"single-file.dcm", "single slice", [&](const fs::path& p) { fs::copy(files[mid], p); }},
   };
   RunCorpus("dicom", cases);
+}
+
+namespace {
+
+/// One ustar member: a 512-byte header and the data padded to 512 bytes.
+std::string TarMember(const std::string& name, const std::string& data) {
+  char h[512] = {};
+  std::memcpy(h, name.data(), std::min<size_t>(name.size(), 99));
+  std::snprintf(h + 100, 8, "%07o", 0644);
+  std::snprintf(h + 124, 12, "%011llo", (unsigned long long)data.size());
+  h[156] = '0';
+  std::memcpy(h + 257, "ustar", 5);
+  std::string out(h, sizeof h);
+  out += data;
+  out.append((512 - data.size() % 512) % 512, '\0');
+  return out;
+}
+
+/// main.plist of an InVesalius project with `shape` (z y x) and `spacing`, int16 matrix.dat.
+std::string Plist(const std::string& shape = "<integer>4</integer><integer>4</integer>"
+                                             "<integer>4</integer>",
+                  const std::string& spacing = "<real>1</real><real>1</real><real>1</real>") {
+  return "<?xml version=\"1.0\"?><plist version=\"1.0\"><dict><key>modality</key><string>CT"
+         "</string><key>matrix</key><dict><key>dtype</key><string>int16</string><key>filename"
+         "</key><string>matrix.dat</string><key>shape</key><array>" +
+         shape + "</array></dict><key>spacing</key><array>" + spacing + "</array></dict></plist>";
+}
+
+std::string Inv3(const std::string& plist = Plist(), const std::string& matrix = Voxels()) {
+  return TarMember("project/main.plist", plist) + TarMember("project/matrix.dat", matrix) +
+         std::string(1024, '\0');
+}
+
+} // namespace
+
+TEST(HostileInput, InvesaliusCorpus) {
+  {
+    ScratchDir d("hostile-inv3-control");
+    WriteGzip(d / "ok.inv3", Inv3());
+    bm::CTImage ct = bm::ReadCT((d / "ok.inv3").string());
+    EXPECT_EQ(ct.Size(), (std::array<int, 3>{4, 4, 4}));
+    EXPECT_EQ(ct.huMin, -1000.0f);
+  }
+  auto inv3 = [](std::string content) {
+    return [content](const fs::path& p) { WriteGzip(p, content); };
+  };
+  std::vector<Case> cases = {
+      {"text.inv3", "not a readable InVesalius project",
+       [](const fs::path& p) { WriteFile(p, "hello, not an archive"); }},
+      {"no-plist.inv3", "holds no main.plist", inv3(TarMember("a.txt", "x"))},
+      {"neg-shape.inv3", "not a whole number",
+       inv3(Inv3(Plist("<integer>-4</integer><integer>4</integer><integer>4</integer>")))},
+      {"huge-shape.inv3", "more than the",
+       inv3(Inv3(Plist("<integer>900000</integer><integer>900000</integer><integer>900000"
+                       "</integer>")))},
+      {"word-shape.inv3", "is not a number",
+       inv3(Inv3(Plist("<integer>four</integer><integer>4</integer><integer>4</integer>")))},
+      {"nan-spacing.inv3", "invalid voxel spacing",
+       inv3(Inv3(Plist("<integer>4</integer><integer>4</integer><integer>4</integer>",
+                       "<real>nan</real><real>1</real><real>1</real>")))},
+      {"long-tag.inv3", "implausibly long",
+       inv3(Inv3("<plist><" + std::string(200000, 'a') + ">"))},
+      {"short-matrix.inv3", "bytes", inv3(Inv3(Plist(), Voxels(10)))},
+      {"cut.inv3", "not a readable InVesalius project",
+       [](const fs::path& p) {
+         WriteGzip(p, Inv3());
+         fs::resize_file(p, fs::file_size(p) / 2);
+       }},
+  };
+  RunCorpus("inv3", cases);
 }
 
 TEST(HostileInput, OutputEqualToTheInputIsRefused) {
