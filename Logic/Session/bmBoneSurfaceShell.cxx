@@ -14,6 +14,10 @@ BoneSurfaceShell::BoneSurfaceShell(Voxmap& bone) : Bone_(bone) {
   for (int64_t v = 0; v < n; ++v)
     Known_[size_t(v)] = Bone_.GetFill(v) > 0;
   Buckets_.resize(size_t(bd[0]) * bd[1] * bd[2]);
+  Stamps_.assign(Buckets_.size(), 0);
+  SeenCounts_.resize(Buckets_.size());
+  for (size_t b = 0; b < SeenCounts_.size(); ++b)
+    SeenCounts_[b] = Bone_.BrickCount(int64_t(b));
   const int B = Voxmap::kBrick, full = B * B * B;
   auto brickFull = [&](int bi, int bj, int bk) {
     if (bi < 0 || bj < 0 || bk < 0 || bi >= bd[0] || bj >= bd[1] || bk >= bd[2])
@@ -92,6 +96,9 @@ void BoneSurfaceShell::AddPoint(int64_t idx, int i, int j, int k) {
     }
   }
   ++Generation_;
+  const auto b = Brick(i, j, k);
+  const size_t brick = size_t(Bone_.BrickIndex(b[0], b[1], b[2]));
+  Stamps_[brick] = Generation_;
   SurfacePoint& p = Points_[size_t(slot)];
   const auto w = Bone_.GridToWorld({double(i), double(j), double(k)});
   p.position = {w[0], w[1], w[2]};
@@ -100,8 +107,7 @@ void BoneSurfaceShell::AddPoint(int64_t idx, int i, int j, int k) {
   p.material = Bone_.Material(idx);
   if (fresh) {
     PointOf_[size_t(idx)] = slot;
-    const auto b = Brick(i, j, k);
-    Buckets_[size_t(Bone_.BrickIndex(b[0], b[1], b[2]))].push_back(slot);
+    Buckets_[brick].push_back(slot);
     ++Live_;
   }
 }
@@ -113,7 +119,9 @@ void BoneSurfaceShell::KillPoint(int64_t idx) {
   ++Generation_;
   const auto [i, j, k] = Bone_.Coords(idx);
   const auto b = Brick(i, j, k);
-  auto& bucket = Buckets_[size_t(Bone_.BrickIndex(b[0], b[1], b[2]))];
+  const size_t brick = size_t(Bone_.BrickIndex(b[0], b[1], b[2]));
+  Stamps_[brick] = Generation_;
+  auto& bucket = Buckets_[brick];
   auto it = std::find(bucket.begin(), bucket.end(), slot);
   if (it != bucket.end()) {
     *it = bucket.back();
@@ -209,10 +217,20 @@ void BoneSurfaceShell::Flood(std::vector<int64_t>& seeds,
 
 int64_t BoneSurfaceShell::Sync(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
   std::vector<int64_t> seeds;
-  ForEachIn(lo, hi, [&](const SurfacePoint& p) {
-    if (Bone_.GetFill(p.voxel) <= 0)
-      seeds.push_back(p.voxel);
-  });
+  std::array<int, 3> blo{}, bhi{};
+  BrickRange(lo, hi, blo, bhi);
+  for (int bk = blo[2]; bk <= bhi[2]; ++bk)
+    for (int bj = blo[1]; bj <= bhi[1]; ++bj)
+      for (int bi = blo[0]; bi <= bhi[0]; ++bi) {
+        const int64_t b = Bone_.BrickIndex(bi, bj, bk);
+        const int32_t count = Bone_.BrickCount(b);
+        if (count == SeenCounts_[size_t(b)])
+          continue; // no voxel of the brick went void since its bucket was last read
+        SeenCounts_[size_t(b)] = count;
+        for (int32_t s : Buckets_[size_t(b)])
+          if (Bone_.GetFill(Points_[size_t(s)].voxel) <= 0)
+            seeds.push_back(Points_[size_t(s)].voxel);
+      }
   if (seeds.empty())
     return 0;
   int64_t fill = 0, removed = 0;

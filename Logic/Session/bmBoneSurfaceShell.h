@@ -11,7 +11,14 @@
 // becomes (or stays, with a fresh normal) a surface point; a neighbour that the shell knew as bone
 // but is now void (removed in the same frame) is a seed too. Removal may come from the engine
 // (material-conserving: Sync() finds the points whose voxel went void) or from Kim et al.'s
-// Boolean cut (Cut(): voxels whose centre lies inside the tool go at once).
+// Boolean cut (Cut(): voxels whose centre lies inside the tool go at once). Sync() reads only the
+// buckets of the bricks whose occupancy count (Voxmap::BrickCount) changed since it last read
+// them: removal only lowers fills, so a brick whose count is unchanged has no voxel that went void
+// and its live points need no look (same seeds, in the same order, as reading every bucket).
+//
+// Change stamps, per brick, let a reader of the points (the contact's candidates,
+// bmKimParkContact.h) redo only the bricks whose points changed: BrickStamp() is the Generation()
+// of the last change (a point added, removed or refreshed) in that brick.
 //
 // One thread at a time (the haptic thread). Units: world mm.
 #pragma once
@@ -60,6 +67,12 @@ public:
   /// Changes whenever a point is added, removed or refreshed (Sync, Cut): what was read from the
   /// shell at one generation still holds while it stays the same.
   uint64_t Generation() const { return Generation_; }
+  /// The Generation() of the last change to brick (bi, bj, bk)'s points (0: none since
+  /// construction): a reader that read the brick at generation g has seen its points as they are
+  /// now exactly when BrickStamp() <= g.
+  uint64_t BrickStamp(int bi, int bj, int bk) const {
+    return Stamps_[size_t(Bone_.BrickIndex(bi, bj, bk))];
+  }
   /// After the engine removed material: finds the points in [lo, hi] whose voxel is now void and
   /// regenerates the shell around them. Returns the number of voxels found void.
   int64_t Sync(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
@@ -84,6 +97,8 @@ private:
   std::vector<int32_t> PointOf_;              // per voxel: point slot or -1
   std::vector<uint8_t> Known_;                // per voxel: 1 = the shell knows it as bone
   std::vector<std::vector<int32_t>> Buckets_; // per brick: point slots
+  std::vector<uint64_t> Stamps_;              // per brick: Generation_ of its last change
+  std::vector<int32_t> SeenCounts_;           // per brick: BrickCount when Sync last read it
   size_t Live_ = 0;
   uint64_t Generation_ = 0;
 };

@@ -24,16 +24,110 @@ void KimParkContact::ToolBox(const Eigen::Matrix3d& R, const Eigen::Vector3d& p,
 void KimParkContact::SetCandidateRadius(double radiusMm) {
   Radius_ = radiusMm > 0 ? radiusMm : 0.0;
   HaveCandidates_ = false;
+  LiveCandidates_ = 0;
+  for (CandidateSet& set : Spare_)
+    set = CandidateSet{};
   Candidates_.clear();
   Keys_.clear();
   Groups_.clear();
 }
 
 bool KimParkContact::Covers(const Eigen::Matrix3d& R, const Eigen::Vector3d& p) const {
-  if (!HaveCandidates_ || Shell_.Generation() != CandidateGeneration_ || R != CandidateR_)
+  if (!HaveCandidates_ || R != CandidateR_)
     return false;
   const Eigen::Vector3d d = p - CandidateP_;
   return d.norm() <= Radius_ && (R.transpose() * d).norm() <= Radius_;
+}
+
+void KimParkContact::SwapSet(CandidateSet& s) const {
+  Candidates_.swap(s.candidates);
+  Keys_.swap(s.keys);
+  AnchorIds_.swap(s.anchorIds);
+  Anchors_.swap(s.anchors);
+  Groups_.swap(s.groups);
+  std::swap(HaveCandidates_, s.have);
+  std::swap(CandidateGeneration_, s.generation);
+  std::swap(CandidateR_, s.R);
+  std::swap(CandidateP_, s.P);
+  std::swap(GatherLo_, s.lo);
+  std::swap(GatherHi_, s.hi);
+  std::swap(LiveCandidates_, s.live);
+  std::swap(LastUse_, s.lastUse);
+}
+
+void KimParkContact::SelectSet(const Eigen::Matrix3d& R, const Eigen::Vector3d& p) const {
+  LastUse_ = ++UseClock_;
+  if (Covers(R, p))
+    return;
+  CandidateSet* oldest = &Spare_[0];
+  for (CandidateSet& s : Spare_) {
+    if (s.have && s.R == R) {
+      const Eigen::Vector3d d = p - s.P;
+      if (d.norm() <= Radius_ && (R.transpose() * d).norm() <= Radius_) {
+        SwapSet(s);
+        LastUse_ = UseClock_;
+        return;
+      }
+    }
+    if (s.lastUse < oldest->lastUse)
+      oldest = &s;
+  }
+  SwapSet(*oldest); // the set in use is kept; the least recently used one is gathered again
+  LastUse_ = UseClock_;
+  Gather(R, p);
+}
+
+void KimParkContact::GatherBrick(int bi, int bj, int bk, const Eigen::Matrix3d& R,
+                                 const Eigen::Vector3d& p, uint8_t anchorId,
+                                 std::vector<Group>& groups) const {
+  const std::vector<int32_t>& bucket = Shell_.Bucket(bi, bj, bk);
+  if (bucket.empty())
+    return;
+  const double rho = Radius_, eps = 1e-9; // eps (mm): far above the rounding of these sums
+  const double L = Sdf_.LipschitzBound();
+  const Eigen::Matrix3d Rt = R.transpose();
+  const Eigen::Vector3d glo = Sdf_.Lo(), ghi = Sdf_.Hi();
+  const Eigen::Vector3d grow = Eigen::Vector3d::Constant(rho + eps);
+  const Voxmap& bone = Shell_.Bone();
+  const int B = Voxmap::kBrick;
+  const double half = 0.5 * (B - 1) * bone.Spacing(); // brick centre to its outer voxel centres
+  const double ball = std::sqrt(3.0) * half + rho + eps;
+  // The brick's points at any covered pose lie within `ball` of its centre's image.
+  const auto cw =
+      bone.GridToWorld({bi * B + 0.5 * (B - 1), bj * B + 0.5 * (B - 1), bk * B + 0.5 * (B - 1)});
+  const Eigen::Vector3d qc = Rt * (Eigen::Vector3d(cw[0], cw[1], cw[2]) - p);
+  if (((qc.array() + ball) < glo.array()).any() || ((qc.array() - ball) > ghi.array()).any())
+    return; // wholly outside the grid: no point passes the box test
+  if (((qc.array() - ball) >= glo.array()).all() && ((qc.array() + ball) < ghi.array()).all()) {
+    if (Sdf_.Value(qc) > L * ball + eps)
+      return; // wholly in the grid and clear of the tool
+  }
+  Group group;
+  group.begin = uint32_t(Candidates_.size());
+  group.brick = {bi, bj, bk};
+  group.anchor = p;
+  for (int32_t slot : bucket) {
+    const SurfacePoint& sp = Shell_.Point(slot);
+    const Eigen::Vector3d q = Rt * (sp.position - p);
+    if (((q.array() + grow.array()) < glo.array()).any() ||
+        ((q.array() - grow.array()) > ghi.array()).any())
+      continue; // fails the box test at every covered pose
+    double d0 = -std::numeric_limits<double>::infinity(); // outside the grid: no bound
+    if (Sdf_.InGrid(q)) {
+      d0 = Sdf_.Value(q);
+      if (d0 >= L * rho + eps)
+        continue; // stays outside the tool at every covered pose
+    }
+    Candidates_.push_back({sp.position, sp.normal, sp.material});
+    Keys_.push_back(d0);
+    AnchorIds_.push_back(anchorId);
+    group.key = std::min(group.key, d0);
+  }
+  group.end = uint32_t(Candidates_.size());
+  if (group.end > group.begin) {
+    groups.push_back(group);
+    LiveCandidates_ += group.end - group.begin;
+  }
 }
 
 void KimParkContact::Gather(const Eigen::Matrix3d& R, const Eigen::Vector3d& p) const {
@@ -42,67 +136,87 @@ void KimParkContact::Gather(const Eigen::Matrix3d& R, const Eigen::Vector3d& p) 
   Keys_.clear();
   AnchorIds_.clear();
   Groups_.clear();
+  LiveCandidates_ = 0;
   Anchors_.assign(1, p);
   CandidateR_ = R;
   CandidateP_ = p;
   CandidateGeneration_ = Shell_.Generation();
   HaveCandidates_ = true;
-  const double rho = Radius_, eps = 1e-9; // eps (mm): far above the rounding of these sums
-  const double L = Sdf_.LipschitzBound();
-  const Eigen::Matrix3d Rt = R.transpose();
-  const Eigen::Vector3d glo = Sdf_.Lo(), ghi = Sdf_.Hi();
-  const Eigen::Vector3d grow = Eigen::Vector3d::Constant(rho + eps);
+  const double eps = 1e-9;
+  const Eigen::Vector3d grow = Eigen::Vector3d::Constant(Radius_ + eps);
   // Every box a covered query scans lies in the whole tool's box at p grown by rho.
   Eigen::Vector3d lo, hi;
   ToolBox(R, p, lo, hi);
-  std::array<int, 3> blo{}, bhi{};
-  Shell_.BrickRange(lo - grow, hi + grow, blo, bhi);
-  const Voxmap& bone = Shell_.Bone();
-  const int B = Voxmap::kBrick;
-  const double half = 0.5 * (B - 1) * bone.Spacing(); // brick centre to its outer voxel centres
-  const double ball = std::sqrt(3.0) * half + rho + eps;
-  for (int bk = blo[2]; bk <= bhi[2]; ++bk)
-    for (int bj = blo[1]; bj <= bhi[1]; ++bj)
-      for (int bi = blo[0]; bi <= bhi[0]; ++bi) {
-        const std::vector<int32_t>& bucket = Shell_.Bucket(bi, bj, bk);
-        if (bucket.empty())
+  Shell_.BrickRange(lo - grow, hi + grow, GatherLo_, GatherHi_);
+  for (int bk = GatherLo_[2]; bk <= GatherHi_[2]; ++bk)
+    for (int bj = GatherLo_[1]; bj <= GatherHi_[1]; ++bj)
+      for (int bi = GatherLo_[0]; bi <= GatherHi_[0]; ++bi)
+        GatherBrick(bi, bj, bk, R, p, 0, Groups_);
+}
+
+void KimParkContact::Refresh() const {
+  const uint64_t seen = CandidateGeneration_;
+  CandidateGeneration_ = Shell_.Generation();
+  // The anchor of the keys gathered again: the gathering position.
+  const double L = Sdf_.LipschitzBound(), eps = 1e-9;
+  const Eigen::Matrix3d Rt = CandidateR_.transpose();
+  if (Anchors_.size() >= kMaxAnchors) { // re-anchor every key at the gathering position
+    for (size_t i = 0; i < Keys_.size(); ++i)
+      Keys_[i] -= L * (Rt * (CandidateP_ - Anchors_[AnchorIds_[i]])).norm() + eps;
+    std::fill(AnchorIds_.begin(), AnchorIds_.end(), uint8_t(0));
+    Anchors_.assign(1, CandidateP_);
+  } else {
+    Anchors_.push_back(CandidateP_);
+  }
+  const uint8_t anchorId = uint8_t(Anchors_.size() - 1);
+  // Merge, in brick order (k, j, i), the unchanged groups with the changed bricks gathered again.
+  auto before = [](const std::array<int, 3>& a, const std::array<int, 3>& b) {
+    return std::array<int, 3>{a[2], a[1], a[0]} < std::array<int, 3>{b[2], b[1], b[0]};
+  };
+  NewGroups_.clear();
+  size_t g = 0;
+  for (int bk = GatherLo_[2]; bk <= GatherHi_[2]; ++bk)
+    for (int bj = GatherLo_[1]; bj <= GatherHi_[1]; ++bj)
+      for (int bi = GatherLo_[0]; bi <= GatherHi_[0]; ++bi) {
+        if (Shell_.BrickStamp(bi, bj, bk) <= seen)
           continue;
-        // The brick's points at any covered pose lie within `ball` of its centre's image.
-        const auto cw = bone.GridToWorld(
-            {bi * B + 0.5 * (B - 1), bj * B + 0.5 * (B - 1), bk * B + 0.5 * (B - 1)});
-        const Eigen::Vector3d qc = Rt * (Eigen::Vector3d(cw[0], cw[1], cw[2]) - p);
-        if (((qc.array() + ball) < glo.array()).any() || ((qc.array() - ball) > ghi.array()).any())
-          continue; // wholly outside the grid: no point passes the box test
-        if (((qc.array() - ball) >= glo.array()).all() &&
-            ((qc.array() + ball) < ghi.array()).all()) {
-          if (Sdf_.Value(qc) > L * ball + eps)
-            continue; // wholly in the grid and clear of the tool
+        const std::array<int, 3> brick{bi, bj, bk};
+        for (; g < Groups_.size() && before(Groups_[g].brick, brick); ++g)
+          NewGroups_.push_back(Groups_[g]);
+        if (g < Groups_.size() && Groups_[g].brick == brick) {
+          LiveCandidates_ -= Groups_[g].end - Groups_[g].begin; // replaced
+          ++g;
         }
-        Group group;
-        group.begin = uint32_t(Candidates_.size());
-        group.brick = {bi, bj, bk};
-        group.anchor = p;
-        for (int32_t slot : bucket) {
-          const SurfacePoint& sp = Shell_.Point(slot);
-          const Eigen::Vector3d q = Rt * (sp.position - p);
-          if (((q.array() + grow.array()) < glo.array()).any() ||
-              ((q.array() - grow.array()) > ghi.array()).any())
-            continue; // fails the box test at every covered pose
-          double d0 = -std::numeric_limits<double>::infinity(); // outside the grid: no bound
-          if (Sdf_.InGrid(q)) {
-            d0 = Sdf_.Value(q);
-            if (d0 >= L * rho + eps)
-              continue; // stays outside the tool at every covered pose
-          }
-          Candidates_.push_back({sp.position, sp.normal, sp.material});
-          Keys_.push_back(d0);
-          AnchorIds_.push_back(0);
-          group.key = std::min(group.key, d0);
-        }
-        group.end = uint32_t(Candidates_.size());
-        if (group.end > group.begin)
-          Groups_.push_back(group);
+        ++RefreshedBricks_;
+        GatherBrick(bi, bj, bk, CandidateR_, CandidateP_, anchorId, NewGroups_);
       }
+  for (; g < Groups_.size(); ++g)
+    NewGroups_.push_back(Groups_[g]);
+  Groups_.swap(NewGroups_);
+  if (Candidates_.size() > 2 * LiveCandidates_ + 4096)
+    Compact();
+}
+
+void KimParkContact::Compact() const {
+  // Into new arrays: a group gathered again sits after the groups that follow it in brick order.
+  std::vector<Candidate> candidates;
+  std::vector<double> keys;
+  std::vector<uint8_t> anchorIds;
+  candidates.reserve(LiveCandidates_);
+  keys.reserve(LiveCandidates_);
+  anchorIds.reserve(LiveCandidates_);
+  for (Group& grp : Groups_) {
+    const uint32_t at = uint32_t(candidates.size());
+    candidates.insert(candidates.end(), Candidates_.begin() + grp.begin,
+                      Candidates_.begin() + grp.end);
+    keys.insert(keys.end(), Keys_.begin() + grp.begin, Keys_.begin() + grp.end);
+    anchorIds.insert(anchorIds.end(), AnchorIds_.begin() + grp.begin, AnchorIds_.begin() + grp.end);
+    grp.end = at + (grp.end - grp.begin);
+    grp.begin = at;
+  }
+  Candidates_.swap(candidates);
+  Keys_.swap(keys);
+  AnchorIds_.swap(anchorIds);
 }
 
 ContactResult KimParkContact::Query(const Eigen::Matrix3d& R, const Eigen::Vector3d& p,
@@ -135,8 +249,9 @@ ContactResult KimParkContact::Query(const Eigen::Matrix3d& R, const Eigen::Vecto
     return d;
   };
   if (Radius_ > 0 && deadBandMm >= 0) {
-    if (!Covers(R, p))
-      Gather(R, p);
+    SelectSet(R, p);
+    if (Shell_.Generation() != CandidateGeneration_)
+      Refresh();
     // A candidate's key is a lower bound of its distance with the tool at its anchor (one of the
     // last kMaxAnchors query positions), so the key less L times the tool's move since then
     // bounds the distance now; a group's key bounds its candidates' at the group's anchor. A point

@@ -27,6 +27,16 @@
 // own anchor: a point (or a group) whose bound less L times the tool's move since is at least
 // -deadBand cannot push (pen <= 0) and is not sampled. The points that push are the same, in the
 // same order, as in a full scan, so the result is bit-identical (TestContactCandidates.cxx).
+// A change of the shell (the engine's removal, a Boolean cut) does not drop the candidates: a
+// covered query first gathers again only the bricks whose points changed since
+// (BoneSurfaceShell::BrickStamp), at the gathering pose, and puts their groups back in brick
+// order; the other bricks' candidates and keys still hold. So a reaming frame, which changes a
+// few bricks at the tool's face, reads the few hundred points of those bricks instead of every
+// point under the tool (RefreshedBricks() counts them).
+// Several candidate sets are kept (kSets, the least recently used replaced): a proxy that moves
+// back and forth across the axis by more than rho from frame to frame (a reamer's lateral limit
+// cycle between its pilot-hole walls) finds the set gathered where it was a few frames before,
+// instead of gathering at every frame.
 //
 // One thread at a time (the haptic thread): Query keeps the candidates in mutable members.
 //
@@ -77,7 +87,9 @@ public:
   /// Shell scans so far: full queries (no candidates) and candidate gathers; for benchmarks.
   int64_t Scans() const { return Scans_; }
   /// Candidates held now (0 without a gather); for benchmarks.
-  size_t CandidateCount() const { return Candidates_.size(); }
+  size_t CandidateCount() const { return LiveCandidates_; }
+  /// Bricks gathered again after a change of the shell, so far; for benchmarks.
+  int64_t RefreshedBricks() const { return RefreshedBricks_; }
   /// Kim et al.'s Boolean removal: bone voxels whose centre is deeper than depthMm inside the tool
   /// at (R, p) are removed and the shell regenerated. Returns voxels removed; fill units in
   /// removedFill.
@@ -99,7 +111,36 @@ private:
   };
   /// Whether the candidates hold every point that can touch at (R, p).
   bool Covers(const Eigen::Matrix3d& R, const Eigen::Vector3d& p) const;
+  /// A candidate set not in use: what the members below hold for the set in use.
+  struct CandidateSet {
+    std::vector<Candidate> candidates;
+    std::vector<double> keys;
+    std::vector<uint8_t> anchorIds;
+    std::vector<Eigen::Vector3d> anchors;
+    std::vector<Group> groups;
+    bool have = false;
+    uint64_t generation = 0;
+    Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+    Eigen::Vector3d P = Eigen::Vector3d::Zero();
+    std::array<int, 3> lo{0, 0, 0}, hi{-1, -1, -1};
+    size_t live = 0;
+    uint64_t lastUse = 0;
+  };
+  /// Exchanges the set in use with `s`.
+  void SwapSet(CandidateSet& s) const;
+  /// Makes a set that covers (R, p) the one in use, gathering one (in place of the least recently
+  /// used) when none does.
+  void SelectSet(const Eigen::Matrix3d& R, const Eigen::Vector3d& p) const;
   void Gather(const Eigen::Matrix3d& R, const Eigen::Vector3d& p) const;
+  /// Appends brick (bi, bj, bk)'s candidates at the gathering pose (R, p), their keys anchored at
+  /// anchor `anchorId` (== p), and its group to `groups` when it has any.
+  void GatherBrick(int bi, int bj, int bk, const Eigen::Matrix3d& R, const Eigen::Vector3d& p,
+                   uint8_t anchorId, std::vector<Group>& groups) const;
+  /// After a change of the shell: gathers again the bricks whose points changed (at the gathering
+  /// pose) and puts their groups back in brick order. Same candidates as a new Gather there.
+  void Refresh() const;
+  /// Drops the candidates of replaced groups from the arrays (keeps the groups' order).
+  void Compact() const;
 
   const ToolDistanceField& Sdf_;
   BoneSurfaceShell& Shell_;
@@ -118,6 +159,13 @@ private:
   mutable uint64_t CandidateGeneration_ = 0;
   mutable Eigen::Matrix3d CandidateR_ = Eigen::Matrix3d::Identity();
   mutable Eigen::Vector3d CandidateP_ = Eigen::Vector3d::Zero(); // where they were gathered, mm
+  mutable std::array<int, 3> GatherLo_{0, 0, 0}, GatherHi_{-1, -1, -1}; // bricks gathered
+  mutable size_t LiveCandidates_ = 0; // candidates of the current groups (the rest: replaced)
+  mutable std::vector<Group> NewGroups_;
+  mutable int64_t RefreshedBricks_ = 0;
+  static constexpr int kSets = 6; // candidate sets kept, the one in use included
+  mutable std::array<CandidateSet, kSets - 1> Spare_;
+  mutable uint64_t LastUse_ = 0, UseClock_ = 0;
   mutable int64_t Scans_ = 0;
 };
 

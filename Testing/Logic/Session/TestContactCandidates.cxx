@@ -1,9 +1,11 @@
 // KimParkContact's candidate points (SetCandidateRadius) are exact: along a wandering path of
 // tool poses, with and without dead band, for the whole tool and for the reamer's leading part,
 // across changes of orientation and of the shell (Boolean cuts), every query equals, bit for bit,
-// the full scan of a contact without candidates on the same shell and field.
+// the full scan of a contact without candidates on the same shell and field, also when the engine's
+// removal changes the shell under them and when the tool jumps between places across the axis.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "bmKimParkContact.h"
@@ -62,6 +64,66 @@ TEST(ContactCandidates, QueriesEqualTheFullScan) {
             << cached.Scans() << " gathers\n";
   EXPECT_GT(touching, 100); // the path does press into the bone
   EXPECT_LT(cached.Scans(), full.Scans() / 4);
+}
+
+// The engine cuts under the candidates every step (BoneSurfaceShell::Sync regenerates the
+// shell, the candidates gather again only the bricks that changed), while the tool sinks and
+// jumps across the axis between three places farther apart than the candidate radius (a lateral
+// limit cycle): every query still equals the full scan, bit for bit, and the candidates are
+// gathered about once per place, not once per step.
+TEST(ContactCandidates, FollowTheEnginesRemovalAndALateralCycleExactly) {
+  const bm::Scene scene = bm::test::GuidedReamerScene(0.25, 48);
+  bm::MachiningSetup setup(scene, bm::MakeSceneBlock(scene));
+  const double h = setup.Bone().Spacing();
+  const bm::ToolDistanceField sdf(setup.Tool(), 64);
+  bm::BoneSurfaceShell shell(setup.Bone());
+  bm::KimParkContact full(sdf, shell), cached(sdf, shell);
+  cached.SetCandidateRadius(2 * h);
+  const Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  const std::array<Eigen::Vector3d, 3> places{Eigen::Vector3d(2.5 * h, 0, 0),
+                                              Eigen::Vector3d(-1.5 * h, 2.2 * h, 0),
+                                              Eigen::Vector3d(-1.5 * h, -2.2 * h, 0)};
+  Eigen::Vector3d prev(places[0](0), places[0](1), 0.1);
+  int64_t removed = 0;
+  int touching = 0;
+  const int steps = 240;
+  const double kSink = 0.0015; // mm a step
+  for (int it = 0; it < steps; ++it) {
+    const double z = 0.02 - kSink * it; // sinking into the bone's top face (z = 0)
+    const Eigen::Vector3d p = places[size_t(it % 3)] + Eigen::Vector3d(0, 0, z);
+    bm::FrameInput in;
+    in.position = p;
+    in.motion = Eigen::Vector3d(0, 0, -kSink);
+    in.feedMmPerRev = 0.01;
+    in.speedRpm = 1000;
+    const bm::FrameResult r = setup.GetEngine().Step(in);
+    removed += r.removedVoxels;
+    if (r.removedVoxels > 0) {
+      Eigen::Vector3d lo0, hi0, lo1, hi1;
+      cached.ToolBox(R, prev, lo0, hi0);
+      cached.ToolBox(R, p, lo1, hi1);
+      shell.Sync(lo0.cwiseMin(lo1), hi0.cwiseMax(hi1));
+    }
+    prev = p;
+    for (double band : {0.0, h}) {
+      const bm::ContactResult a = full.Query(R, p, band), b = cached.Query(R, p, band);
+      ExpectSame(a, b);
+      touching += a.points > 0;
+      ExpectSame(full.Query(R, p, band, bm::ToolPart::NonCuttingLeading, h),
+                 cached.Query(R, p, band, bm::ToolPart::NonCuttingLeading, h));
+    }
+    if (HasFailure())
+      break;
+  }
+  std::cout << "[candidates] " << removed << " voxels removed, " << touching
+            << " queries in contact; " << cached.Scans() << " gathers, " << cached.RefreshedBricks()
+            << " bricks gathered again\n";
+  EXPECT_GT(removed, 0);
+  EXPECT_GT(touching, 100);
+  EXPECT_GT(cached.RefreshedBricks(), 0);
+  // Each place's set holds while the sinking stays within the radius: 3 x (0.36 mm / 0.1 mm + 1)
+  // gathers at most (one per step, 240, with a single set).
+  EXPECT_LE(cached.Scans(), 3 * (int(std::ceil(kSink * steps / (2 * h))) + 1));
 }
 
 } // namespace
