@@ -1,12 +1,15 @@
 #include "bmForceModel.h"
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <numbers>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
 
 #include "bmEdgeQuadrature.h"
+#include "bmResources.h"
 
 namespace bm {
 
@@ -34,16 +37,21 @@ std::string ToString(BasisTerm t) {
     return "V_m_per_min";
   case BasisTerm::InvCuttingSpeed:
     return "1/V_min_per_m";
+  case BasisTerm::InvSpindleSpeed:
+    return "1000/n_per_rpm";
   }
   return "?";
 }
 
 BasisTerm BasisTermFromString(const std::string& s) {
-  for (BasisTerm t : {BasisTerm::One, BasisTerm::OneMinusSinGamma, BasisTerm::ChipThickness,
-                      BasisTerm::CuttingSpeed, BasisTerm::InvCuttingSpeed})
+  for (BasisTerm t :
+       {BasisTerm::One, BasisTerm::OneMinusSinGamma, BasisTerm::ChipThickness,
+        BasisTerm::CuttingSpeed, BasisTerm::InvCuttingSpeed, BasisTerm::InvSpindleSpeed})
     if (ToString(t) == s)
       return t;
-  throw std::invalid_argument("unknown basis term '" + s + "'");
+  throw std::invalid_argument("unknown basis term '" + s +
+                              "' (1, 1-sin(gamma_n), chip_thickness_mm, V_m_per_min, "
+                              "1/V_min_per_m, 1000/n_per_rpm)");
 }
 
 nlohmann::json Coefficients::ToJson() const {
@@ -81,41 +89,116 @@ namespace {
 Coefficients DefaultChisel() {
   return {{BasisTerm::One}, {1000.0}, {500.0}};
 }
+
+// The assumed set (Docs/Model.md section 3): cortical-bone lips with k_f = k_t / k_c = 0.5 and
+// k = c (1 + 0.5 (1 - sin gamma_n)), so the coefficients grow as the rake turns negative (Lazar &
+// Xirouchakis); c is set so that the reference drill at f = 0.02 mm/rev, n = 1000 rpm gives a
+// total thrust of 10 N, the middle of Lee et al.'s (2012) 0-20 N range; the torque follows at
+// 11.35 N mm. No speed term. Every lip element's thrust and torque stay positive (a k_f below
+// about 0.40 would make the outer lip pull the tool in; Testing/Logic/Core checks both). Also
+// shipped as the named set "faieghi-assumed" (Resources/Calibration/faieghi-assumed.json); the
+// measured alternatives are in Docs/Calibration.md.
+ForceModel FaieghiAssumed(Method m, const ToolModel& tool) {
+  CoefficientProvenance p;
+  p.calibrated = false;
+  const std::string onTool =
+      tool.Kind() == "drill"
+          ? std::string()
+          : "; drilling coefficients applied to a " + tool.Kind() +
+                " (no measured data for it: see the reaming-assumed set, Docs/Calibration.md)";
+  if (m == Method::Lazar) {
+    Coefficients lips{
+        {BasisTerm::One, BasisTerm::OneMinusSinGamma}, {600.572, 300.286}, {300.286, 150.143}};
+    ForceModel model(Method::Lazar, lips, DefaultChisel());
+    p.name = "faieghi-assumed";
+    p.source = "assumption: k_f = 0.5, scaled to 10 N thrust for the reference drill at 0.02 "
+               "mm/rev, 1000 rpm (middle of Lee et al. 2012's 0-20 N)" +
+               onTool;
+    model.SetProvenance(p);
+    return model;
+  }
+  // Zheng et al.'s reciprocal-speed form fitted to the assumed Lazar set's entry curves over
+  // f in {0.01, 0.02} mm/rev x n in {500, 3000} rpm by bmCalibration.
+  Coefficients lips{
+      {BasisTerm::One, BasisTerm::InvCuttingSpeed}, {872.070, 17.28516}, {452.591, 7.99249}};
+  ForceModel model(Method::Zheng, lips, DefaultChisel());
+  p.name = "zheng-fit-to-faieghi-assumed";
+  p.source = "Zheng et al.'s k = a + b/V fitted to the faieghi-assumed set's entry curves" + onTool;
+  model.SetProvenance(p);
+  return model;
+}
+
 } // namespace
 
 ForceModel ForceModel::Default(Method m, const ToolModel& tool) {
-  if (m == Method::Lazar) {
-    // Assumption, documented: cortical-bone lips with k_f = k_t / k_c = 0.5 (Docs/Model.md
-    // section 6) and k = c (1 + 0.5 (1 - sin gamma_n)), so the coefficients grow as the rake turns
-    // negative (Lazar & Xirouchakis); c is set so that the reference drill at f = 0.02 mm/rev,
-    // n = 1000 rpm gives a total thrust of 10 N, the middle of Lee et al.'s (2012) 0-20 N range.
-    // The torque follows: 11.35 N mm (Lee et al.: 0-38 N mm). Matching the middle of both ranges
-    // at once would need k_f = 0.385, which makes the outer 4 % of each lip pull the tool in, and
-    // a free gamma_n slope makes k_c negative near the chisel. Every lip element's thrust and
-    // torque stay positive with these values (Testing/Logic/Core checks both).
-    Coefficients lips{
-        {BasisTerm::One, BasisTerm::OneMinusSinGamma}, {600.572, 300.286}, {300.286, 150.143}};
-    return ForceModel(Method::Lazar, lips, DefaultChisel());
-  }
-  (void)tool;
-  // Zheng et al.'s reciprocal-speed form, fitted to the default Lazar model's entry-phase curves
-  // over f in {0.01, 0.02} mm/rev x n in {500, 3000} rpm by bmCalibration (TestDefaults re-derives
-  // these), so the two methods are compared on equal footing.
-  Coefficients lips{
-      {BasisTerm::One, BasisTerm::InvCuttingSpeed}, {872.070, 17.28516}, {452.591, 7.99249}};
-  return ForceModel(Method::Zheng, lips, DefaultChisel());
+  // The assumed set for every tool. The calibrated drilling set (drilling-bovine-orelaja2020) is
+  // shipped as a named alternative, not the default: Docs/Calibration.md section 4 says why.
+  return FaieghiAssumed(m, tool);
 }
 
 nlohmann::json ForceModel::ToJson() const {
-  return {{"method", ToString(Method_)}, {"lips", Lips_.ToJson()}, {"chisel", Chisel_.ToJson()}};
+  return {{"method", ToString(Method_)},          {"lips", Lips_.ToJson()},
+          {"chisel", Chisel_.ToJson()},           {"name", Provenance_.name},
+          {"calibrated", Provenance_.calibrated}, {"source", Provenance_.source}};
 }
 
 ForceModel ForceModel::FromJson(const nlohmann::json& j, const ToolModel& tool) {
+  if (!j.is_object())
+    throw std::invalid_argument("force_model must be a JSON object");
+  if (j.contains("coefficients")) {
+    if (!j.at("coefficients").is_string())
+      throw std::invalid_argument("force_model.coefficients must be a name or a path");
+    for (auto it = j.begin(); it != j.end(); ++it)
+      if (it.key() != "coefficients" && it.key() != "method")
+        throw std::invalid_argument("force_model: '" + it.key() +
+                                    "' cannot be combined with 'coefficients'");
+    const std::string ref = j.at("coefficients").get<std::string>();
+    const nlohmann::json file = LoadCoefficientSet(ref);
+    if (j.contains("method") && j.at("method") != file.value("method", std::string("lazar")))
+      throw std::invalid_argument("force_model.method disagrees with coefficient set '" + ref +
+                                  "'");
+    return FromJson(file, tool);
+  }
   Method m = MethodFromString(j.value("method", std::string("lazar")));
   ForceModel d = Default(m, tool);
+  const bool custom = j.contains("lips") || j.contains("chisel");
   Coefficients lips = j.contains("lips") ? Coefficients::FromJson(j.at("lips")) : d.Lips_;
   Coefficients chisel = j.contains("chisel") ? Coefficients::FromJson(j.at("chisel")) : d.Chisel_;
-  return ForceModel(m, lips, chisel);
+  ForceModel out(m, lips, chisel);
+  CoefficientProvenance p = custom ? CoefficientProvenance{} : d.Provenance_;
+  if (j.contains("name"))
+    p.name = j.at("name").get<std::string>();
+  if (j.contains("calibrated"))
+    p.calibrated = j.at("calibrated").get<bool>();
+  if (j.contains("source"))
+    p.source = j.at("source").get<std::string>();
+  out.SetProvenance(p);
+  return out;
+}
+
+nlohmann::json LoadCoefficientSet(const std::string& nameOrPath) {
+  if (nameOrPath.empty())
+    throw std::invalid_argument("coefficient set: empty name");
+  std::filesystem::path file(nameOrPath);
+  if (!std::filesystem::is_regular_file(file)) {
+    if (nameOrPath.find('/') != std::string::npos || file.has_extension())
+      throw std::invalid_argument("coefficient file '" + nameOrPath + "' not found");
+    file = ResourcePath(std::filesystem::path("Calibration") / (nameOrPath + ".json"));
+    if (!std::filesystem::is_regular_file(file))
+      throw std::invalid_argument("no coefficient set named '" + nameOrPath + "' (" +
+                                  file.string() + " not found)");
+  }
+  std::ifstream in(file);
+  nlohmann::json j;
+  try {
+    in >> j;
+  } catch (const nlohmann::json::exception& e) {
+    throw std::invalid_argument("coefficient file " + file.string() + ": " + e.what());
+  }
+  if (!j.is_object() || !j.contains("lips"))
+    throw std::invalid_argument("coefficient file " + file.string() +
+                                " holds no force model (needs \"lips\")");
+  return j;
 }
 
 ElementTerms ForceModel::Terms(const ToolModel& tool, EdgeKind kind, double r, double f,
@@ -157,6 +240,9 @@ ElementTerms ForceModel::Terms(const ToolModel& tool, EdgeKind kind, double r, d
       break;
     case BasisTerm::InvCuttingSpeed:
       t.g.push_back(1.0 / std::max(V, 1e-9));
+      break;
+    case BasisTerm::InvSpindleSpeed:
+      t.g.push_back(1000.0 / std::max(n, 1e-9));
       break;
     }
   }

@@ -16,6 +16,10 @@
 //  - Lazar (default, Faieghi et al.): basis {1, 1 - sin gamma_n}, feed angle mu kept everywhere.
 //  - Zheng (baseline, Zheng et al. 2012/13): basis {1, 1/V}, mu = 0 on the lips.
 //
+// Every coefficient set carries its provenance (name, calibrated flag, source), written to and read
+// from JSON, so reports can say which set produced a force and whether it was fitted to measured
+// data (Docs/Calibration.md lists the shipped sets).
+//
 // Units: r, delta in mm; f in mm/rev; n in rpm; V in m/min; k in N/mm^2; forces in N.
 #pragma once
 
@@ -41,6 +45,7 @@ enum class BasisTerm {
   ChipThickness,    ///< f cos(mu) / N_c, mm
   CuttingSpeed,     ///< V = 2 pi r n / 1000, m/min
   InvCuttingSpeed,  ///< 1 / V, min/m
+  InvSpindleSpeed,  ///< 1000 / n (n in rpm): 1 at 1000 rpm, the whole tool's speed effect
 };
 std::string ToString(BasisTerm t);
 BasisTerm BasisTermFromString(const std::string& s);
@@ -52,6 +57,13 @@ struct Coefficients {
   std::vector<double> kt;
   nlohmann::json ToJson() const;
   static Coefficients FromJson(const nlohmann::json& j);
+};
+
+/// Where a coefficient set comes from: shown in reports and summaries.
+struct CoefficientProvenance {
+  std::string name = "unnamed"; ///< e.g. "faieghi-assumed", "drilling-bovine-orelaja2020"
+  bool calibrated = false;      ///< true only when fitted to measured forces
+  std::string source;           ///< data and citation, or the assumption made
 };
 
 /// Force on one element per mm of its radial extent delta, in the element's tool-local frame.
@@ -77,11 +89,12 @@ public:
   /// model is the same in both methods (Faieghi et al. compare the lips only).
   ForceModel(Method m, Coefficients lips, Coefficients chisel);
 
-  /// Default coefficients for cortical bone (an assumption, see the .cxx): the Lazar model with
-  /// k_f = 0.5 gives the reference drill at f = 0.02 mm/rev, n = 1000 rpm a thrust of 10 N (the
-  /// middle of Lee et al.'s range) and 11.35 N mm; the Zheng model is fitted to the Lazar
-  /// model's entry-phase curves over the four conditions f in {0.01, 0.02} x n in {500, 3000}
-  /// through the same calibration code, so the two methods are compared on equal footing.
+  /// Default coefficients for cortical bone, the assumed set "faieghi-assumed" (not calibrated;
+  /// Docs/Calibration.md lists it and the measured alternatives): the Lazar model with k_f = 0.5
+  /// gives the reference drill at f = 0.02 mm/rev, n = 1000 rpm a thrust of 10 N (the middle of
+  /// Lee et al.'s range) and 11.35 N mm; the Zheng model is fitted to the Lazar model's
+  /// entry-phase curves over the four conditions f in {0.01, 0.02} x n in {500, 3000} through the
+  /// same calibration code, so the two methods are compared on equal footing.
   static ForceModel Default(Method m, const ToolModel& tool);
 
   Method GetMethod() const { return Method_; }
@@ -89,7 +102,12 @@ public:
   const Coefficients& ChiselCoefficients() const { return Chisel_; }
   void SetLipCoefficients(const Coefficients& c);
   nlohmann::json ToJson() const;
-  /// {"method": "lazar"|"zheng", "lips": {...}, "chisel": {...}}; missing parts take defaults.
+  const CoefficientProvenance& Provenance() const { return Provenance_; }
+  void SetProvenance(const CoefficientProvenance& p) { Provenance_ = p; }
+  /// {"method": "lazar"|"zheng", "lips": {...}, "chisel": {...}, "name": ..., "calibrated": ...,
+  /// "source": ...}; missing parts take defaults. {"coefficients": NAME_OR_PATH} loads a
+  /// coefficient file (LoadCoefficientSet) instead; other keys then must not be given, except a
+  /// "method" that agrees with the file's.
   static ForceModel FromJson(const nlohmann::json& j, const ToolModel& tool);
   /// Whether the feed angle is kept on the lips (Lazar yes, Zheng no; chisel edges keep it).
   bool UsesFeedAngleOnLips() const { return Method_ == Method::Lazar; }
@@ -104,7 +122,13 @@ private:
   Method Method_ = Method::Lazar;
   Coefficients Lips_;
   Coefficients Chisel_;
+  CoefficientProvenance Provenance_;
 };
+
+/// A coefficient file: NAME_OR_PATH is a path to a JSON file (ForceModel::ToJson) when such a file
+/// exists, else the name of a shipped set, Resources/Calibration/NAME.json. Throws
+/// std::invalid_argument naming the file when it is missing or malformed.
+nlohmann::json LoadCoefficientSet(const std::string& nameOrPath);
 
 /// Force of one radial bin of an edge per mm of delta, averaged over the bin's width (4-point
 /// Gauss-Legendre): taking the bin centre overstates the chisel's thrust near the axis, where the

@@ -94,8 +94,15 @@ TEST(Calibration, RejectsUnderdeterminedInput) {
   const bm::TwistDrill drill;
   const bm::ForceModel model = bm::ForceModel::Default(bm::Method::Lazar, drill);
   EXPECT_THROW(bm::Calibrate(drill, bm::Method::Lazar, {}, model, {}), std::invalid_argument);
+  // One sample (a thrust and a torque) cannot determine four coefficients.
+  const std::vector<bm::BasisTerm> two{bm::BasisTerm::One, bm::BasisTerm::OneMinusSinGamma};
   const auto one = bm::EntryCurves(drill, model, {{0.02, 1000}}, 1);
-  EXPECT_THROW(bm::Calibrate(drill, bm::Method::Lazar, model.LipCoefficients().basis, model, one),
+  EXPECT_THROW(bm::Calibrate(drill, bm::Method::Lazar, two, model, one), std::invalid_argument);
+  // At a single speed the terms 1 and 1000 / n are the same column: the rank check refuses.
+  const auto sameSpeed = bm::EntryCurves(drill, model, {{0.01, 1000}, {0.02, 1000}}, 4);
+  EXPECT_THROW(bm::Calibrate(drill, bm::Method::Lazar,
+                             {bm::BasisTerm::One, bm::BasisTerm::InvSpindleSpeed}, model,
+                             sameSpeed),
                std::invalid_argument);
   EXPECT_THROW(bm::CrossValidate(drill, bm::Method::Lazar, model.LipCoefficients().basis, model,
                                  bm::EntryCurves(drill, model, {{0.02, 1000}}, 5)),

