@@ -81,8 +81,8 @@ public:
 
   void initCT();
   QVector<QDoubleSpinBox*> roiBoxes() const {
-    return {this->RoiX0SpinBox, this->RoiX1SpinBox, this->RoiY0SpinBox,
-            this->RoiY1SpinBox, this->RoiZ0SpinBox, this->RoiZ1SpinBox};
+    return {this->RoiX0SpinBox, this->RoiY0SpinBox, this->RoiZ0SpinBox,
+            this->RoiX1SpinBox, this->RoiY1SpinBox, this->RoiZ1SpinBox};
   }
   QVector<QDoubleSpinBox*> axisBoxes() const {
     return {this->AxisXSpinBox, this->AxisYSpinBox, this->AxisZSpinBox};

@@ -70,7 +70,7 @@ public:
   /// Why a Touch cannot be used ("" when it can), as probed when the panel was made.
   QString touchStatus() const;
   /// CT bone: the DICOM folder or CT file (""), the bone threshold (HU, default 200), the region
-  /// of interest (x0, x1, y0, y1, z0, z1 mm; all zero, the default: none), the preview's voxmap
+  /// of interest (x0, y0, z0, x1, y1, z1 mm; all zero, the default: none), the preview's voxmap
   /// cells along the region's longest side (default 96).
   QString ctFileName() const;
   double thresholdHU() const;

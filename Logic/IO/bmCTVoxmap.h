@@ -2,6 +2,7 @@
 // (files using Eigen 3.4 must not mix in ITK's bundled Eigen 3.3): takes plain JSON and strings.
 #pragma once
 
+#include <array>
 #include <functional>
 #include <string>
 
@@ -18,5 +19,30 @@ namespace bm {
 /// Throws std::runtime_error naming the problem.
 Voxmap MakeCTVoxmap(const nlohmann::json& ct, const std::string& baseDir, int resolution,
                     const std::function<bool(double, const std::string&)>& progress = {});
+
+/// A CT volume held in memory as plain arrays (a VTK image's point scalars): values[i + nx (j +
+/// ny k)], HU unless the import options say otherwise. World position (mm) of voxel (i, j, k):
+/// origin + D (i sx, j sy, k sz), D = direction (row-major 3 x 3, its columns the image axes).
+struct CTVolumeView {
+  const float* values = nullptr;
+  std::array<int, 3> dims{0, 0, 0};
+  std::array<double, 3> spacing{1, 1, 1}; ///< mm
+  std::array<double, 3> origin{0, 0, 0};  ///< world mm of voxel (0, 0, 0)
+  std::array<double, 9> direction{1, 0, 0, 0, 1, 0, 0, 0, 1};
+  std::string source = "image data"; ///< what the volume is, for the report
+};
+
+/// The bone of an in-memory CT volume as a voxmap: the import of MakeCTVoxmap (options: the
+/// import keys of a scene's bone, bmImport.h ImportOptionsFromJson; any "ct" key is ignored).
+/// `report` (optional) receives the import's summary. Throws std::runtime_error naming the
+/// problem (empty volume, spacing <= 0, no bone).
+Voxmap MakeCTVoxmapFromVolume(const CTVolumeView& volume, const nlohmann::json& options,
+                              int resolution,
+                              const std::function<bool(double, const std::string&)>& progress = {},
+                              std::string* report = nullptr);
+
+/// Write an in-memory CT volume as a MetaImage (.mha) file a scene's "ct" key can name. Throws
+/// std::runtime_error when it cannot be written.
+void SaveCTVolume(const CTVolumeView& volume, const std::string& path);
 
 } // namespace bm

@@ -6,41 +6,86 @@
 #endif
 #include "bmVoxmap.h"
 
+#include "vtkAlgorithmOutput.h"
+#include "vtkDataArray.h"
+#include "vtkDataSetReader.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkMatrix3x3.h"
+#include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
+#include "vtkSmartPointer.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkXMLImageDataReader.h"
 
 #include <nlohmann/json.hpp>
 
+#include <unistd.h>
+
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <exception>
 #include <filesystem>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 class vtkBMCTBoneSource::vtkInternals {
 public:
   std::string Error;
   std::string Specification;
   std::unique_ptr<bm::Voxmap> Bone; ///< the last import's voxmap (null when it failed)
-  vtkMTimeType ImportTime = 0;      ///< this source's MTime at the last import
+  vtkTimeStamp ImportTime;          ///< when the last import ran
+  const void* Input = nullptr;      ///< the input image of the last import (identity only)
+  vtkMTimeType InputMTime = 0;      ///< its MTime then
+  std::string CTCopy;               ///< MetaImage copy of an input image / VTK file ("" none)
+  std::string CopyOf;               ///< what CTCopy holds (file name or input identity + MTime)
+  ~vtkInternals() {
+    std::error_code ec;
+    if (!this->CTCopy.empty())
+      std::filesystem::remove(this->CTCopy, ec);
+  }
 };
+
+namespace {
+bool IsVTKImageFile(const std::string& path) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  return ext == ".vti" || ext == ".vtk" || ext == ".VTI" || ext == ".VTK";
+}
+} // namespace
 
 vtkStandardNewMacro(vtkBMCTBoneSource);
 
 vtkBMCTBoneSource::vtkBMCTBoneSource() : Internals(new vtkInternals) {
-  this->SetNumberOfInputPorts(0);
+  this->SetNumberOfInputPorts(1);
 }
 
 vtkBMCTBoneSource::~vtkBMCTBoneSource() {
   this->SetFileName(nullptr);
   delete this->Internals;
+}
+
+int vtkBMCTBoneSource::FillInputPortInformation(int, vtkInformation* info) {
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkImageData");
+  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+  return 1;
+}
+
+int vtkBMCTBoneSource::RequestUpdateExtent(vtkInformation*, vtkInformationVector** inputVector,
+                                           vtkInformationVector*) {
+  // The whole input CT, whatever part of the voxmap image is asked for.
+  if (inputVector[0]->GetNumberOfInformationObjects() > 0) {
+    vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+    if (inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+      inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
+                  inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
+  }
+  return 1;
 }
 
 const char* vtkBMCTBoneSource::GetLastError() {
@@ -50,13 +95,15 @@ const char* vtkBMCTBoneSource::GetLastError() {
 const char* vtkBMCTBoneSource::GetBoneSpecification() {
   std::string& spec = this->Internals->Specification;
   spec.clear();
-  if (!this->FileName || !*this->FileName)
+  const bool viaCopy = this->GetNumberOfInputConnections(0) > 0 ||
+                       (this->FileName && IsVTKImageFile(this->FileName));
+  if (viaCopy ? this->Internals->CTCopy.empty() : (!this->FileName || !*this->FileName))
     return spec.c_str();
   nlohmann::json j;
-  j["ct"] = std::filesystem::absolute(this->FileName).string();
+  j["ct"] = viaCopy ? this->Internals->CTCopy : std::filesystem::absolute(this->FileName).string();
   j["threshold"] = this->ThresholdHU;
-  if (this->ROI[1] > this->ROI[0] && this->ROI[3] > this->ROI[2] && this->ROI[5] > this->ROI[4])
-    j["roi"] = {this->ROI[0], this->ROI[2], this->ROI[4], this->ROI[1], this->ROI[3], this->ROI[5]};
+  if (this->ROI[3] > this->ROI[0] && this->ROI[4] > this->ROI[1] && this->ROI[5] > this->ROI[2])
+    j["roi"] = {this->ROI[0], this->ROI[1], this->ROI[2], this->ROI[3], this->ROI[4], this->ROI[5]};
   spec = j.dump();
   return spec.c_str();
 }
@@ -66,9 +113,20 @@ int vtkBMCTBoneSource::RequestInformation(vtkInformation*, vtkInformationVector*
   // The import runs here (once per change of the settings): image consumers need the extent,
   // origin and spacing before they request data.
   vtkInternals& in = *this->Internals;
-  if (this->GetMTime() > in.ImportTime) {
-    in.ImportTime = this->GetMTime();
-    this->Import();
+  vtkImageData* input = nullptr;
+  if (this->GetNumberOfInputConnections(0) > 0) {
+    // The input CT is imported here, so it must be current before its data is requested.
+    vtkAlgorithmOutput* connection = this->GetInputConnection(0, 0);
+    vtkAlgorithm* producer = connection->GetProducer();
+    producer->UpdateWholeExtent();
+    input = vtkImageData::SafeDownCast(producer->GetOutputDataObject(connection->GetIndex()));
+  }
+  if (this->GetMTime() > in.ImportTime.GetMTime() || input != in.Input ||
+      (input && input->GetMTime() != in.InputMTime)) {
+    in.Input = input;
+    in.InputMTime = input ? input->GetMTime() : 0;
+    this->Import(input);
+    in.ImportTime.Modified();
   }
   vtkInformation* info = outputVector->GetInformationObject(0);
   int extent[6] = {0, -1, 0, -1, 0, -1};
@@ -87,7 +145,7 @@ int vtkBMCTBoneSource::RequestInformation(vtkInformation*, vtkInformationVector*
   return 1;
 }
 
-void vtkBMCTBoneSource::Import() {
+void vtkBMCTBoneSource::Import(vtkImageData* input) {
   vtkInternals& in = *this->Internals;
   in.Error.clear();
   in.Bone.reset();
@@ -96,22 +154,103 @@ void vtkBMCTBoneSource::Import() {
   for (double& b : this->BoneBounds)
     b = 0;
   try {
-    if (!this->FileName || !*this->FileName)
-      throw std::runtime_error("no CT chosen: set a DICOM folder or a CT file");
+    if (!input && (!this->FileName || !*this->FileName))
+      throw std::runtime_error(
+          "no CT chosen: connect a CT image or set a DICOM folder or a CT file");
     const bool anyRoi = this->ROI[0] != 0 || this->ROI[1] != 0 || this->ROI[2] != 0 ||
                         this->ROI[3] != 0 || this->ROI[4] != 0 || this->ROI[5] != 0;
     const bool validRoi =
-        this->ROI[1] > this->ROI[0] && this->ROI[3] > this->ROI[2] && this->ROI[5] > this->ROI[4];
+        this->ROI[3] > this->ROI[0] && this->ROI[4] > this->ROI[1] && this->ROI[5] > this->ROI[2];
     if (anyRoi && !validRoi)
-      throw std::runtime_error("the region of interest is empty: each max must exceed its min");
+      throw std::runtime_error("the region of interest is inverted or empty: give x0, y0, z0, "
+                               "x1, y1, z1 (mm) with each x1 above its x0");
     const double axisNorm =
         std::sqrt(this->Axis[0] * this->Axis[0] + this->Axis[1] * this->Axis[1] +
                   this->Axis[2] * this->Axis[2]);
     if (!(axisNorm > 0))
       throw std::runtime_error("the axis is zero: give the direction the tool comes in along");
 #ifdef BM_WITH_IO
-    const nlohmann::json spec = nlohmann::json::parse(this->GetBoneSpecification());
-    in.Bone = std::make_unique<bm::Voxmap>(bm::MakeCTVoxmap(spec, "", this->Resolution));
+    auto progress = [this](double f, const std::string&) {
+      this->UpdateProgress(f);
+      return !this->GetAbortExecute();
+    };
+    // A VTK image file is read by VTK's readers, then imported as an input image.
+    vtkSmartPointer<vtkImageData> fromFile;
+    std::string source = "the input image";
+    if (!input && IsVTKImageFile(this->FileName)) {
+      if (!std::filesystem::is_regular_file(this->FileName))
+        throw std::runtime_error(std::string("cannot read '") + this->FileName + "': no such file");
+      source = this->FileName;
+      const std::string ext = std::filesystem::path(this->FileName).extension().string();
+      if (ext == ".vti" || ext == ".VTI") {
+        vtkNew<vtkXMLImageDataReader> reader;
+        reader->SetFileName(this->FileName);
+        reader->Update();
+        fromFile = reader->GetOutput();
+      } else {
+        vtkNew<vtkDataSetReader> reader;
+        reader->SetFileName(this->FileName);
+        reader->Update();
+        fromFile = vtkImageData::SafeDownCast(reader->GetOutput());
+      }
+      if (!fromFile || fromFile->GetNumberOfPoints() == 0)
+        throw std::runtime_error(std::string("cannot read '") + this->FileName +
+                                 "' as a VTK image (structured points)");
+      input = fromFile;
+    }
+    if (input) {
+      vtkDataArray* values = input->GetPointData()->GetScalars();
+      if (!values && input->GetPointData()->GetNumberOfArrays() > 0)
+        values = input->GetPointData()->GetArray(0);
+      if (!values)
+        throw std::runtime_error(source + " has no point scalars (the CT's values)");
+      bm::CTVolumeView view;
+      int ext[6];
+      input->GetExtent(ext);
+      const double* sp = input->GetSpacing();
+      const double* o = input->GetOrigin();
+      vtkMatrix3x3* d = input->GetDirectionMatrix();
+      for (int a = 0; a < 3; ++a) {
+        view.dims[a] = ext[2 * a + 1] - ext[2 * a] + 1;
+        view.spacing[a] = sp[a];
+        for (int c = 0; c < 3; ++c)
+          view.direction[size_t(3 * a + c)] = d->GetElement(a, c);
+      }
+      for (int a = 0; a < 3; ++a) // world of the first voxel: origin + D (ext_min * spacing)
+        view.origin[a] = o[a] + d->GetElement(a, 0) * ext[0] * sp[0] +
+                         d->GetElement(a, 1) * ext[2] * sp[1] +
+                         d->GetElement(a, 2) * ext[4] * sp[2];
+      const vtkIdType n = values->GetNumberOfTuples();
+      std::vector<float> hu(static_cast<size_t>(n));
+      for (vtkIdType i = 0; i < n; ++i)
+        hu[size_t(i)] = float(values->GetComponent(i, 0));
+      view.values = hu.data();
+      view.source = source;
+      nlohmann::json options;
+      options["threshold"] = this->ThresholdHU;
+      if (validRoi)
+        options["roi"] = {this->ROI[0], this->ROI[1], this->ROI[2],
+                          this->ROI[3], this->ROI[4], this->ROI[5]};
+      in.Bone = std::make_unique<bm::Voxmap>(
+          bm::MakeCTVoxmapFromVolume(view, options, this->Resolution, progress));
+      // The CT as a file a session can import at its own resolution (once per CT).
+      const std::string copyOf = fromFile ? std::string(this->FileName)
+                                          : std::to_string(reinterpret_cast<uintptr_t>(in.Input)) +
+                                                "@" + std::to_string(in.InputMTime);
+      if (in.CTCopy.empty() || in.CopyOf != copyOf) {
+        if (in.CTCopy.empty())
+          in.CTCopy = (std::filesystem::temp_directory_path() /
+                       ("bm-ct-bone-" + std::to_string(::getpid()) + "-" +
+                        std::to_string(reinterpret_cast<uintptr_t>(this)) + ".mha"))
+                          .string();
+        bm::SaveCTVolume(view, in.CTCopy);
+        in.CopyOf = copyOf;
+      }
+    } else {
+      const nlohmann::json spec = nlohmann::json::parse(this->GetBoneSpecification());
+      in.Bone =
+          std::make_unique<bm::Voxmap>(bm::MakeCTVoxmap(spec, "", this->Resolution, progress));
+    }
 #else
     throw std::runtime_error("CT import needs the IO library, which this build leaves out");
 #endif

@@ -1,19 +1,26 @@
-// vtkBMCTBoneSource.h - preview of a CT's bone as the machining voxmap sees it: a CT (DICOM
-// folder, or a .nrrd / .mha / .nii / .nii.gz / .dcm file, as Logic/IO reads them) segmented at a
-// threshold (HU) inside a region of interest (mm), resampled to a voxmap.
+// vtkBMCTBoneSource.h - a CT's bone as the machining voxmap sees it: the CT step of the plugin,
+// a filter with an OPTIONAL vtkImageData input. The CT is
+//  - the input image when one is connected (any CT ParaView opened: DICOM, NRRD, MHA, NIfTI,
+//    .vti/.vtk, ...; its active point scalars, first component, as HU; origin, spacing and
+//    direction in world mm), else
+//  - FileName: a DICOM folder, a .nrrd / .mha / .nii / .nii.gz / .dcm file as Logic/IO reads
+//    them, or a VTK image file (.vti, or legacy .vtk structured points) read by VTK's readers;
+// segmented at a threshold (HU) inside a region of interest (mm), resampled to a voxmap.
 //
-// The same import `bmsim import` and CT scenes run (bm::MakeCTVoxmap -> bm::VoxmapFromScene:
-// read, crop to the ROI, segment, resample), so what the preview shows is what a session on
-// this bone machines. Output: vtkImageData with point data BoneFraction (0..1, the voxmap's fill
-// fraction at the voxel centres, world mm), for an outline, a slice or volume rendering in
-// ParaView. Information: the bone's voxel count and volume, its bounds, an entry point suggested
-// on the bone's surface along an axis, and the bone specification (JSON) a vtkBMSessionSource
-// machines (SetBoneCT()).
+// The same import `bmsim import` and CT scenes run (Logic/IO bmImport: read, crop to the ROI,
+// segment, separate, fill cavities, resample; Docs/Segmentation.md), so what the preview shows
+// is what a session on this bone machines. Output: vtkImageData with point data BoneFraction
+// (0..1, the voxmap's fill fraction at the voxel centres, world mm), for an outline, a slice or
+// volume rendering in ParaView. Information: the bone's voxel count and volume, its bounds, an
+// entry point suggested on the bone's surface along an axis, and the bone specification (JSON)
+// a vtkBMSessionSource machines (SetBoneCT(); an input image or a VTK file is first written as a
+// MetaImage CT in the temporary folder so the session can import it at its own resolution).
 //
 // The import runs in RequestInformation (so that the image's extent is known before data is
-// requested), once per change of the settings. Bad input (missing file, no bone above the
-// threshold, an empty ROI) fails the execution with the importer's message in GetLastError();
-// the output is then empty.
+// requested; an input is brought up to date first), once per change of the settings or the
+// input, reporting through UpdateProgress (ParaView's progress bar). Bad input (missing file,
+// no bone above the threshold, an inverted ROI) fails the execution with the importer's message
+// in GetLastError(); the output is then empty.
 //
 // Units: mm, HU, mm^3.
 #pragma once
@@ -28,7 +35,8 @@ public:
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
-  /// The CT: a DICOM folder or a volume file (.nrrd, .mha, .nii, .nii.gz, .dcm). Default none.
+  /// The CT when no input image is connected: a DICOM folder or a volume file (.nrrd, .mha,
+  /// .nii, .nii.gz, .dcm, .vti, .vtk). Default none.
   vtkSetStringMacro(FileName);
   vtkGetStringMacro(FileName);
   ///@}
@@ -38,8 +46,9 @@ public:
   vtkGetMacro(ThresholdHU, double);
   ///@}
   ///@{
-  /// Region of interest (x0, x1, y0, y1, z0, z1), world mm. An empty box (any x1 <= x0, the
-  /// default all zeros) means none: the bounding box of the segmented bone.
+  /// Region of interest (x0, y0, z0, x1, y1, z1: the one ROI order of the CLI and scenes), world
+  /// mm. All zeros (the default) means none: the bounding box of the segmented bone. An inverted
+  /// or empty box (any x1 <= x0, ...) is an error.
   vtkSetVector6Macro(ROI, double);
   vtkGetVector6Macro(ROI, double);
   ///@}
@@ -67,15 +76,19 @@ public:
   vtkGetVector3Macro(SuggestedEntry, double);
   /// Why the last execution failed ("" when it succeeded).
   const char* GetLastError();
-  /// The bone as a session machines it: {"ct": FileName (absolute), "threshold": HU, "roi":
-  /// [x0, y0, z0, x1, y1, z1]} (roi only when set), the "ct" description of a scene's bone
-  /// (bmImport.h ImportOptionsFromJson). "" without a FileName.
+  /// The bone as a session machines it: {"ct": CT file (absolute; for an input image or a VTK
+  /// file, the MetaImage copy written at the last import), "threshold": HU, "roi": [x0, y0, z0,
+  /// x1, y1, z1]} (roi only when set), the "ct" description of a scene's bone (bmImport.h
+  /// ImportOptionsFromJson). "" without a CT.
   const char* GetBoneSpecification();
   ///@}
 
 protected:
   vtkBMCTBoneSource();
   ~vtkBMCTBoneSource() override;
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestUpdateExtent(vtkInformation* request, vtkInformationVector** inputVector,
+                          vtkInformationVector* outputVector) override;
   int RequestInformation(vtkInformation* request, vtkInformationVector** inputVector,
                          vtkInformationVector* outputVector) override;
   int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
@@ -92,9 +105,9 @@ protected:
   double SuggestedEntry[3] = {0, 0, 0};
 
 private:
-  /// Imports the CT with the current settings into the internals and fills the results (or
-  /// the error).
-  void Import();
+  /// Imports the CT (`input` when not null, else FileName) with the current settings into the
+  /// internals and fills the results (or the error).
+  void Import(class vtkImageData* input);
   vtkBMCTBoneSource(const vtkBMCTBoneSource&) = delete;
   void operator=(const vtkBMCTBoneSource&) = delete;
 

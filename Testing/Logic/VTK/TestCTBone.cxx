@@ -4,14 +4,18 @@
 #include "vtkBMCTBoneSource.h"
 #include "vtkBMSessionSource.h"
 
+#include "vtkCallbackCommand.h"
+#include "vtkCommand.h"
 #include "vtkDataArray.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
+#include "vtkSmartPointer.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <filesystem>
@@ -38,6 +42,42 @@ fs::path WriteBlockCT(const fs::path& dir) {
         out << (bone ? 1600 : -1000) << "\n";
       }
   return path;
+}
+
+/// The same block CT as a vtkImageData in memory (HU as short point scalars).
+vtkSmartPointer<vtkImageData> BlockImage() {
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(40, 40, 30);
+  image->SetSpacing(0.2, 0.2, 0.2);
+  image->SetOrigin(-3.9, -3.9, -4.9);
+  image->AllocateScalars(VTK_SHORT, 1);
+  auto* v = static_cast<short*>(image->GetScalarPointer());
+  for (int k = 0; k < 30; ++k)
+    for (int j = 0; j < 40; ++j)
+      for (int i = 0; i < 40; ++i) {
+        const double x = -3.9 + 0.2 * i, y = -3.9 + 0.2 * j, z = -4.9 + 0.2 * k;
+        const bool bone = x > -2 && x < 2 && y > -2 && y < 2 && z > -3 && z < 0;
+        *v++ = bone ? 1600 : -1000;
+      }
+  return image;
+}
+
+/// The block CT as a legacy VTK structured-points file (ASCII).
+fs::path WriteBlockVTK(const fs::path& dir) {
+  const fs::path path = dir / "block.vtk";
+  std::ofstream out(path);
+  out << "# vtk DataFile Version 3.0\nblock CT\nASCII\nDATASET STRUCTURED_POINTS\n"
+         "DIMENSIONS 40 40 30\nORIGIN -3.9 -3.9 -4.9\nSPACING 0.2 0.2 0.2\n"
+         "POINT_DATA 48000\nSCALARS HU short 1\nLOOKUP_TABLE default\n";
+  vtkSmartPointer<vtkImageData> image = BlockImage();
+  const auto* v = static_cast<const short*>(image->GetScalarPointer());
+  for (int n = 0; n < 48000; ++n)
+    out << v[n] << "\n";
+  return path;
+}
+
+void CountProgress(vtkObject*, unsigned long, void* count, void*) {
+  ++*static_cast<int*>(count);
 }
 
 struct Scratch {
@@ -79,7 +119,7 @@ TEST(CTBoneSource, PreviewsTheBoneAtThresholdAndRegion) {
     EXPECT_EQ(extent[2 * a + 1] - extent[2 * a] + 1, dims[a]);
 
   // Half the block by the region of interest (x in [-2, 0]).
-  source->SetROI(-5, 0, -5, 5, -5, 5);
+  source->SetROI(-5, -5, -5, 0, 5, 5); // x0, y0, z0, x1, y1, z1
   source->Update();
   ASSERT_STREQ(source->GetLastError(), "");
   EXPECT_NEAR(source->GetBoneVolumeMm3(), 24.0, 1.5);
@@ -88,9 +128,9 @@ TEST(CTBoneSource, PreviewsTheBoneAtThresholdAndRegion) {
   EXPECT_NE(spec.find("\"threshold\":500.0"), std::string::npos) << spec;
 
   // Bad input is named.
-  source->SetROI(1, 0, -5, 5, -5, 5);
+  source->SetROI(1, -5, -5, 0, 5, 5); // inverted along x: an error, not swapped
   source->Update();
-  EXPECT_NE(std::string(source->GetLastError()).find("region of interest is empty"),
+  EXPECT_NE(std::string(source->GetLastError()).find("region of interest is inverted"),
             std::string::npos);
   source->SetROI(0, 0, 0, 0, 0, 0);
   source->SetThresholdHU(3000); // above every voxel
@@ -101,6 +141,66 @@ TEST(CTBoneSource, PreviewsTheBoneAtThresholdAndRegion) {
   source->SetThresholdHU(500);
   source->Update();
   EXPECT_NE(std::string(source->GetLastError()).find("missing.nrrd"), std::string::npos);
+}
+
+TEST(CTBoneSource, FiltersACTImageFromTheHostViewer) {
+  // A CT any ParaView reader produced, fed in as the filter's (optional) input: the FileName is
+  // not needed, the bone is the block's, progress is reported, and the bone specification names
+  // a copy of the CT a session can import.
+  vtkNew<vtkBMCTBoneSource> filter;
+  vtkSmartPointer<vtkImageData> ct = BlockImage();
+  filter->SetInputData(ct);
+  filter->SetThresholdHU(500);
+  filter->SetResolution(48);
+  int progressEvents = 0;
+  vtkNew<vtkCallbackCommand> onProgress;
+  onProgress->SetCallback(CountProgress);
+  onProgress->SetClientData(&progressEvents);
+  filter->AddObserver(vtkCommand::ProgressEvent, onProgress);
+  filter->Update();
+  ASSERT_STREQ(filter->GetLastError(), "");
+  EXPECT_NEAR(filter->GetBoneVolumeMm3(), 48.0, 2.5); // 4 x 4 x 3 mm
+  EXPECT_GT(progressEvents, 3);
+  const double* b = filter->GetBoneBounds();
+  EXPECT_NEAR(b[1] - b[0], 4.2, 0.2); // 4 mm and half a CT voxel either side
+  EXPECT_NEAR(0.5 * (b[4] + b[5]), -1.5, 0.15);
+  const nlohmann::json spec = nlohmann::json::parse(filter->GetBoneSpecification());
+  ASSERT_TRUE(spec.contains("ct")) << spec.dump();
+  EXPECT_TRUE(fs::exists(spec["ct"].get<std::string>()));
+
+  // A changed input is imported again: half the block (x > 0) set to soft tissue.
+  auto* v = static_cast<short*>(ct->GetScalarPointer());
+  for (int k = 0; k < 30; ++k)
+    for (int j = 0; j < 40; ++j)
+      for (int i = 20; i < 40; ++i)
+        v[i + 40 * (j + 40 * k)] = 40;
+  ct->Modified();
+  filter->Update();
+  ASSERT_STREQ(filter->GetLastError(), "");
+  EXPECT_NEAR(filter->GetBoneVolumeMm3(), 24.0, 1.5);
+
+  // An image with no values is named.
+  vtkNew<vtkImageData> empty;
+  empty->SetDimensions(4, 4, 4);
+  filter->SetInputData(empty);
+  filter->Update();
+  EXPECT_NE(std::string(filter->GetLastError()).find("no point scalars"), std::string::npos)
+      << filter->GetLastError();
+}
+
+TEST(CTBoneSource, ReadsAVTKImageFile) {
+  Scratch s("vtk-file");
+  const std::string path = WriteBlockVTK(s.dir).string();
+  vtkNew<vtkBMCTBoneSource> source;
+  source->SetFileName(path.c_str());
+  source->SetThresholdHU(500);
+  source->SetResolution(48);
+  source->Update();
+  ASSERT_STREQ(source->GetLastError(), "");
+  EXPECT_NEAR(source->GetBoneVolumeMm3(), 48.0, 2.5);
+  source->SetFileName((s.dir / "missing.vti").string().c_str());
+  source->Update();
+  EXPECT_NE(std::string(source->GetLastError()).find("missing.vti"), std::string::npos);
 }
 
 TEST(CTBoneSource, SessionMachinesTheCTBoneFromTheEntry) {
@@ -135,10 +235,11 @@ TEST(CTBoneSource, SessionMachinesTheCTBoneFromTheEntry) {
   }
   EXPECT_EQ(session->GetState(), 2); // paused at the frame limit
   EXPECT_GT(session->GetRemovedVolumeMm3(), 0.05) << "the drill cut none of the CT bone";
-  // The session's bone is the CT block (4 mm wide), not the scene's 5 mm block.
+  // The session's bone is the CT block (4 mm wide, its voxmap covering half a CT voxel more on
+  // each side: 4.2 mm), not the scene's 5 mm block.
   double b[6];
   session->GetBoneImage()->GetBounds(b);
-  EXPECT_NEAR(b[1] - b[0], 4.0, 0.2);
+  EXPECT_NEAR(b[1] - b[0], 4.2, 0.2);
 
   session->SetBoneFile(ct.c_str());
   EXPECT_FALSE(session->Start());
