@@ -159,8 +159,7 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
                                : ScriptMode::Trajectory;
     if (seed)
       o.handSeed = uint64_t(*seed);
-    // The tool's foremost cutting point starts `clearance` above the entry (as in the feed trial):
-    // a reamer's origin is not at its face.
+    // The tool's foremost cutting point starts `clearance` above the entry, as in the feed trial.
     o.startMm = t.entry + axis * t.clearanceMm -
                 setup.ToolRotation() * Eigen::Vector3d(0, 0, ForemostCuttingZ(setup.Tool()));
     o.axis = axis;

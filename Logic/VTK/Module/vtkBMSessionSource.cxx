@@ -314,11 +314,15 @@ bool vtkBMSessionSource::Start() {
     if (this->DeviceType == MOUSE) {
       in.Mouse = std::make_shared<bm::ProgrammableDevice>(PositionSourceLimits());
       in.Mouse->SetPose(in.MousePose(this->ToolDepth));
+      // A depth step (a wheel click, a typed depth) reaches the tool over frames, at 20 mm/s.
+      in.Mouse->SetMaxSpeed(20.0);
       device = in.Mouse;
       options.maxFrames = this->MaxFrames;
     } else if (this->DeviceType == TOUCH) {
       in.Mouse.reset();
       device = std::make_shared<bm::TouchDevice>();
+      // The Touch's 3.3 N push becomes the tool's reaming thrust (Docs/Session.md, force scaling).
+      options.proxy.coupling.forceScale = bm::kDefaultSessionForceScale;
       // The stylus at the workspace centre holds the tool 10 mm above the entry point.
       options.deviceOffsetMm = t.entry + axis * 10.0;
       options.maxFrames = this->MaxFrames;
