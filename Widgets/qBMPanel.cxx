@@ -56,6 +56,8 @@ public:
   void applyParameters();
   /// Shows the benchmark's nearest measured cell for the chosen scene, resolutions and method.
   void updateExpectedCost();
+  /// The Pause button as the session's state: checked and reading "Resume" while paused.
+  void showPaused(bool paused);
   /// A chart of `columns` (after time_s) against time in a new widget under the session group.
   QVTKOpenGLNativeWidget* addChart(vtkChartXY* chart, vtkContextView* view, const char* title,
                                    const char* leftColumn, const char* rightColumn);
@@ -199,8 +201,11 @@ void qBMPanelPrivate::init() {
     Q_EMIT q->startSessionRequested(q->sceneName(), q->voxmapResolution(), q->shellResolution(),
                                     q->deviceType());
   });
-  QObject::connect(this->PauseButton, &QPushButton::toggled, q,
-                   [q](bool paused) { Q_EMIT q->pauseSessionRequested(paused); });
+  this->showPaused(false);
+  QObject::connect(this->PauseButton, &QPushButton::toggled, q, [this, q](bool paused) {
+    this->showPaused(paused);
+    Q_EMIT q->pauseSessionRequested(paused);
+  });
   QObject::connect(this->StopButton, &QPushButton::clicked, q,
                    [q]() { Q_EMIT q->stopSessionRequested(); });
   QObject::connect(this->ToolDepthSpinBox, QOverload<double>::of(&QDoubleSpinBox::valueChanged), q,
@@ -591,9 +596,23 @@ void qBMPanel::setSessionNumbers(double timeS, double depthMm, double removedMm3
           .arg(frameP99Ms, 0, 'f', 2));
 }
 
+void qBMPanelPrivate::showPaused(bool paused) {
+  const QSignalBlocker blocker(this->PauseButton);
+  this->PauseButton->setChecked(paused);
+  this->PauseButton->setText(paused ? qBMPanel::tr("Resume") : qBMPanel::tr("Pause"));
+  this->PauseButton->setToolTip(paused ? qBMPanel::tr("Resume the paused session")
+                                       : qBMPanel::tr("Pause the session (zero force on the "
+                                                      "device; the cut is kept)"));
+}
+
 void qBMPanel::setSessionState(const QString& state) {
   Q_D(qBMPanel);
   d->SessionStateLabel->setText(state.isEmpty() ? QString() : tr("Session %1").arg(state));
+  // A session that paused itself (overrun, device fault, end of a trial) reads Resume too.
+  if (state.startsWith(tr("paused")))
+    d->showPaused(true);
+  else if (state == tr("running") || state == tr("stopped") || state.isEmpty())
+    d->showPaused(false);
 }
 
 void qBMPanel::setSessionStatus(const QString& message, bool running) {
@@ -602,10 +621,8 @@ void qBMPanel::setSessionStatus(const QString& message, bool running) {
   d->StartButton->setEnabled(!running);
   d->PauseButton->setEnabled(running);
   d->StopButton->setEnabled(running);
-  if (!running) {
-    const QSignalBlocker blocker(d->PauseButton);
-    d->PauseButton->setChecked(false);
-  }
+  if (!running)
+    d->showPaused(false);
 }
 
 QString qBMPanel::ctFileName() const {

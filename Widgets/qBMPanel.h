@@ -132,7 +132,8 @@ public Q_SLOTS:
   void setSessionNumbers(double timeS, double depthMm, double removedMm3, double thrustN,
                          double torqueNmm, double frameP99Ms);
   /// Show the session's state as the logic names it, e.g. "running" or "paused: overrun" (""
-  /// clears it).
+  /// clears it). A state beginning with "paused" checks the Pause button and labels it Resume;
+  /// "running", "stopped" or "" show Pause.
   void setSessionState(const QString& state);
   /// Show a one-line session status, and whether a session is running (enables the buttons).
   void setSessionStatus(const QString& message, bool running);
