@@ -314,6 +314,19 @@ ImportOptions ImportOptionsFromJson(const nlohmann::json& j) {
     o.read.maxMemoryBytes = uint64_t(num("maxMemoryMB") * 1048576.0);
   if (j.contains("corticalHU"))
     o.material.corticalHU = float(num("corticalHU"));
+  // How to read values that are not HU (Docs/CTImport.md, "Intensities").
+  if (j.contains("rawThreshold")) {
+    if (j.contains("threshold"))
+      throw std::runtime_error("bone: give 'threshold' (HU) or 'rawThreshold' (the file's units), "
+                               "not both");
+    o.read.intensity.rawThreshold = num("rawThreshold");
+  }
+  if (j.contains("huMapping")) {
+    const auto m = vec("huMapping", 2);
+    o.read.intensity.huMapping = std::array<double, 2>{m[0], m[1]};
+  }
+  if (j.contains("allowOutsideData"))
+    o.read.allowDataOutsideFolder = flag("allowOutsideData");
   return o;
 }
 

@@ -84,7 +84,9 @@ std::vector<std::array<double, 3>> ParsePointsMm(const std::string& text, const 
 ///   y1, z1] mm (inverted: an error), "resolution": N, "series": SeriesInstanceUID,
 ///   "keepAllComponents": bool, "fillHoles": bool (cavities, default true), "closingRadius":
 ///   voxels (default 1), "maxHoleVolume": mm^3, "separationDepth": mm (default 8),
-///   "maxMemoryMB": MiB, "corticalHU": HU.
+///   "maxMemoryMB": MiB, "corticalHU": HU, "rawThreshold": value in the file's units (values
+///   not HU), "huMapping": [slope, intercept] (HU = slope x value + intercept),
+///   "allowOutsideData": bool (Docs/CTImport.md).
 /// Throws std::runtime_error naming a key of the wrong type or value.
 ImportOptions ImportOptionsFromJson(const nlohmann::json& bone);
 

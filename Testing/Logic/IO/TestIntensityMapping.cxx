@@ -11,6 +11,7 @@
 #include <itkNrrdImageIO.h>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -150,4 +151,19 @@ TEST(IntensityMapping, InvalidOverridesAreRefused) {
   bm::IntensityOptions nan;
   nan.rawThreshold = std::nan("");
   EXPECT_THROW(bm::DecideIntensity(e, nan, warnings), std::runtime_error);
+}
+
+TEST(IntensityMapping, SceneKeysSayHowToReadTheValues) {
+  bm::ImportOptions raw = bm::ImportOptionsFromJson(nlohmann::json{{"rawThreshold", 89}});
+  ASSERT_TRUE(raw.read.intensity.rawThreshold);
+  EXPECT_EQ(*raw.read.intensity.rawThreshold, 89);
+  bm::ImportOptions mapped = bm::ImportOptionsFromJson(
+      nlohmann::json{{"huMapping", {2, -1000}}, {"allowOutsideData", true}});
+  ASSERT_TRUE(mapped.read.intensity.huMapping);
+  EXPECT_EQ((*mapped.read.intensity.huMapping)[0], 2);
+  EXPECT_EQ((*mapped.read.intensity.huMapping)[1], -1000);
+  EXPECT_TRUE(mapped.read.allowDataOutsideFolder);
+  EXPECT_THROW(bm::ImportOptionsFromJson(nlohmann::json{{"threshold", 200}, {"rawThreshold", 89}}),
+               std::runtime_error);
+  EXPECT_THROW(bm::ImportOptionsFromJson(nlohmann::json{{"huMapping", {1}}}), std::runtime_error);
 }
