@@ -22,6 +22,9 @@
 #include <QCheckBox>
 #include <QDoubleSpinBox>
 #include <QFileDialog>
+#include <QPair>
+#include <QList>
+#include <QHash>
 #include <QFormLayout>
 #include <QJsonDocument>
 #include <QJsonObject>
@@ -148,8 +151,15 @@ void qBMPanelPrivate::init() {
                    &qBMPanel::setToolType);
   QObject::connect(this->ResolutionSpinBox, QOverload<int>::of(&QSpinBox::valueChanged), q,
                    &qBMPanel::setResolution);
-  QObject::connect(this->AddToolButton, &QPushButton::clicked, q,
-                   [q]() { Q_EMIT q->addToolRequested(q->toolType(), q->resolution()); });
+  QObject::connect(this->AddToolButton, &QPushButton::clicked, q, [this, q]() {
+    // The edited parameters go with the tool; invalid ones add nothing and say why.
+    if (!this->Logic->GetToolIsValid()) {
+      q->setStatusMessage(qBMPanel::tr("Cannot add the tool: %1")
+                              .arg(QString::fromUtf8(this->Logic->GetToolError())));
+      return;
+    }
+    Q_EMIT q->addToolRequested(q->toolType(), q->resolution());
+  });
   this->rebuildParameterEditors();
   this->updateSummary();
 
@@ -210,14 +220,21 @@ void qBMPanelPrivate::init() {
                    [q]() { Q_EMIT q->stopSessionRequested(); });
   QObject::connect(this->ToolDepthSpinBox, QOverload<double>::of(&QDoubleSpinBox::valueChanged), q,
                    [q](double depth) { Q_EMIT q->toolDepthChanged(depth); });
-  QObject::connect(this->SaveBoneButton, &QPushButton::clicked, q,
-                   [q]() { Q_EMIT q->saveBoneRequested(q->boneFile()); });
+  QObject::connect(this->SaveBoneButton, &QPushButton::clicked, q, [this, q]() {
+    const QString file = qBMPanel::withVoxmapExtension(q->boneFile());
+    this->BoneFileLineEdit->setText(file);
+    Q_EMIT q->saveBoneRequested(file);
+  });
   QObject::connect(this->BrowseBoneButton, &QPushButton::clicked, q, [this, q]() {
-    const QString path = QFileDialog::getSaveFileName(
-        q, qBMPanel::tr("Bone file"), this->BoneFileLineEdit->text(),
-        qBMPanel::tr("Voxmaps (*.nrrd *.mha)"), nullptr, QFileDialog::DontConfirmOverwrite);
+    const QString nrrd = qBMPanel::tr("NRRD voxmap (*.nrrd)");
+    const QString mha = qBMPanel::tr("MetaImage voxmap (*.mha)");
+    QString chosen = nrrd;
+    const QString path =
+        QFileDialog::getSaveFileName(q, qBMPanel::tr("Bone file"), this->BoneFileLineEdit->text(),
+                                     nrrd + ";;" + mha, &chosen, QFileDialog::DontConfirmOverwrite);
     if (!path.isEmpty())
-      this->BoneFileLineEdit->setText(path);
+      this->BoneFileLineEdit->setText(
+          qBMPanel::withVoxmapExtension(path, chosen == mha ? "mha" : "nrrd"));
   });
   QObject::connect(this->VolumeCheckBox, &QCheckBox::toggled, q,
                    [q](bool on) { Q_EMIT q->volumeRenderingToggled(on); });
@@ -318,8 +335,11 @@ void qBMPanelPrivate::rebuildParameterEditors() {
       editor = box;
     }
     editor->setObjectName(it.key());
-    editor->setToolTip(qBMPanel::tr("Tool parameter %1 (unit in its name)").arg(it.key()));
-    this->ToolParametersLayout->addRow(it.key() + QLatin1Char(':'), editor);
+    editor->setToolTip(qBMPanel::parameterToolTip(it.key()));
+    auto* label = new QLabel(qBMPanel::parameterLabel(it.key()) + QLatin1Char(':'),
+                             this->ToolParametersWidget);
+    label->setToolTip(editor->toolTip());
+    this->ToolParametersLayout->addRow(label, editor);
     this->ParameterEditors.append({it.key(), editor});
   }
 }
@@ -494,6 +514,53 @@ bool qBMPanel::useChosenTool() const {
 int qBMPanel::method() const {
   Q_D(const qBMPanel);
   return d->MethodComboBox->currentData().toInt();
+}
+
+QString qBMPanel::withVoxmapExtension(const QString& path, const QString& defaultSuffix) {
+  if (path.isEmpty() || path.endsWith(".nrrd", Qt::CaseInsensitive) ||
+      path.endsWith(".mha", Qt::CaseInsensitive))
+    return path;
+  return path + "." + defaultSuffix;
+}
+
+QString qBMPanel::parameterLabel(const QString& key) {
+  static const QList<QPair<QString, QString>> units = {
+      {"_mm", "mm"}, {"_deg", "deg"}, {"_rpm", "rpm"}, {"_n", "N"}};
+  QString words = key, unit;
+  for (const auto& u : units)
+    if (words.endsWith(u.first)) {
+      words.chop(u.first.size());
+      unit = u.second;
+      break;
+    }
+  words.replace(QLatin1Char('_'), QLatin1Char(' '));
+  if (!words.isEmpty())
+    words[0] = words[0].toUpper();
+  return unit.isEmpty() ? words : QString("%1 (%2)").arg(words, unit);
+}
+
+QString qBMPanel::parameterToolTip(const QString& key) {
+  static const QHash<QString, const char*> tips = {
+      {"alpha_deg", QT_TR_NOOP("Angle of the reamer's lips to the face, deg")},
+      {"arc_centre_offset_mm", QT_TR_NOOP("Distance of the lip arc's centre from the axis, mm")},
+      {"arc_radius_mm", QT_TR_NOOP("Radius of the lips' arc, mm")},
+      {"chisel_angle_deg", QT_TR_NOOP("Drill chisel edge angle, deg")},
+      {"flute_length_mm", QT_TR_NOOP("Length of the drill's flutes, mm")},
+      {"head_thickness_mm", QT_TR_NOOP("Axial thickness of the reamer head behind its rim, mm")},
+      {"helix_angle_deg", QT_TR_NOOP("Drill helix angle, deg")},
+      {"lips", QT_TR_NOOP("Number of cutting lips (flutes)")},
+      {"nipple_length_mm",
+       QT_TR_NOOP("How far the guide nipple reaches beyond the face, mm (0 = no nipple)")},
+      {"nipple_radius_mm", QT_TR_NOOP("Radius of the central guide nipple, mm (0 = none)")},
+      {"outer_radius_mm", QT_TR_NOOP("Outer radius where the lips end, mm (half the diameter)")},
+      {"point_angle_deg", QT_TR_NOOP("Drill point angle, deg")},
+      {"radius_mm", QT_TR_NOOP("Burr radius, mm")},
+      {"rake_deg", QT_TR_NOOP("Normal rake angle of the lips, deg")},
+      {"shaft_length_mm", QT_TR_NOOP("Modelled length of the shaft behind the head, mm")},
+      {"shaft_radius_mm", QT_TR_NOOP("Radius of the shaft, mm")},
+      {"web_half_width_mm", QT_TR_NOOP("Half the drill's web thickness at the point, mm")}};
+  const auto it = tips.find(key);
+  return it != tips.end() ? tr(it.value()) : tr("Tool parameter: %1").arg(parameterLabel(key));
 }
 
 QString qBMPanel::boneFile() const {

@@ -61,6 +61,15 @@ public:
   int method() const;
   /// The bone file (.nrrd or .mha) to save the cut bone to and to start from. Default "".
   QString boneFile() const;
+  /// `path` with a voxmap extension: unchanged when it ends in .nrrd or .mha (any case), else
+  /// with "." + defaultSuffix appended ("" stays ""). Save uses it, so a name typed or picked
+  /// without an extension still saves.
+  static QString withVoxmapExtension(const QString& path, const QString& defaultSuffix = "nrrd");
+  /// A tool parameter's label for a key of the tool specification: words and the unit, e.g.
+  /// "arc_centre_offset_mm" -> "Arc centre offset (mm)", "lips" -> "Lips".
+  static QString parameterLabel(const QString& key);
+  /// What a tool parameter is, for its tooltip (one per parameter; the label for unknown keys).
+  static QString parameterToolTip(const QString& key);
   /// Whether a session starts on the bone file's bone instead of the scene's. Default false.
   bool startFromBoneFile() const;
   /// Whether the cut bone is shown with volume rendering. Default false.

@@ -1,11 +1,14 @@
-// qBMPanel's Pause button follows the session: it reads Resume (and is checked) while the session
-// is paused, whether the user paused it or the session paused itself, and Pause otherwise.
+// qBMPanel's session controls: the Pause button follows the session (it reads Resume, and is
+// checked, while the session is paused, whether the user paused it or the session paused itself,
+// and Pause otherwise), Save gives the bone file a voxmap extension, and tool parameters have
+// human labels with units and a tooltip each, and Add tool refuses invalid parameters.
 #include "qBMPanel.h"
 
 #include "QVTKOpenGLNativeWidget.h"
 
 #include <QApplication>
 #include <QPushButton>
+#include <QSpinBox>
 #include <QSurfaceFormat>
 
 #include <cstdio>
@@ -51,5 +54,33 @@ int main(int argc, char* argv[]) {
   panel.setSessionStatus("stopped", false);
   Expect(pause->text() == "Pause" && !pause->isChecked() && !pause->isEnabled(),
          "a stopped session resets the button");
+  Expect(qBMPanel::withVoxmapExtension("/tmp/cut") == "/tmp/cut.nrrd", "no extension: .nrrd");
+  Expect(qBMPanel::withVoxmapExtension("/tmp/cut", "mha") == "/tmp/cut.mha",
+         "the MHA filter: .mha");
+  Expect(qBMPanel::withVoxmapExtension("/tmp/cut.MHA") == "/tmp/cut.MHA", "an extension is kept");
+  Expect(qBMPanel::withVoxmapExtension("/tmp/cut.bone") == "/tmp/cut.bone.nrrd",
+         "another suffix gets .nrrd");
+  Expect(qBMPanel::withVoxmapExtension("").isEmpty(), "no name stays empty");
+  Expect(qBMPanel::parameterLabel("arc_centre_offset_mm") == "Arc centre offset (mm)",
+         "a label with its unit");
+  Expect(qBMPanel::parameterLabel("alpha_deg") == "Alpha (deg)", "degrees");
+  Expect(qBMPanel::parameterLabel("lips") == "Lips", "no unit");
+  Expect(qBMPanel::parameterToolTip("nipple_radius_mm") != qBMPanel::parameterToolTip("lips") &&
+             qBMPanel::parameterToolTip("nipple_radius_mm").contains("mm"),
+         "a tooltip of its own");
+  // Add tool with invalid parameters adds nothing and says why.
+  int added = 0;
+  QObject::connect(&panel, &qBMPanel::addToolRequested, [&added](int, int) { ++added; });
+  auto* add = panel.findChild<QPushButton*>("AddToolButton");
+  auto* lips = panel.findChild<QSpinBox*>("lips");
+  Expect(add && lips, "the panel has AddToolButton and a lips editor");
+  if (add && lips) {
+    add->click();
+    Expect(added == 1, "a valid tool is added");
+    lips->setValue(0);
+    add->click();
+    Expect(added == 1 && panel.statusMessage().contains("lips"),
+           "an invalid tool is refused, naming the parameter");
+  }
   return failures == 0 ? 0 : 1;
 }
