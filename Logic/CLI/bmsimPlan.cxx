@@ -37,9 +37,9 @@ const char* kPlanUsage =
     "  phantom                the scapula phantom (its DICOM series is written to DIR/ct first)\n"
     "  --out DIR              folder to create (must not exist or be empty); receives plan.json\n"
     "                         (both steps), step1-guide-pin.json, step2-ream.json (single-step\n"
-    "                         scenes for bmsim run), plan_report.md and plan_report.json\n"
-    "  --landmarks FILE       JSON object of landmarks replacing detected ones: "
-    "glenoid_centre_mm,\n"
+    "                         scenes for bmsim run), plan_report.md/.html/.json\n"
+    "  --landmarks FILE       landmarks replacing detected ones: a plan.json (its edited\n"
+    "                         planning.landmarks) or a JSON object of glenoid_centre_mm,\n"
     "                         face_normal, trigonum_mm, inferior_angle_mm (world mm, LPS)\n"
     "  --target-version DEG   target version of the reaming axis (default 0)\n"
     "  --target-inclination DEG  target inclination (default 0)\n"
@@ -179,7 +179,12 @@ static int PlanCommand(const Args& args) {
     } catch (const std::exception& e) {
       throw std::runtime_error("landmarks file " + *f + " is not JSON: " + e.what());
     }
-    ov = LandmarkOverrides::FromJson(j.contains("landmarks") ? j["landmarks"] : j);
+    // A plan.json (its "planning"."landmarks"), {"landmarks": {...}} or the landmarks alone.
+    const nlohmann::json& lj = j.contains("planning") && j["planning"].contains("landmarks")
+                                   ? j["planning"]["landmarks"]
+                               : j.contains("landmarks") ? j["landmarks"]
+                                                         : j;
+    ov = LandmarkOverrides::FromJson(lj);
   }
   ScapulaPhantomParams sp = p.Has("b2") ? ScapulaPhantomParams::B2() : ScapulaPhantomParams{};
   sp.versionDeg = p.GetDouble("phantom-version", -45, 45).value_or(sp.versionDeg);
@@ -200,7 +205,7 @@ static int PlanCommand(const Args& args) {
     const ScapulaPhantom ph(sp);
     ctPath = (fs::path(out) / "ct").string();
     WriteScapulaSeries(ph, ctPath, ScapulaCTDefaults(), {}, progress.Range(0, 0.3));
-    ctRef = "ct";
+    ctRef = fs::absolute(ctPath).string();
     truth = ScapulaTruthJson(ph);
     source = ctPath + " (scapula phantom, version " + Fx(sp.versionDeg) + " deg, inclination " +
              Fx(sp.inclinationDeg) + " deg" + (sp.wearDepthMm > 0 ? ", B2" : "") + ")";
@@ -227,6 +232,7 @@ static int PlanCommand(const Args& args) {
     rep.failure = e.what();
     WriteFilesAtomic(
         {{(fs::path(out) / "plan_report.md").string(), PlanReportMarkdown(rep)},
+         {(fs::path(out) / "plan_report.html").string(), PlanReportHtml(rep)},
          {(fs::path(out) / "plan_report.json").string(), PlanReportJson(rep).dump(2) + "\n"}});
     if (!quiet && isatty(2))
       std::fprintf(stderr, "\n");
@@ -238,12 +244,16 @@ static int PlanCommand(const Args& args) {
   rep.measurements = &m;
   rep.plan = &plan;
   const nlohmann::json boneJ = plan.CtBoneJson(ctRef);
+  nlohmann::json planScene = plan.SceneJson(boneJ);
+  planScene["planning"]["landmarks"] = L.ToJson(); // edit and plan again with --landmarks
+  planScene["planning"]["measurements"] = m.ToJson();
   WriteFilesAtomic(
-      {{(fs::path(out) / "plan.json").string(), plan.SceneJson(boneJ).dump(2) + "\n"},
+      {{(fs::path(out) / "plan.json").string(), planScene.dump(2) + "\n"},
        {(fs::path(out) / "step1-guide-pin.json").string(),
         plan.StepSceneJson(0, boneJ).dump(2) + "\n"},
        {(fs::path(out) / "step2-ream.json").string(), plan.StepSceneJson(1, boneJ).dump(2) + "\n"},
        {(fs::path(out) / "plan_report.md").string(), PlanReportMarkdown(rep)},
+       {(fs::path(out) / "plan_report.html").string(), PlanReportHtml(rep)},
        {(fs::path(out) / "plan_report.json").string(), PlanReportJson(rep).dump(2) + "\n"}});
   progress(1.0, "planned");
   if (!quiet && isatty(2))
@@ -266,7 +276,7 @@ static int PlanCommand(const Args& args) {
   for (const auto& w : plan.warnings)
     std::cout << "warning:       " << w << "\n";
   std::cout << "wrote:         " << out << "/plan.json, step1-guide-pin.json, step2-ream.json, "
-            << "plan_report.md, plan_report.json\n";
+            << "plan_report.md/.html/.json\n";
   return 0;
 }
 

@@ -119,6 +119,11 @@ Joint FindJoint(const SegmentedBone& bone, const DetectionOptions& opt) {
       reject("its joint surface is convex (a head, not a socket)");
       continue;
     }
+    if (fs.radiusMm < 15 || fs.radiusMm > 100) {
+      reject("its joint surface's radius of curvature, " + Mm(fs.radiusMm) +
+             ", is outside a glenoid's 15-100 mm");
+      continue;
+    }
     const Vec3 c0 = Mean(patch);
     const Vec3 nApprox = Normalized(Sub(fs.centre, c0));
     const auto [major, minor] = InPlaneExtents(patch, nApprox);
@@ -147,6 +152,13 @@ Joint FindJoint(const SegmentedBone& bone, const DetectionOptions& opt) {
     if (convex <= 0 || fh.radiusMm < 12 || fh.radiusMm > 40 || fh.rmsMm > 0.1 * fh.radiusMm) {
       reject("the facing bone is no humeral head (sphere radius " + Mm(fh.radiusMm) + ", rms " +
              Mm(fh.rmsMm) + ")");
+      continue;
+    }
+    // The head sits in the socket: its centre lies within the face's sphere, and it is no
+    // larger than the socket's curvature allows.
+    if (Distance(fh.centre, fs.centre) >= fs.radiusMm || fh.radiusMm > fs.radiusMm + 10) {
+      reject("the facing bone's sphere (radius " + Mm(fh.radiusMm) +
+             ") does not sit in the socket (radius " + Mm(fs.radiusMm) + ")");
       continue;
     }
     Joint j;
@@ -214,6 +226,8 @@ LandmarkOverrides LandmarkOverrides::FromJson(const nlohmann::json& j) {
     throw std::invalid_argument("\"landmarks\" must be an object");
   LandmarkOverrides o;
   for (const auto& [key, value] : j.items()) {
+    if (key == "source" || key == "rim_mm" || key == "humeral_head")
+      continue; // what GlenoidLandmarks::ToJson adds for the reader, not a landmark
     std::optional<Vec3>* slot = key == "glenoid_centre_mm"   ? &o.glenoidCentre
                                 : key == "face_normal"       ? &o.faceNormal
                                 : key == "trigonum_mm"       ? &o.trigonum
@@ -294,8 +308,8 @@ GlenoidLandmarks DetectLandmarks(const SegmentedBone& bone, const LandmarkOverri
         Dot(Sub(sp.p, c), n) >= -12)
       cands.push_back(sp.p), candNormals.push_back(sp.normal);
   if (cands.size() < size_t(opt.rimPoints))
-    throw NoGlenoidFound("no glenoid surface around " + std::string("the glenoid centre") +
-                         kPlaceHint);
+    throw NoGlenoidFound("no glenoid found: no glenoid surface around the joint" +
+                         std::string(kPlaceHint));
   for (int it = 0; it < kRimIterations; ++it) {
     const Vec3 eu = UpAxis(n), ev = Cross(n, eu);
     L.rim = SupportRim(cands, c, n, eu, ev, opt.rimPoints, opt.rimSearchRadiusMm);
@@ -313,7 +327,8 @@ GlenoidLandmarks DetectLandmarks(const SegmentedBone& bone, const LandmarkOverri
           sum += w, ++count;
       }
       if (count == 0)
-        throw NoGlenoidFound("no glenoid face on the rim plane's axis" + std::string(kPlaceHint));
+        throw NoGlenoidFound("no glenoid found: no articular face on the rim plane's axis" +
+                             std::string(kPlaceHint));
       c = AddScaled(plane.centroid, n, sum / count);
     }
     if (AngleDeg(before, n) < 1e-3 && Distance(centreBefore, c) < 1e-3)

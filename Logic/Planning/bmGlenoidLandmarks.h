@@ -47,8 +47,10 @@ struct LandmarkOverrides {
   std::optional<Vec3> trigonum;      ///< "trigonum_mm"
   std::optional<Vec3> inferiorAngle; ///< "inferior_angle_mm"
   bool Empty() const { return !glenoidCentre && !faceNormal && !trigonum && !inferiorAngle; }
-  /// From a JSON object with any of the keys above; throws std::invalid_argument naming a key
-  /// that is not an array of 3 finite numbers, an unknown key, or a zero normal.
+  /// From a JSON object with any of the keys above (GlenoidLandmarks::ToJson's "source",
+  /// "rim_mm" and "humeral_head" are skipped, so a plan's landmarks can be edited and read
+  /// back); throws std::invalid_argument naming a key that is not an array of 3 finite numbers,
+  /// an unknown key, or a zero normal.
   static LandmarkOverrides FromJson(const nlohmann::json& j);
 };
 

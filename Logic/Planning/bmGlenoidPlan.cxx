@@ -74,8 +74,9 @@ GlenoidPlan MakeGlenoidPlan(const GlenoidLandmarks& L, const GlenoidMeasurements
                          Fixed(p.reamerOverhangSiMm) + " mm superiorly and inferiorly");
   if (p.correctionDeg > 15)
     p.warnings.push_back("the correction (" + Fixed(p.correctionDeg) +
-                         " deg) exceeds 15 deg: reaming alone removes much of the vault's "
-                         "anterior bone; consider an augmented implant");
+                         " deg) exceeds 15 deg: reaming alone removes much bone from the "
+                         "face's high side and medialises the joint line; consider an augmented "
+                         "implant");
   return p;
 }
 

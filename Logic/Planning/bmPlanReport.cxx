@@ -1,6 +1,7 @@
 #include "bmPlanReport.h"
 
 #include <sstream>
+#include <vector>
 
 namespace bm {
 
@@ -26,6 +27,126 @@ const nlohmann::json kToPlace = {
     {"trigonum_mm", "the medial end of the scapular spine, [x, y, z] world mm"},
     {"inferior_angle_mm", "the scapula's inferior angle, [x, y, z] world mm"}};
 
+const char* kFrame = "Coordinates: world mm in the CT's DICOM LPS frame (x left, y posterior, z "
+                     "superior); angles in degrees, negative version = retroversion, positive "
+                     "inclination = superior tilt.";
+
+using Table = std::vector<std::vector<std::string>>; // first row: the header
+
+/// The report's content, rendered as Markdown or HTML.
+struct Content {
+  std::string failure;
+  Table landmarks, measurements;
+  std::vector<std::string> plan, warnings;
+};
+
+Content Build(const PlanReportInput& in) {
+  Content c;
+  if (!in.landmarks || !in.measurements || !in.plan) {
+    c.failure = in.failure;
+    return c;
+  }
+  const GlenoidLandmarks& L = *in.landmarks;
+  const GlenoidMeasurements& m = *in.measurements;
+  const GlenoidPlan& p = *in.plan;
+  c.landmarks = {{"landmark", "position (mm)", "source"},
+                 {"glenoid centre", P(L.glenoidCentre), L.centreSource},
+                 {"face normal", P(L.faceNormal, 3), L.normalSource},
+                 {"trigonum", P(L.trigonum), L.trigonumSource},
+                 {"inferior angle", P(L.inferiorAngle), L.inferiorSource}};
+  if (L.humeralHeadFound)
+    c.landmarks.push_back({"humeral head centre (radius " + F(L.humeralHeadRadiusMm) + " mm)",
+                           P(L.humeralHeadCentre), "detected"});
+  const bool t = !in.truth.is_null();
+  auto truth = [&](const char* key) {
+    return t && in.truth.contains(key) ? F(in.truth[key].get<double>()) : std::string("-");
+  };
+  c.measurements = {
+      {"measurement", "value", "method"},
+      {"version, Friedman 2D", F(m.friedmanVersionDeg) + " deg",
+       "Friedman 1992, axial slice through the glenoid centre", truth("friedman_version_deg")},
+      {"version, 3D", F(m.version3DDeg) + " deg",
+       "rim plane normal against the scapular plane (two-plane method)", truth("version_3d_deg")},
+      {"inclination, 3D", F(m.inclinationDeg) + " deg",
+       "rim plane normal within the scapular plane", truth("inclination_deg")},
+      {"glenoid height", F(m.heightMm) + " mm", "rim extent, superior-inferior",
+       truth("glenoid_height_mm")},
+      {"glenoid width", F(m.widthMm) + " mm", "rim extent, anterior-posterior",
+       truth("glenoid_width_mm")},
+      {"radius of curvature", F(m.faceRadiusMm) + " mm", "least-squares sphere of the face",
+       truth("face_radius_mm")}};
+  if (t)
+    c.measurements[0].push_back("phantom truth");
+  else
+    for (auto& row : c.measurements)
+      row.resize(3);
+  c.plan = {
+      "Target: version " + F(p.options.targetVersionDeg) + " deg, inclination " +
+          F(p.options.targetInclinationDeg) + " deg.",
+      "Reaming axis through the glenoid centre " + P(p.entry) + " mm, direction " + P(p.axis, 4) +
+          " (out of the bone): version " + F(p.axisVersionDeg) + " deg, inclination " +
+          F(p.axisInclinationDeg) + " deg; correction " + F(p.correctionDeg) +
+          " deg from the face.",
+      "Step 1, guide pin: " + F(2 * p.options.pinRadiusMm) + " mm drill, " + F(p.pinDepthMm) +
+          " mm deep along the axis.",
+      "Step 2, ream: " + F(p.options.reamerDiameterMm) + " mm nipple-guided reamer, " +
+          F(p.options.reamDepthMm) + " mm below the centre.",
+      "Reamer size: " + std::string(p.reamerFits ? "within the glenoid" : "overhangs the glenoid") +
+          " (overhang " + F(p.reamerOverhangApMm) + " mm anterior-posterior, " +
+          F(p.reamerOverhangSiMm) + " mm superior-inferior per side)."};
+  c.warnings = p.warnings;
+  return c;
+}
+
+std::string Html(const std::string& s) {
+  std::string o;
+  for (char ch : s) {
+    switch (ch) {
+    case '&':
+      o += "&amp;";
+      break;
+    case '<':
+      o += "&lt;";
+      break;
+    case '>':
+      o += "&gt;";
+      break;
+    case '"':
+      o += "&quot;";
+      break;
+    default:
+      o += ch;
+    }
+  }
+  return o;
+}
+
+void MdTable(std::ostringstream& md, const Table& t) {
+  for (size_t r = 0; r < t.size(); ++r) {
+    md << "|";
+    for (const auto& cell : t[r])
+      md << " " << cell << " |";
+    md << "\n";
+    if (r == 0) {
+      md << "|";
+      for (size_t k = 0; k < t[0].size(); ++k)
+        md << "---|";
+      md << "\n";
+    }
+  }
+}
+
+void HtmlTable(std::ostringstream& h, const Table& t) {
+  h << "<table>\n";
+  for (size_t r = 0; r < t.size(); ++r) {
+    h << "<tr>";
+    for (const auto& cell : t[r])
+      h << (r == 0 ? "<th>" : "<td>") << Html(cell) << (r == 0 ? "</th>" : "</td>");
+    h << "</tr>\n";
+  }
+  h << "</table>\n";
+}
+
 } // namespace
 
 nlohmann::json PlanReportJson(const PlanReportInput& in) {
@@ -48,74 +169,69 @@ nlohmann::json PlanReportJson(const PlanReportInput& in) {
 }
 
 std::string PlanReportMarkdown(const PlanReportInput& in) {
+  const Content c = Build(in);
   std::ostringstream md;
-  md << "# Glenoid plan\n\n"
-     << "CT: `" << in.source << "`  \n"
-     << "Coordinates: world mm in the CT's DICOM LPS frame (x left, y posterior, z superior); "
-        "angles in degrees, negative version = retroversion, positive inclination = superior "
-        "tilt.\n\n";
+  md << "# Glenoid plan\n\nCT: `" << in.source << "`  \n" << kFrame << "\n\n";
   if (!in.importSummary.empty())
     md << "```\n" << in.importSummary << (in.importSummary.back() == '\n' ? "" : "\n") << "```\n\n";
-  if (!in.landmarks || !in.measurements || !in.plan) {
-    md << "## No plan: " << in.failure << "\n\n"
+  if (c.landmarks.empty()) {
+    md << "## No plan: " << c.failure << "\n\n"
        << "Place these landmarks in a JSON file and plan again with `--landmarks FILE`:\n\n";
     for (const auto& [k, v] : kToPlace.items())
       md << "- `" << k << "`: " << v.get<std::string>() << "\n";
     return md.str();
   }
-  const GlenoidLandmarks& L = *in.landmarks;
-  const GlenoidMeasurements& m = *in.measurements;
-  const GlenoidPlan& p = *in.plan;
-  const bool t = !in.truth.is_null();
-  auto truth = [&](const char* key, int digits = 1) -> std::string {
-    if (!t || !in.truth.contains(key))
-      return "";
-    return " | " + F(in.truth[key].get<double>(), digits);
-  };
-  md << "## Landmarks\n\n| landmark | position (mm) | source |\n|---|---|---|\n"
-     << "| glenoid centre | " << P(L.glenoidCentre) << " | " << L.centreSource << " |\n"
-     << "| face normal | " << P(L.faceNormal, 3) << " | " << L.normalSource << " |\n"
-     << "| trigonum | " << P(L.trigonum) << " | " << L.trigonumSource << " |\n"
-     << "| inferior angle | " << P(L.inferiorAngle) << " | " << L.inferiorSource << " |\n";
-  if (L.humeralHeadFound)
-    md << "| humeral head centre (radius " << F(L.humeralHeadRadiusMm) << " mm) | "
-       << P(L.humeralHeadCentre) << " | detected |\n";
-  md << "\n## Measurements\n\n| measurement | value | method |" << (t ? " phantom truth |" : "")
-     << "\n|---|---|---|" << (t ? "---|" : "") << "\n"
-     << "| version, Friedman 2D | " << F(m.friedmanVersionDeg)
-     << " deg | Friedman 1992, axial slice through the glenoid centre"
-     << truth("friedman_version_deg") << " |\n"
-     << "| version, 3D | " << F(m.version3DDeg)
-     << " deg | rim plane normal against the scapular plane (two-plane method)"
-     << truth("version_3d_deg") << " |\n"
-     << "| inclination, 3D | " << F(m.inclinationDeg)
-     << " deg | rim plane normal within the scapular plane" << truth("inclination_deg") << " |\n"
-     << "| glenoid height | " << F(m.heightMm) << " mm | rim extent, superior-inferior"
-     << truth("glenoid_height_mm") << " |\n"
-     << "| glenoid width | " << F(m.widthMm) << " mm | rim extent, anterior-posterior"
-     << truth("glenoid_width_mm") << " |\n"
-     << "| radius of curvature | " << F(m.faceRadiusMm) << " mm | least-squares sphere of the face"
-     << truth("face_radius_mm") << " |\n\n"
-     << "## Plan\n\n"
-     << "- Target: version " << F(p.options.targetVersionDeg) << " deg, inclination "
-     << F(p.options.targetInclinationDeg) << " deg.\n"
-     << "- Reaming axis through the glenoid centre " << P(p.entry) << " mm, direction "
-     << P(p.axis, 4) << " (out of the bone): version " << F(p.axisVersionDeg)
-     << " deg, inclination " << F(p.axisInclinationDeg) << " deg; correction " << F(p.correctionDeg)
-     << " deg from the face.\n"
-     << "- Step 1, guide pin: " << F(2 * p.options.pinRadiusMm) << " mm drill, " << F(p.pinDepthMm)
-     << " mm deep along the axis.\n"
-     << "- Step 2, ream: " << F(p.options.reamerDiameterMm) << " mm nipple-guided reamer, "
-     << F(p.options.reamDepthMm) << " mm below the centre.\n"
-     << "- Reamer size: " << (p.reamerFits ? "within the glenoid" : "overhangs the glenoid")
-     << " (overhang " << F(p.reamerOverhangApMm) << " mm anterior-posterior, "
-     << F(p.reamerOverhangSiMm) << " mm superior-inferior per side).\n";
-  if (!p.warnings.empty()) {
+  md << "## Landmarks\n\n";
+  MdTable(md, c.landmarks);
+  md << "\n## Measurements\n\n";
+  MdTable(md, c.measurements);
+  md << "\n## Plan\n\n";
+  for (const auto& item : c.plan)
+    md << "- " << item << "\n";
+  if (!c.warnings.empty()) {
     md << "\n## Warnings\n\n";
-    for (const auto& w : p.warnings)
+    for (const auto& w : c.warnings)
       md << "- " << w << "\n";
   }
   return md.str();
+}
+
+std::string PlanReportHtml(const PlanReportInput& in) {
+  const Content c = Build(in);
+  std::ostringstream h;
+  h << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>Glenoid plan</title>\n"
+       "<style>body{font-family:sans-serif;max-width:60em;margin:2em auto}"
+       "table{border-collapse:collapse}td,th{border:1px solid #999;padding:.2em .5em}"
+       ".warn{color:#a00}</style></head><body>\n"
+    << "<h1>Glenoid plan</h1>\n<p>CT: <code>" << Html(in.source) << "</code><br>" << Html(kFrame)
+    << "</p>\n";
+  if (!in.importSummary.empty())
+    h << "<pre>" << Html(in.importSummary) << "</pre>\n";
+  if (c.landmarks.empty()) {
+    h << "<h2 class=\"warn\">No plan: " << Html(c.failure) << "</h2>\n"
+      << "<p>Place these landmarks in a JSON file and plan again with <code>--landmarks "
+         "FILE</code>:</p>\n<ul>\n";
+    for (const auto& [k, v] : kToPlace.items())
+      h << "<li><code>" << Html(k) << "</code>: " << Html(v.get<std::string>()) << "</li>\n";
+    h << "</ul>\n</body></html>\n";
+    return h.str();
+  }
+  h << "<h2>Landmarks</h2>\n";
+  HtmlTable(h, c.landmarks);
+  h << "<h2>Measurements</h2>\n";
+  HtmlTable(h, c.measurements);
+  h << "<h2>Plan</h2>\n<ul>\n";
+  for (const auto& item : c.plan)
+    h << "<li>" << Html(item) << "</li>\n";
+  h << "</ul>\n";
+  if (!c.warnings.empty()) {
+    h << "<h2>Warnings</h2>\n<ul class=\"warn\">\n";
+    for (const auto& w : c.warnings)
+      h << "<li>" << Html(w) << "</li>\n";
+    h << "</ul>\n";
+  }
+  h << "</body></html>\n";
+  return h.str();
 }
 
 } // namespace bm

@@ -1,4 +1,4 @@
-// bmPlanReport.h - the pre-operative plan report (Markdown and JSON): the landmarks and where
+// bmPlanReport.h - the pre-operative plan report (Markdown, HTML and JSON): the landmarks and where
 // each came from, the measurements with their methods, the planned axis and its correction, the
 // reamer check, the steps and the warnings; with a phantom, its truth beside each value. When no
 // glenoid was found the report says so and lists the landmarks to place.
@@ -27,5 +27,7 @@ struct PlanReportInput {
 nlohmann::json PlanReportJson(const PlanReportInput& in);
 /// The same as a Markdown document for the surgeon.
 std::string PlanReportMarkdown(const PlanReportInput& in);
+/// The same as a self-contained HTML page (no scripts, no external files).
+std::string PlanReportHtml(const PlanReportInput& in);
 
 } // namespace bm

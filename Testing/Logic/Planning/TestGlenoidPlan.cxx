@@ -93,6 +93,9 @@ TEST(GlenoidPlan, ReportNamesMethodsAndFailure) {
   EXPECT_NE(md.find("Friedman"), std::string::npos);
   EXPECT_NE(md.find("two-plane"), std::string::npos);
   EXPECT_EQ(PlanReportJson(in)["status"], "planned");
+  const std::string html = PlanReportHtml(in);
+  EXPECT_NE(html.find("<td>version, 3D</td>"), std::string::npos);
+  EXPECT_NE(html.find("</html>"), std::string::npos);
   PlanReportInput none;
   none.source = "head CT";
   none.failure = "no glenoid found";
