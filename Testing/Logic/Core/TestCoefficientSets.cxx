@@ -3,6 +3,7 @@
 // with speed; the shipped calibrated drilling set reproduces its published data.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -10,7 +11,10 @@
 #include <nlohmann/json.hpp>
 
 #include "bmCalibration.h"
+#include "bmFeedTrial.h"
 #include "bmForceModel.h"
+#include "bmMachiningSetup.h"
+#include "bmScene.h"
 #include "bmToolModel.h"
 
 namespace {
@@ -119,6 +123,45 @@ TEST(CoefficientSets, ReamingAssumedSetAimsAtHandForces) {
       before.thrustN, before.torqueNmm, after.thrustN, after.torqueNmm);
   EXPECT_NEAR(after.thrustN, 25.0, 0.25);
   EXPECT_GT(after.torqueNmm, 0.0);
+}
+
+} // namespace
+
+namespace {
+
+// End to end: a scene names the calibrated drilling set, the engine cuts with it (its basis has
+// the spindle-speed term), and the steady thrust and torque match the set's own quadrature
+// reference at the scene's feed and speed; at 1500 rpm they are two thirds of the 1000 rpm ones.
+TEST(CoefficientSets, SceneCutsWithANamedCalibratedSet) {
+  std::array<double, 2> thrust{}, torque{};
+  int k = 0;
+  for (const double rpm : {1000.0, 1500.0}) {
+    bm::Scene s;
+    s.shellResolution = 256;
+    s.voxmapResolution = 64;
+    s.threads = 2;
+    s.trial.frameS = 0.004;
+    s.trial.speedRpm = rpm;
+    s.forceModel = {{"coefficients", "drilling-bovine-orelaja2020"}};
+    bm::MachiningSetup setup(s, bm::MakeSceneBlock(s));
+    EXPECT_EQ(setup.Model().Provenance().name, "drilling-bovine-orelaja2020");
+    EXPECT_TRUE(setup.Model().Provenance().calibrated);
+    bm::FeedTrial trial(setup);
+    ASSERT_TRUE(trial.Run());
+    const nlohmann::json sum = trial.Summary();
+    const bm::EdgeIntegral ref =
+        bm::IntegrateEdges(setup.Tool(), setup.Model(), s.trial.feedMmPerRev, rpm);
+    thrust[k] = sum.at("thrust_N").get<double>();
+    torque[k] = sum.at("torque_Nmm").get<double>();
+    std::printf("scene with drilling-bovine-orelaja2020 at %.0f rpm: %.4f N (reference %.4f), "
+                "%.4f N mm (reference %.4f)\n",
+                rpm, thrust[k], ref.thrustN, torque[k], ref.torqueNmm);
+    EXPECT_NEAR(thrust[k], ref.thrustN, 0.02 * ref.thrustN);
+    EXPECT_NEAR(torque[k], ref.torqueNmm, 0.02 * ref.torqueNmm);
+    ++k;
+  }
+  EXPECT_NEAR(thrust[1] / thrust[0], 2.0 / 3.0, 0.01);
+  EXPECT_NEAR(torque[1] / torque[0], 2.0 / 3.0, 0.01);
 }
 
 } // namespace
