@@ -22,6 +22,8 @@
 #include "bmBoneSurface.h"
 #include "bmEdgeQuadrature.h"
 #include "bmFeedTrial.h"
+#include "bmHapticSession.h"
+#include "bmScriptedDevice.h"
 #include "bmTimingStats.h"
 #include "bmMachiningSetup.h"
 #include "bmScene.h"
@@ -83,6 +85,19 @@ const char* kUsage = R"(usage: bmsim bench [options]
                          8, as the BM Session source; 0 = every changed brick every refresh)
   --brick N              --view: the surface's brick edge, voxels (default 8, the voxmap's
                          occupancy brick, BoneSurface's default)
+
+  --session NAME|FILE    instead: the haptic session's frame time on a scene (glenoid: the built-in
+                         scene at its default resolutions) in a hand-like trial: the scripted
+                         hand (a steady push of --push N, default 3, rising over 0.5 s, with
+                         --tremor N of lateral tremor, default 0.1) on the scene's trial axis from its clearance,
+                         --seconds S of session time (default 20) at 1 kHz (--back-to-back: no
+                         sleeping between frames), --threads engine threads (default: the
+                         scene's). Runs alternate, --repeats times each (default 2): the
+                         incremental path (contact candidates that follow the shell's changes)
+                         and the full pass (every contact query scans the shell). Prints per run
+                         frame p50 / p99 / max (ms), frames over the 1 ms period, the pauses the
+                         default overrun rule (more than 5 of 100 frames) would have made, and a
+                         checksum of forces and path that is the same for both when exact
   --serial K             --view: one thread, no contention: K haptic frames, then a refresh, in
                          turn (default 0: the haptic thread and the view run side by side). The
                          view's own cost, with the same bricks in every run: for A/B of builds
@@ -415,13 +430,146 @@ int ViewBench(const bm::cli::ParsedArgs& p) {
   return 0;
 }
 
+/// The scene's bone: the CT (or, without BMIO, the glenoid phantom's analytic bone) or its block.
+bm::Voxmap SceneBone(const bm::Scene& scene) {
+#ifdef BM_WITH_IO
+  return scene.bone.type == "block"
+             ? bm::MakeSceneBlock(scene)
+             : bm::MakeCTVoxmap(scene.bone.ct, scene.baseDir, scene.voxmapResolution);
+#else
+  const bool glenoid =
+      scene.bone.type != "block" && scene.bone.ct.value("phantom", "") == "glenoid";
+  if (scene.bone.type != "block" && !glenoid)
+    throw std::runtime_error("scene '" + scene.name + "' needs CT import (BMIO)");
+  return glenoid ? AnalyticGlenoid(scene.voxmapResolution) : bm::MakeSceneBlock(scene);
+#endif
+}
+
+/// One hand-like session trial's figures.
+struct SessionRun {
+  std::vector<double> frameMs, contactMs; ///< every frame; the frames touching bone
+  int64_t over = 0;                       ///< frames over the period
+  int64_t rulePauses = 0; ///< pauses the default overrun rule (> 5 of 100 frames) would make
+  double removedMm3 = 0, sumThrustN = 0, sumProxyMm = 0, sumForceN = 0;
+  Eigen::Vector3d lastProxy = Eigen::Vector3d::Zero();
+};
+
+/// The scripted hand pushes pushN (N) along -axis from the scene's clearance above its entry
+/// point; the session runs `seconds` (s) of frames; candidates: the proxy's contact candidates
+/// (the incremental path) or none (every query scans the shell: the full pass).
+SessionRun RunHandSession(const bm::Scene& scene, bool candidates, double pushN, double tremorN,
+                          double seconds, bool realTime) {
+  bm::MachiningSetup setup(scene, SceneBone(scene));
+  const bm::FeedPath path(setup);
+  const bm::FrameInput start = path.Frame(-scene.trial.clearanceMm, 0);
+  bm::ScriptedDeviceOptions d;
+  d.mode = bm::ScriptMode::Hand;
+  d.startMm = start.position;
+  d.rotation = start.rotation;
+  d.axis = start.rotation.col(2);
+  d.appliedForceN = pushN;
+  d.handTremorN = tremorN;
+  auto device = std::make_shared<bm::ScriptedDevice>(d);
+  bm::SessionOptions o;
+  o.realTime = realTime;
+  o.overrunLimit = -1; // count the overruns, never pause
+  o.maxFrames = int64_t(std::llround(seconds / scene.trial.frameS));
+  o.rateHz = 1.0 / scene.trial.frameS;
+  o.recordCapacity = size_t(o.maxFrames) + 16;
+  if (!candidates)
+    o.proxy.candidateRadiusVoxels = 0;
+  bm::HapticSession session(setup, device, o);
+  session.Start();
+  if (!session.WaitUntilPaused(seconds * 20 + 600))
+    throw std::runtime_error("session bench: the trial did not finish");
+  session.Stop();
+  std::vector<bm::FrameRecord> rec;
+  session.DrainRecords(rec);
+  SessionRun r;
+  const double periodMs = 1000.0 * scene.trial.frameS;
+  std::vector<uint8_t> window(100, 0);
+  int inWindow = 0;
+  for (size_t k = 0; k < rec.size(); ++k) {
+    const bm::FrameRecord& f = rec[k];
+    r.frameMs.push_back(f.frameMs);
+    if (f.thrustN != 0 || f.removedVoxels > 0 || f.deviceForce[0] != 0 || f.deviceForce[1] != 0 ||
+        f.deviceForce[2] != 0)
+      r.contactMs.push_back(f.frameMs);
+    const bool over = f.frameMs > periodMs;
+    r.over += over;
+    uint8_t& slot = window[k % window.size()];
+    inWindow += int(over) - int(slot);
+    slot = over;
+    if (inWindow > 5) { // the session would pause here; a resume starts an empty window
+      ++r.rulePauses;
+      std::fill(window.begin(), window.end(), uint8_t(0));
+      inWindow = 0;
+    }
+    r.removedMm3 += f.removedVolumeMm3;
+    r.sumThrustN += f.thrustN;
+    r.sumProxyMm += f.proxyPos[0] + f.proxyPos[1] + f.proxyPos[2];
+    r.sumForceN += f.deviceForce[0] + f.deviceForce[1] + f.deviceForce[2];
+    r.lastProxy = {f.proxyPos[0], f.proxyPos[1], f.proxyPos[2]};
+  }
+  std::sort(r.frameMs.begin(), r.frameMs.end());
+  std::sort(r.contactMs.begin(), r.contactMs.end());
+  return r;
+}
+
+int SessionBench(const bm::cli::ParsedArgs& p) {
+  const std::string sceneName = p.Get("session", "glenoid");
+  const double seconds = p.GetDouble("seconds", 0.01, 3600).value_or(20.0);
+  const double push = p.GetDouble("push", 0.01, 1000).value_or(3.0);
+  const double tremor = p.GetDouble("tremor", 0, 1000).value_or(0.1);
+  const int repeats = int(p.GetInt("repeats", 1, 100).value_or(2));
+  const bool realTime = !p.Has("back-to-back");
+  bm::Scene scene = (std::filesystem::path(sceneName).extension() == ".json" ||
+                     std::filesystem::exists(sceneName))
+                        ? bm::Scene::Load(sceneName)
+                        : bm::Scene::Builtin(sceneName);
+  if (auto t = p.GetInt("threads", 1, 64)) {
+    nlohmann::json j = scene.ToJson();
+    j["threads"] = int(*t);
+    const std::string dir = scene.baseDir;
+    scene = bm::Scene::FromJson(j);
+    scene.baseDir = dir;
+  }
+  std::cout << std::fixed << std::setprecision(3);
+  std::cout << "session bench, scene " << scene.name << " (voxmap " << scene.voxmapResolution
+            << ", shell " << scene.shellResolution << ", " << scene.threads
+            << " engine threads): scripted hand pushing " << push << " N with " << tremor
+            << " N of lateral tremor, " << seconds << " s at " << 1.0 / scene.trial.frameS << " Hz"
+            << (realTime ? "" : " (frames back to back)") << "; machine: " << MachineName() << "\n";
+  auto figures = [](const std::vector<double>& v) {
+    std::ostringstream s;
+    s << std::fixed << std::setprecision(3) << "p50 " << bm::Percentile(v, 50) << " ms, p99 "
+      << bm::Percentile(v, 99) << " ms, max " << (v.empty() ? 0.0 : v.back()) << " ms";
+    return s.str();
+  };
+  for (int run = 1; run <= repeats; ++run)
+    for (bool incremental : {true, false}) {
+      const SessionRun r = RunHandSession(scene, incremental, push, tremor, seconds, realTime);
+      std::cout << "run " << run << (incremental ? " incremental" : " full pass  ") << ": "
+                << r.frameMs.size() << " frames " << figures(r.frameMs) << "; "
+                << r.contactMs.size() << " touching bone " << figures(r.contactMs) << "; over "
+                << 1000.0 * scene.trial.frameS << " ms: " << r.over << ", overrun pauses "
+                << r.rulePauses << "\n"
+                << std::setprecision(9) << "  checksum: removed " << r.removedMm3
+                << " mm^3, sum thrust " << r.sumThrustN << " N, sum proxy " << r.sumProxyMm
+                << " mm, sum device force " << r.sumForceN << " N, last proxy (" << r.lastProxy(0)
+                << ", " << r.lastProxy(1) << ", " << r.lastProxy(2) << ") mm\n"
+                << std::setprecision(3) << std::flush;
+    }
+  return 0;
+}
+
 int BenchCommand(const bm::cli::Args& args) {
   using bm::cli::UsageError;
-  bm::cli::ParsedArgs p(args,
-                        {"out", "methods", "backends", "shells", "voxmaps", "frames", "warmup",
-                         "threads", "device", "cell-limit", "replot", "scene", "interval", "budget",
-                         "brick", "repeats", "serial"},
-                        {"quick", "help", "view", "real-time"});
+  bm::cli::ParsedArgs p(
+      args, {"out",     "methods", "backends",   "shells",  "voxmaps", "frames",   "warmup",
+             "threads", "device",  "cell-limit", "replot",  "scene",   "interval", "budget",
+             "brick",   "repeats", "serial",     "session", "seconds", "push",     "tremor"},
+      {"quick", "help", "view", "real-time", "back-to-back"});
   if (p.Has("help")) {
     std::cout << kUsage;
     return 0;
@@ -430,6 +578,8 @@ int BenchCommand(const bm::cli::Args& args) {
     throw UsageError(std::string("takes no positional arguments\n") + kUsage);
   if (p.Has("view"))
     return ViewBench(p);
+  if (p.Has("session"))
+    return SessionBench(p);
   bm::BenchOptions o;
   const bool quick = p.Has("quick");
   if (quick) {
