@@ -138,7 +138,10 @@ nlohmann::json GlenoidPlan::SceneJson(const nlohmann::json& bone) const {
   nlohmann::json steps = nlohmann::json::array();
   for (int i = 0; i < 2; ++i) {
     nlohmann::json s = StepSceneJson(i, bone);
-    steps.push_back({{"name", s["name"]}, {"tool", s["tool"]}, {"trial", s["trial"]}});
+    steps.push_back({{"name", s["name"]},
+                     {"description", s["description"]},
+                     {"tool", s["tool"]},
+                     {"trial", s["trial"]}});
   }
   return {{"name", "glenoid plan"},
           {"description", "Guide pin, then nipple-guided reaming, on the same bone, along the "

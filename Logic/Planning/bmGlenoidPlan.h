@@ -45,9 +45,9 @@ struct GlenoidPlan {
   std::vector<std::string> warnings;
 
   /// The plan as a scene with steps (bone = `bone`, a scene bone object):
-  /// {"name", "description", "bone", "steps": [{"name": "guide pin", "tool", "trial"},
-  ///  {"name": "ream", "tool", "trial"}], "voxmap_resolution", "shell_resolution", "method",
-  ///  "planning": {...}}.
+  /// {"name", "description", "bone", "steps": [{"name": "guide pin", "description", "tool",
+  ///  "trial"}, {"name": "ream", ...}], "voxmap_resolution", "shell_resolution", "method",
+  ///  "planning": {...}} (bmScene.h's SceneStep layout).
   nlohmann::json SceneJson(const nlohmann::json& bone) const;
   /// Step `i` (0: guide pin, 1: ream) as a plain single-step scene (bmScene.h), on the bone as
   /// the CT gives it.
