@@ -31,6 +31,8 @@ const char* kUsage =
     "                        across the joint space (a point off all bone is a warning)\n"
     "  --roi X0,Y0,Z0,X1,Y1,Z1  region of interest, world mm (default: the bone's bounding box;\n"
     "                        an inverted box is an error)\n"
+    "  --box CX,CY,CZ,HX,HY,HZ[,RX,RY,RZ]  oriented box region: centre, half sizes (mm),\n"
+    "                        rotation about x, y, z (degrees)\n"
     "  --series ID           series to read when the folder holds several: the id listed\n"
     "                        (SeriesInstanceUID, or noUID-... for a series without one)\n"
     "  --raw-threshold V     values are not HU: use them as stored, bone = values >= V in the\n"
@@ -75,7 +77,7 @@ ProgressFn TerminalProgress(bool quiet) {
 
 static int ImportCommand(const Args& args) {
   const ParsedArgs p(args,
-                     {"out", "resolution", "threshold", "seed", "exclude", "roi", "series",
+                     {"out", "resolution", "threshold", "seed", "exclude", "roi", "box", "series",
                       "max-memory", "raw-threshold", "hu-mapping"},
                      {"help", "keep-all", "no-fill-holes", "quiet", "allow-outside-data"},
                      {{"o", "out"}, {"h", "help"}, {"q", "quiet"}}, kUsage);
@@ -97,6 +99,8 @@ static int ImportCommand(const Args& args) {
     opt.roiMm = bm::RoiFromCorners(*r, "--roi");
   if (const auto e = p.Get("exclude"))
     opt.segmentation.excludeSeedsMm = bm::ParsePointsMm(*e, "--exclude");
+  if (const auto b = p.Get("box"))
+    opt.segmentation.box = bm::OrientedBoxFromText(*b, "--box");
   if (const auto uid = p.Get("series"))
     opt.read.seriesUID = *uid;
   if (const auto v = p.GetDouble("raw-threshold", -HUGE_VAL, HUGE_VAL)) {

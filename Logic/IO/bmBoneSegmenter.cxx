@@ -108,8 +108,14 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt,
   mask->DisconnectPipeline();
   uint8_t* M = mask->GetBufferPointer();
   BoneSegmentation seg;
+  if (opt.box)
+    MaskOutsideBox(mask, *opt.box);
   for (int64_t v = 0; v < n; ++v)
     seg.thresholdVoxels += M[v];
+  if (seg.thresholdVoxels == 0 && opt.box)
+    throw std::runtime_error("no bone found inside the oriented box: no voxel there reaches the "
+                             "bone threshold of " +
+                             std::to_string(int(opt.thresholdHU)) + " HU");
   if (seg.thresholdVoxels == 0) {
     float mx = -std::numeric_limits<float>::infinity();
     for (int64_t v = 0; v < n; ++v)

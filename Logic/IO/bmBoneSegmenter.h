@@ -4,6 +4,7 @@
 // Steps (each reported through Progress):
 //  1. threshold: voxels with HU >= thresholdHU are bone (default 200 HU: above soft tissue and
 //     marrow, below cancellous bone of ordinary density; InVesalius' bone preset is 226 HU);
+//     (with an oriented box, bone outside it is dropped: bmBoxROI.h);
 //  2. components (26-connected, bmMask.h LabelComponents): keep the component holding the seed
 //     point, else the largest, else (keepAllComponents) all;
 //  3. separate (bmBoneSeparation.h): when an exclude seed lies on the kept component, the bones
@@ -21,6 +22,7 @@
 #pragma once
 
 #include "bmBoneSeparation.h"
+#include "bmBoxROI.h"
 #include "bmCTImage.h"
 #include "bmCavityFill.h"
 #include "bmProgress.h"
@@ -39,6 +41,9 @@ struct SegmentationOptions {
   /// World point (mm): keep the connected component containing it (or touching it within one
   /// voxel). Without a seed the largest component is kept.
   std::optional<std::array<double, 3>> seedMm;
+  /// Oriented box region of interest (bmBoxROI.h): bone voxels whose centres lie outside it are
+  /// dropped after the threshold. Default none.
+  std::optional<OrientedBox> box;
   /// World points (mm) on bones to drop: bones joined to the kept one are separated from it
   /// (bmBoneSeparation.h). A point off all bone is reported in the warnings and ignored.
   std::vector<std::array<double, 3>> excludeSeedsMm;

@@ -88,7 +88,9 @@ SeparationResult SeparateBones(MaskImage* mask, const std::optional<std::array<i
         std::ostringstream os;
         os << "cannot separate the bones: the bone at the " << what << " seed's " << FormatIndex(v)
            << " is thinner than " << 2 * d << " mm, and the bones still touch at an erosion of "
-           << d - step << " mm (move the seed into a thicker part of the bone)";
+           << d - step
+           << " mm (move the seed into a thicker part of the bone; an exclude seed on the bone "
+              "to keep cannot be separated from it)";
         throw std::runtime_error(os.str());
       }
       return l;

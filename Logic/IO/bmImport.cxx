@@ -97,6 +97,16 @@ ImportResult ImportVoxmap(CTImage ct, const ImportOptions& optIn, const Progress
                                Box(*opt.roiMm));
     ct = CropCT(ct, *opt.roiMm, 2);
   }
+  if (const auto& box = opt.segmentation.box) {
+    box->Check("the oriented box");
+    const Box3 bounds = box->Bounds();
+    if (!bounds.Intersects(r.ctBounds))
+      throw std::runtime_error("the oriented box (bounds " + Box(bounds) +
+                               ") lies outside the CT, whose bounds are " + Box(r.ctBounds));
+    if (seed && !box->Contains(*seed))
+      throw std::runtime_error("the seed point lies outside the oriented box");
+    ct = CropCT(ct, bounds, 2);
+  }
   // Segmentation working memory: mask, two label images, fraction, bone HU, band (per CT voxel).
   const uint64_t ctVoxels = uint64_t(ct.hu->GetLargestPossibleRegion().GetNumberOfPixels());
   CheckMemoryBudget(ct.Bytes() + ctVoxels * 18, opt.read.maxMemoryBytes, "segmenting the CT");
@@ -235,6 +245,20 @@ std::vector<std::array<double, 3>> ParsePointsMm(const std::string& text, const 
   return out;
 }
 
+OrientedBox OrientedBoxFromText(const std::string& text, const std::string& what) {
+  const auto p = ParsePointsMm(text, what);
+  if (p.size() != 2 && p.size() != 3)
+    throw std::runtime_error(what + " must be CX,CY,CZ,HX,HY,HZ[,RX,RY,RZ] (centre and half "
+                                    "sizes in mm, rotation in degrees)");
+  OrientedBox box;
+  box.centreMm = p[0];
+  box.halfSizesMm = p[1];
+  if (p.size() == 3)
+    box.rotationDeg = p[2];
+  box.Check(what);
+  return box;
+}
+
 ImportOptions ImportOptionsFromJson(const nlohmann::json& j) {
   ImportOptions o;
   auto num = [&](const char* key) {
@@ -281,6 +305,27 @@ ImportOptions ImportOptionsFromJson(const nlohmann::json& j) {
       o.segmentation.excludeSeedsMm.push_back(
           {p[0].get<double>(), p[1].get<double>(), p[2].get<double>()});
     }
+  }
+  if (j.contains("box")) {
+    const auto& b = j["box"];
+    if (!b.is_object() || !b.contains("centre") || !b.contains("halfSizes"))
+      throw std::runtime_error("bone: 'box' must be {\"centre\": [x, y, z] mm, \"halfSizes\": "
+                               "[a, b, c] mm, \"rotation\": [rx, ry, rz] deg}");
+    OrientedBox box;
+    auto three = [&](const char* key, std::array<double, 3>& out) {
+      const auto& v = b.at(key);
+      if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() ||
+          !v[2].is_number())
+        throw std::runtime_error(std::string("bone: 'box' '") + key + "' must be 3 numbers");
+      for (int a = 0; a < 3; ++a)
+        out[size_t(a)] = v[size_t(a)].get<double>();
+    };
+    three("centre", box.centreMm);
+    three("halfSizes", box.halfSizesMm);
+    if (b.contains("rotation"))
+      three("rotation", box.rotationDeg);
+    box.Check("bone: 'box'");
+    o.segmentation.box = box;
   }
   if (j.contains("closingRadius")) {
     const double c = num("closingRadius");

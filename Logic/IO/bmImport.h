@@ -78,12 +78,17 @@ Box3 RoiFromCorners(const std::vector<double>& corners, const std::string& what)
 /// separated by commas, semicolons or spaces). Throws std::runtime_error naming `what`.
 std::vector<std::array<double, 3>> ParsePointsMm(const std::string& text, const std::string& what);
 
+/// An oriented box from text "CX,CY,CZ,HX,HY,HZ[,RX,RY,RZ]": centre and half sizes (mm),
+/// rotation about x, y, z (degrees, bmBoxROI.h). Throws std::runtime_error naming `what`.
+OrientedBox OrientedBoxFromText(const std::string& text, const std::string& what);
+
 /// Options from a scene's bone description (all keys optional):
 ///   "threshold": HU, "seed": [x, y, z] mm (the bone to keep), "exclude": [[x, y, z], ...] mm
 ///   (bones to drop, separated from the kept one across joint spaces), "roi": [x0, y0, z0, x1,
-///   y1, z1] mm (inverted: an error), "resolution": N, "series": SeriesInstanceUID,
-///   "keepAllComponents": bool, "fillHoles": bool (cavities, default true), "closingRadius":
-///   voxels (default 1), "maxHoleVolume": mm^3, "separationDepth": mm (default 8),
+///   y1, z1] mm (inverted: an error), "box": {"centre": [x, y, z] mm, "halfSizes": [a, b, c]
+///   mm, "rotation": [rx, ry, rz] deg} (an oriented box, bmBoxROI.h), "resolution": N, "series":
+///   SeriesInstanceUID, "keepAllComponents": bool, "fillHoles": bool (cavities, default true),
+///   "closingRadius": voxels (default 1), "maxHoleVolume": mm^3, "separationDepth": mm (default 8),
 ///   "maxMemoryMB": MiB, "corticalHU": HU, "rawThreshold": value in the file's units (values
 ///   not HU), "huMapping": [slope, intercept] (HU = slope x value + intercept),
 ///   "allowOutsideData": bool (Docs/CTImport.md).

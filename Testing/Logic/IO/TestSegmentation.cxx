@@ -222,3 +222,35 @@ TEST(Segmentation, SeedsAndRegionFromSceneKeys) {
   EXPECT_THROW(bm::ParsePointsMm("1,2", "--exclude"), std::runtime_error);
   EXPECT_THROW(bm::ParsePointsMm("1,2,x", "--exclude"), std::runtime_error);
 }
+
+TEST(Segmentation, OrientedBoxKeepsTheBoneInside) {
+  // A 10 mm cortical cube (0.5 mm voxels) and a box turned 45 degrees about z, 4 mm thick along
+  // (1, 1, 0), 40 mm along (-1, 1, 0): the bone kept is the cube's diagonal strip,
+  // (100 - (10 - 2 sqrt 2)^2) mm^2 x 10 mm.
+  bm::CTImage ct = MakeCT({40, 40, 40}, 0.5, [](double x, double y, double z) {
+    return x > 5 && x < 15 && y > 5 && y < 15 && z > 5 && z < 15 ? 1500.0 : 40.0;
+  });
+  const double leg = 10 - 2 * std::sqrt(2.0);
+  const double strip = (100 - leg * leg) * 10;
+  nlohmann::json bone = {
+      {"box", {{"centre", {10, 10, 10}}, {"halfSizes", {2, 20, 20}}, {"rotation", {0, 0, 45}}}},
+      {"resolution", 64}};
+  bm::ImportOptions opt = bm::ImportOptionsFromJson(bone);
+  ASSERT_TRUE(opt.segmentation.box);
+  bm::ImportResult r = bm::ImportVoxmap(ct, opt);
+  std::cout << "oriented strip: analytic " << strip << " mm^3, segmented " << r.segmentedVolumeMm3
+            << ", voxmap " << r.voxmap.BoneVolume() << "\n";
+  EXPECT_NEAR(r.segmentedVolumeMm3, strip, 0.04 * strip);
+  EXPECT_NEAR(r.voxmap.BoneVolume(), strip, 0.04 * strip);
+  EXPECT_GT(Fill(r.voxmap, {10, 10, 10}), 0.99); // the centre: inside
+  EXPECT_LE(Fill(r.voxmap, {13, 13, 10}), 0.0);  // on the cube, across the box's thin axis
+  EXPECT_GT(Fill(r.voxmap, {13, 7, 10}), 0.99);  // on the cube, along the box
+
+  const auto text = bm::OrientedBoxFromText("10,10,10,2,20,20,0,0,45", "--box");
+  EXPECT_TRUE(text.Contains({13, 7, 10}));
+  EXPECT_FALSE(text.Contains({13, 13, 10}));
+  EXPECT_THROW(bm::OrientedBoxFromText("10,10,10,2,0,20", "--box"), std::runtime_error);
+  EXPECT_THROW(bm::OrientedBoxFromText("10,10,10,2", "--box"), std::runtime_error);
+  bone["box"]["halfSizes"] = {2, -1, 20};
+  EXPECT_THROW(bm::ImportOptionsFromJson(bone), std::runtime_error);
+}
