@@ -53,7 +53,8 @@ const char* kPlanUsage =
     "  --phantom-version DEG  phantom: its glenoid version (default -12)\n"
     "  --phantom-inclination DEG  phantom: its inclination (default 8)\n"
     "  --b2                   phantom: posterior wear (a biconcave Walch B2 face)\n"
-    "  --quiet                no progress bar\n";
+    "  --quiet                no progress bar\n"
+    "  exit status 3: no glenoid found; the report says why and lists the landmarks to place\n";
 
 const char* kScapulaUsage =
     "usage: bmsim phantom scapula --out DIR [options]\n"
