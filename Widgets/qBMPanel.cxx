@@ -22,6 +22,7 @@
 #include <QCheckBox>
 #include <QDoubleSpinBox>
 #include <QFileDialog>
+#include <QFileInfo>
 #include <QPair>
 #include <QList>
 #include <QHash>
@@ -517,8 +518,9 @@ int qBMPanel::method() const {
 }
 
 QString qBMPanel::withVoxmapExtension(const QString& path, const QString& defaultSuffix) {
-  if (path.isEmpty() || path.endsWith(".nrrd", Qt::CaseInsensitive) ||
-      path.endsWith(".mha", Qt::CaseInsensitive))
+  // Only a name with no extension at all gets one: another extension is the user's choice, and
+  // the save refuses it naming the formats.
+  if (path.isEmpty() || !QFileInfo(path).suffix().isEmpty())
     return path;
   return path + "." + defaultSuffix;
 }

@@ -61,9 +61,9 @@ public:
   int method() const;
   /// The bone file (.nrrd or .mha) to save the cut bone to and to start from. Default "".
   QString boneFile() const;
-  /// `path` with a voxmap extension: unchanged when it ends in .nrrd or .mha (any case), else
-  /// with "." + defaultSuffix appended ("" stays ""). Save uses it, so a name typed or picked
-  /// without an extension still saves.
+  /// `path` with a voxmap extension: a name without any extension gets "." + defaultSuffix; one
+  /// with an extension ("" too) is returned unchanged (the save refuses formats other than .nrrd
+  /// and .mha, naming them). Save uses it, so a name typed or picked without one still saves.
   static QString withVoxmapExtension(const QString& path, const QString& defaultSuffix = "nrrd");
   /// A tool parameter's label for a key of the tool specification: words and the unit, e.g.
   /// "arc_centre_offset_mm" -> "Arc centre offset (mm)", "lips" -> "Lips".

@@ -62,6 +62,9 @@ void pqBMDockWindow::addTool(int toolType, int resolution) {
     vtkSMSourceProxy* proxy = vtkSMSourceProxy::SafeDownCast(source->getProxy());
     vtkSMPropertyHelper(proxy, "ToolType").Set(toolType);
     vtkSMPropertyHelper(proxy, "Resolution").Set(resolution);
+    // The panel's edited parameters (its whole, validated specification; "type" is ignored).
+    vtkSMPropertyHelper(proxy, "Parameters")
+        .Set(this->Panel->toolSpecification().toUtf8().constData());
     proxy->UpdateVTKObjects();
     source->updatePipeline();
     source->setModifiedState(pqProxy::UNMODIFIED);

@@ -58,8 +58,10 @@ int main(int argc, char* argv[]) {
   Expect(qBMPanel::withVoxmapExtension("/tmp/cut", "mha") == "/tmp/cut.mha",
          "the MHA filter: .mha");
   Expect(qBMPanel::withVoxmapExtension("/tmp/cut.MHA") == "/tmp/cut.MHA", "an extension is kept");
-  Expect(qBMPanel::withVoxmapExtension("/tmp/cut.bone") == "/tmp/cut.bone.nrrd",
-         "another suffix gets .nrrd");
+  Expect(qBMPanel::withVoxmapExtension("/tmp/cut.txt") == "/tmp/cut.txt",
+         "another extension is left for the save to refuse");
+  Expect(qBMPanel::withVoxmapExtension("/tmp/a.b/cut") == "/tmp/a.b/cut.nrrd",
+         "a dot in a folder name is not an extension");
   Expect(qBMPanel::withVoxmapExtension("").isEmpty(), "no name stays empty");
   Expect(qBMPanel::parameterLabel("arc_centre_offset_mm") == "Arc centre offset (mm)",
          "a label with its unit");
