@@ -3,6 +3,7 @@
 // and read back, is recovered within 1 %; bad files are refused with the line and column named.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -110,6 +111,53 @@ TEST(CalibrationData, CrossValidationHoldsOutOneConditionPerFold) {
     EXPECT_LT(f.rmsThrustErrorN, 1e-3 * samples[f.sampleIndex[0]].thrustN) << f.condition;
     EXPECT_GT(f.minPredictedTorqueNmm, 0) << f.condition;
   }
+}
+
+// A known density (the engine's voxel material) scales a row's forces; rows at two densities and
+// one bone label determine the coefficients without any fitted factor.
+TEST(CalibrationData, DensityColumnScalesTheForcesItIsGiven) {
+  auto records = SyntheticRecords();
+  std::erase_if(records, [](const bm::CalibrationRecord& r) { return r.sample.bone != "bovine"; });
+  const bm::TwistDrill ref;
+  bm::Coefficients chisel = bm::ForceModel::Default(bm::Method::Lazar, ref).ChiselCoefficients();
+  for (double& v : chisel.kc)
+    v *= kChiselScale;
+  for (double& v : chisel.kt)
+    v *= kChiselScale;
+  const bm::ForceModel truth(bm::Method::Lazar, kTruth, chisel);
+  for (size_t i = 0; i < records.size(); i += 2) {
+    bm::CalibrationSample& s = records[i].sample;
+    s.material = 0.4;
+    const bm::EdgeIntegral p = bm::Predict(ref, truth, s);
+    s.thrustN = p.thrustN;
+    s.torqueNmm = p.torqueNmm;
+  }
+  const auto file = TempFile("density.csv", bm::FormatCalibrationCsv(records));
+  const auto back = bm::ReadCalibrationCsv(file);
+  ASSERT_EQ(back.size(), records.size());
+  EXPECT_DOUBLE_EQ(back[0].sample.material, 0.4);
+  EXPECT_DOUBLE_EQ(back[1].sample.material, 1.0);
+  EXPECT_NE(back[0].sample.condition, back[1].sample.condition);
+  bm::CalibrationOptions options;
+  options.fitChiselScale = true;
+  const bm::CalibrationFit fit = bm::CalibrateFit(ref, bm::Method::Lazar, kTruth.basis,
+                                                  bm::ForceModel::Default(bm::Method::Lazar, ref),
+                                                  bm::SamplesOf(back), options);
+  for (size_t i = 0; i < kTruth.kc.size(); ++i) {
+    EXPECT_NEAR(fit.model.LipCoefficients().kc[i], kTruth.kc[i], 1e-6 * kTruth.kc[i]);
+    EXPECT_NEAR(fit.model.LipCoefficients().kt[i], kTruth.kt[i], 1e-6 * kTruth.kt[i]);
+  }
+  EXPECT_NEAR(fit.chiselScale, kChiselScale, 1e-6);
+  // Read as density 1, the same numbers fit worse.
+  auto wrong = bm::SamplesOf(back);
+  for (auto& s : wrong)
+    s.material = 1.0;
+  const bm::CalibrationFit bad =
+      bm::CalibrateFit(ref, bm::Method::Lazar, kTruth.basis,
+                       bm::ForceModel::Default(bm::Method::Lazar, ref), wrong, options);
+  std::printf("RMS thrust error with the density column %.3g N, ignoring it %.3g N\n",
+              fit.rmsThrustErrorN, bad.rmsThrustErrorN);
+  EXPECT_GT(bad.rmsThrustErrorN, 1000 * std::max(fit.rmsThrustErrorN, 1e-9));
 }
 
 TEST(CalibrationData, ShippedPublishedSetReadsWithACitationPerRow) {
