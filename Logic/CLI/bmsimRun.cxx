@@ -119,7 +119,9 @@ int RunCommand(const bm::cli::Args& args) {
     std::cout << "report " << report.html << " (and " << report.markdown << ")\n";
   }
 #endif
-  return 0;
+  for (const std::string& w : trial.Warnings())
+    std::cerr << "bmsim run: warning: " << w << "\n";
+  return trial.GuideBlocked() ? 1 : 0; // the feed stopped short of its depth
 }
 
 } // namespace

@@ -9,6 +9,7 @@
 
 #include "bmAtomicFile.h"
 #include "bmEdgeQuadrature.h"
+#include "bmGuideContact.h"
 
 namespace bm {
 
@@ -50,11 +51,30 @@ bool FeedTrial::Run(const std::function<bool(double)>& progress) {
   const double step = path.StepMm();
   const int64_t frames = int64_t(std::ceil((FinalDepth_ + t.clearanceMm) / step));
   Engine& engine = Setup_.GetEngine();
+  const GuideContact guide(Setup_.Tool(), Setup_.Bone());
   Frames_.clear();
+  Warnings_.clear();
+  GuideBlocked_ = false;
+  GuideStop_ = 0;
+  SweptVolume_ = RemovedVolume_ = 0;
+  RemovedVoxels_ = 0;
   Frames_.reserve(size_t(frames));
   for (int64_t k = 0; k < frames; ++k) {
     const double depth = -t.clearanceMm + step * double(k + 1);
     const FrameInput in = path.Frame(depth, k);
+    if (guide.HasGuide() && guide.Blocked(in)) {
+      GuideBlocked_ = true;
+      GuideStop_ = depth - step;
+      std::ostringstream w;
+      w << std::fixed << std::setprecision(2) << "the " << Setup_.Tool().Kind()
+        << "'s guide nipple (radius " << guide.RadiusMm() << " mm, " << guide.LengthMm()
+        << " mm long) met solid bone at depth " << GuideStop_ << " mm of the planned "
+        << FinalDepth_
+        << " mm: the feed stopped there, as a rigid guide would. Drill the guide-pin hole "
+           "(wider than the nipple, deeper than depth + nipple length) along the same axis first.";
+      Warnings_.push_back(w.str());
+      break;
+    }
     const auto t0 = std::chrono::steady_clock::now();
     const FrameResult r = engine.Step(in);
     const auto t1 = std::chrono::steady_clock::now();
@@ -76,6 +96,9 @@ bool FeedTrial::Run(const std::function<bool(double)>& progress) {
       return false;
   }
   engine.SyncBone();
+  if (RemovedVoxels_ == 0)
+    Warnings_.push_back("the run removed no bone: the tool never reached bone along the trial "
+                        "(check the entry point, the axis and the depth)");
   return true;
 }
 
@@ -84,9 +107,9 @@ nlohmann::json FeedTrial::Summary() const {
   std::vector<double> thrust, torque, lateral, ms;
   // Statistics over full engagement; a trial that never engages every edge element (reaming to a
   // shallow depth) takes its last fifth of travel instead, and says so.
-  const bool full = FinalDepth_ >= EngagedDepth_;
-  const double from =
-      full ? EngagedDepth_ : FinalDepth_ - 0.2 * (FinalDepth_ + s.trial.clearanceMm);
+  const double reached = GuideBlocked_ ? GuideStop_ : FinalDepth_;
+  const bool full = reached >= EngagedDepth_;
+  const double from = full ? EngagedDepth_ : reached - 0.2 * (reached + s.trial.clearanceMm);
   for (const auto& f : Frames_) {
     ms.push_back(f.frameMs);
     if (f.depthMm >= from) {
@@ -148,6 +171,11 @@ nlohmann::json FeedTrial::Summary() const {
       {"removed_volume_mm3", RemovedVolume_},
       {"swept_volume_mm3", SweptVolume_},
       {"removed_voxels", RemovedVoxels_},
+      {"reached_depth_mm", GuideBlocked_ ? GuideStop_
+                           : Frames_.empty() ? -s.trial.clearanceMm
+                                             : Frames_.back().depthMm},
+      {"guide_blocked", GuideBlocked_},
+      {"warnings", Warnings_},
   };
   if (analytic >= 0) {
     j["analytic_removed_volume_mm3"] = analytic;

@@ -34,8 +34,18 @@ class FeedTrial {
 public:
   explicit FeedTrial(MachiningSetup& setup);
   /// Runs every frame to the final depth. progress(fraction) may return false to cancel
-  /// (then Run returns false and the record holds the frames so far).
+  /// (then Run returns false and the record holds the frames so far). A tool whose non-cutting
+  /// guide (a reamer's nipple) would enter solid bone stops before that frame, as a rigid guide
+  /// would (bmGuideContact.h): Run returns true, GuideStopDepthMm() says where, and Warnings()
+  /// says why.
   bool Run(const std::function<bool(double)>& progress = {});
+  /// Whether the guide met solid bone and the feed stopped early.
+  bool GuideBlocked() const { return GuideBlocked_; }
+  /// Depth of the foremost cutting point (mm below the entry; negative above it) where the feed
+  /// stopped when GuideBlocked().
+  double GuideStopDepthMm() const { return GuideStop_; }
+  /// What the run found worth telling (the guide stopped, nothing removed); empty when nothing.
+  const std::vector<std::string>& Warnings() const { return Warnings_; }
 
   const std::vector<TrialFrame>& Frames() const { return Frames_; }
   double FinalDepthMm() const { return FinalDepth_; }
@@ -53,6 +63,9 @@ private:
   double FinalDepth_ = 0, EngagedDepth_ = 0;
   double SweptVolume_ = 0, RemovedVolume_ = 0;
   int64_t RemovedVoxels_ = 0;
+  bool GuideBlocked_ = false;
+  double GuideStop_ = 0;
+  std::vector<std::string> Warnings_;
 };
 
 /// The straight feed path of a scene's trial (shared by the trial and the benchmark).

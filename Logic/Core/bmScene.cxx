@@ -47,7 +47,7 @@ Eigen::Vector3d GetVec(const json& j, const char* key, const Eigen::Vector3d& de
 Scene Scene::FromJson(const json& j) {
   CheckKeys(j,
             {"name", "tool", "bone", "trial", "voxmap_resolution", "shell_resolution", "method",
-             "lips", "threads", "backend", "force_model", "description"},
+             "lips", "threads", "backend", "force_model", "description", "steps", "planning"},
             "scene");
   Scene s;
   s.name = Get<std::string>(j, "name", s.name, "scene");
@@ -97,7 +97,59 @@ Scene Scene::FromJson(const json& j) {
   s.backend = Get<std::string>(j, "backend", s.backend, "scene");
   if (j.contains("force_model"))
     s.forceModel = j.at("force_model");
+  if (j.contains("planning")) {
+    if (!j.at("planning").is_object())
+      throw std::invalid_argument("field 'planning' in scene must be a JSON object");
+    s.planning = j.at("planning");
+  }
+  if (j.contains("steps")) {
+    const json& steps = j.at("steps");
+    if (!steps.is_array() || steps.empty() || steps.size() > 16)
+      throw std::invalid_argument("field 'steps' in scene must be a list of 1 to 16 steps");
+    for (size_t i = 0; i < steps.size(); ++i) {
+      const std::string where = "step " + std::to_string(i + 1);
+      const json& st = steps[i];
+      CheckKeys(st, {"name", "description", "tool", "trial", "shell_resolution"}, where);
+      SceneStep step;
+      step.name = Get<std::string>(st, "name", "step " + std::to_string(i + 1), where);
+      if (step.name.empty() || step.name.size() > 64)
+        throw std::invalid_argument("field 'name' in " + where + " must have 1 to 64 characters");
+      step.description = Get<std::string>(st, "description", "", where);
+      step.tool = st.contains("tool") ? st.at("tool") : s.tool;
+      step.trial = st.contains("trial") ? st.at("trial") : json::object();
+      step.shellResolution = Get<int>(st, "shell_resolution", 0, where);
+      s.steps.push_back(std::move(step));
+    }
+    for (size_t i = 0; i < s.steps.size(); ++i) {
+      try {
+        (void)s.Step(i); // validates the step's tool, trial and resolution now
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument("step " + std::to_string(i + 1) + " ('" + s.steps[i].name +
+                                    "'): " + e.what());
+      }
+    }
+  }
   s.Validate();
+  return s;
+}
+
+Scene Scene::Step(size_t i) const {
+  if (i >= steps.size())
+    throw std::out_of_range("scene '" + name + "' has no step " + std::to_string(i + 1));
+  const SceneStep& step = steps[i];
+  json j = ToJson();
+  j.erase("steps");
+  j.erase("planning");
+  j["name"] = name + ": " + step.name;
+  j["tool"] = step.tool;
+  if (!step.trial.is_object())
+    throw std::invalid_argument("field 'trial' must be a JSON object");
+  for (auto it = step.trial.begin(); it != step.trial.end(); ++it)
+    j["trial"][it.key()] = it.value();
+  if (step.shellResolution > 0)
+    j["shell_resolution"] = step.shellResolution;
+  Scene s = FromJson(j);
+  s.baseDir = baseDir;
   return s;
 }
 
@@ -217,6 +269,19 @@ json Scene::ToJson() const {
   j["backend"] = backend;
   if (!forceModel.is_null())
     j["force_model"] = forceModel;
+  if (!steps.empty()) {
+    j["steps"] = json::array();
+    for (const SceneStep& st : steps) {
+      json o = {{"name", st.name}, {"tool", st.tool}, {"trial", st.trial}};
+      if (!st.description.empty())
+        o["description"] = st.description;
+      if (st.shellResolution > 0)
+        o["shell_resolution"] = st.shellResolution;
+      j["steps"].push_back(std::move(o));
+    }
+  }
+  if (!planning.is_null())
+    j["planning"] = planning;
   return j;
 }
 

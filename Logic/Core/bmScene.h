@@ -60,6 +60,18 @@ struct BoneSpec {
   nlohmann::json ct;                 ///< ct: the importer's settings (path, threshold, roi...)
 };
 
+/// One step of a plan (e.g. the guide-pin hole, then the reaming): its own tool and trial on the
+/// bone the previous steps left. JSON: {"name": "guide pin", "description": "...",
+/// "tool": {...}, "trial": {...fields over the scene's trial}, "shell_resolution": N}; a field left
+/// out is the scene's.
+struct SceneStep {
+  std::string name;        ///< short name, also the step's output folder ("1-guide-pin")
+  std::string description; ///< one sentence for the report
+  nlohmann::json tool;     ///< the step's tool (bmToolModel.h parameters)
+  nlohmann::json trial;    ///< trial fields that differ from the scene's
+  int shellResolution = 0; ///< cells along this tool's longest side; 0 = the scene's
+};
+
 struct Scene {
   std::string name = "drilling";
   nlohmann::json tool = {{"type", "drill"}};
@@ -72,6 +84,15 @@ struct Scene {
   int threads = 2;
   std::string backend = "cpu";
   nlohmann::json forceModel; ///< empty: the method's defaults
+  /// A plan: steps run in order on one bone, each with its own tool and trial (empty: the scene is
+  /// one run of `tool` and `trial`). See SceneStep.
+  std::vector<SceneStep> steps;
+  nlohmann::json planning; ///< a plan's measurements and choices, carried to its report
+
+  /// The scene of step i (0-based): this scene with the step's tool, trial and shell resolution,
+  /// no steps, named "<scene>: <step>". Throws std::out_of_range for a step that does not exist
+  /// and std::invalid_argument naming the step for a bad field.
+  Scene Step(size_t i) const;
 
   /// Parse and validate; throws std::invalid_argument naming the bad field.
   static Scene FromJson(const nlohmann::json& j);
