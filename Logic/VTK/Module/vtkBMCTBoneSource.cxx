@@ -99,13 +99,47 @@ const char* vtkBMCTBoneSource::GetBoneSpecification() {
                        (this->FileName && IsVTKImageFile(this->FileName));
   if (viaCopy ? this->Internals->CTCopy.empty() : (!this->FileName || !*this->FileName))
     return spec.c_str();
-  nlohmann::json j;
+  nlohmann::json j = nlohmann::json::parse(this->ImportOptionsJson());
   j["ct"] = viaCopy ? this->Internals->CTCopy : std::filesystem::absolute(this->FileName).string();
+  spec = j.dump();
+  return spec.c_str();
+}
+
+std::string vtkBMCTBoneSource::ImportOptionsJson() const {
+  nlohmann::json j;
   j["threshold"] = this->ThresholdHU;
   if (this->ROI[3] > this->ROI[0] && this->ROI[4] > this->ROI[1] && this->ROI[5] > this->ROI[2])
     j["roi"] = {this->ROI[0], this->ROI[1], this->ROI[2], this->ROI[3], this->ROI[4], this->ROI[5]};
-  spec = j.dump();
-  return spec.c_str();
+  if (this->UseSeed)
+    j["seed"] = {this->Seed[0], this->Seed[1], this->Seed[2]};
+  if (!this->ExcludePoints.empty()) {
+    j["exclude"] = nlohmann::json::array();
+    for (size_t i = 0; i + 2 < this->ExcludePoints.size(); i += 3)
+      j["exclude"].push_back(
+          {this->ExcludePoints[i], this->ExcludePoints[i + 1], this->ExcludePoints[i + 2]});
+  }
+  if (this->UseBox)
+    j["box"] = {
+        {"centre", {this->BoxCentre[0], this->BoxCentre[1], this->BoxCentre[2]}},
+        {"halfSizes", {this->BoxHalfSizes[0], this->BoxHalfSizes[1], this->BoxHalfSizes[2]}},
+        {"rotation", {this->BoxRotation[0], this->BoxRotation[1], this->BoxRotation[2]}}};
+  return j.dump();
+}
+
+void vtkBMCTBoneSource::AddExcludePoint(double x, double y, double z) {
+  this->ExcludePoints.insert(this->ExcludePoints.end(), {x, y, z});
+  this->Modified();
+}
+
+void vtkBMCTBoneSource::RemoveAllExcludePoints() {
+  if (this->ExcludePoints.empty())
+    return;
+  this->ExcludePoints.clear();
+  this->Modified();
+}
+
+int vtkBMCTBoneSource::GetNumberOfExcludePoints() const {
+  return int(this->ExcludePoints.size() / 3);
 }
 
 int vtkBMCTBoneSource::RequestInformation(vtkInformation*, vtkInformationVector**,
@@ -226,11 +260,7 @@ void vtkBMCTBoneSource::Import(vtkImageData* input) {
         hu[size_t(i)] = float(values->GetComponent(i, 0));
       view.values = hu.data();
       view.source = source;
-      nlohmann::json options;
-      options["threshold"] = this->ThresholdHU;
-      if (validRoi)
-        options["roi"] = {this->ROI[0], this->ROI[1], this->ROI[2],
-                          this->ROI[3], this->ROI[4], this->ROI[5]};
+      const nlohmann::json options = nlohmann::json::parse(this->ImportOptionsJson());
       in.Bone = std::make_unique<bm::Voxmap>(
           bm::MakeCTVoxmapFromVolume(view, options, this->Resolution, progress));
       // The CT as a file a session can import at its own resolution (once per CT).

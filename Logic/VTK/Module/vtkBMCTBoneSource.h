@@ -28,6 +28,9 @@
 #include "BMVTKLogicModule.h" // for the export macro
 #include "vtkImageAlgorithm.h"
 
+#include <string> // for ImportOptionsJson
+#include <vector> // for ExcludePoints
+
 class BMVTKLOGIC_EXPORT vtkBMCTBoneSource : public vtkImageAlgorithm {
 public:
   static vtkBMCTBoneSource* New();
@@ -51,6 +54,35 @@ public:
   /// or empty box (any x1 <= x0, ...) is an error.
   vtkSetVector6Macro(ROI, double);
   vtkGetVector6Macro(ROI, double);
+  ///@}
+  ///@{
+  /// Include seed (world mm): keep the bone at this point (with UseSeed; default off, (0, 0, 0)):
+  /// the point the 3D view's handle widget places. Off: the largest bone.
+  vtkSetMacro(UseSeed, bool);
+  vtkGetMacro(UseSeed, bool);
+  vtkBooleanMacro(UseSeed, bool);
+  vtkSetVector3Macro(Seed, double);
+  vtkGetVector3Macro(Seed, double);
+  ///@}
+  ///@{
+  /// Exclude seeds (world mm): bones to drop, split from the kept bone across a joint space
+  /// (Docs/Segmentation.md). A point off all bone is ignored (the import warns). Default none.
+  void AddExcludePoint(double x, double y, double z);
+  void RemoveAllExcludePoints();
+  int GetNumberOfExcludePoints() const;
+  ///@}
+  ///@{
+  /// Oriented box region (with UseBox; default off): centre (mm), half sizes (mm, default 50)
+  /// and rotation (degrees about world x, then y, then z; default 0) (bmBoxROI.h).
+  vtkSetMacro(UseBox, bool);
+  vtkGetMacro(UseBox, bool);
+  vtkBooleanMacro(UseBox, bool);
+  vtkSetVector3Macro(BoxCentre, double);
+  vtkGetVector3Macro(BoxCentre, double);
+  vtkSetVector3Macro(BoxHalfSizes, double);
+  vtkGetVector3Macro(BoxHalfSizes, double);
+  vtkSetVector3Macro(BoxRotation, double);
+  vtkGetVector3Macro(BoxRotation, double);
   ///@}
   ///@{
   /// Voxmap cells along the region's longest side. Default 96 (a preview; a session resamples at
@@ -99,12 +131,21 @@ protected:
   double ROI[6] = {0, 0, 0, 0, 0, 0};
   int Resolution = 96;
   double Axis[3] = {0, 0, 1};
+  bool UseSeed = false;
+  double Seed[3] = {0, 0, 0};
+  std::vector<double> ExcludePoints; ///< x, y, z per point, mm
+  bool UseBox = false;
+  double BoxCentre[3] = {0, 0, 0};
+  double BoxHalfSizes[3] = {50, 50, 50};
+  double BoxRotation[3] = {0, 0, 0};
   vtkIdType BoneVoxels = 0;
   double BoneVolumeMm3 = 0;
   double BoneBounds[6] = {0, 0, 0, 0, 0, 0};
   double SuggestedEntry[3] = {0, 0, 0};
 
 private:
+  /// The import options (JSON, bmImport.h ImportOptionsFromJson keys) of the current settings.
+  std::string ImportOptionsJson() const;
   /// Imports the CT (`input` when not null, else FileName) with the current settings into the
   /// internals and fills the results (or the error).
   void Import(class vtkImageData* input);

@@ -179,6 +179,28 @@ TEST(CTBoneSource, FiltersACTImageFromTheHostViewer) {
   ASSERT_STREQ(filter->GetLastError(), "");
   EXPECT_NEAR(filter->GetBoneVolumeMm3(), 24.0, 1.5);
 
+  // Seeds and the oriented box reach the import: a box holding the block's y < 0 half (turned
+  // 90 degrees about z, its x axis along world y) keeps half of what is left (12 mm^3); an
+  // exclude seed off the bone is ignored; the specification carries them for the session.
+  filter->UseSeedOn();
+  filter->SetSeed(-1, -1, -1.5);
+  filter->AddExcludePoint(3, 3, 3); // in air
+  filter->UseBoxOn();
+  filter->SetBoxCentre(0, -2, -1.5);
+  filter->SetBoxHalfSizes(2, 5, 5);
+  filter->SetBoxRotation(0, 0, 90);
+  filter->Update();
+  ASSERT_STREQ(filter->GetLastError(), "");
+  EXPECT_NEAR(filter->GetBoneVolumeMm3(), 12.0, 1.0);
+  EXPECT_EQ(filter->GetNumberOfExcludePoints(), 1);
+  const nlohmann::json seeded = nlohmann::json::parse(filter->GetBoneSpecification());
+  EXPECT_EQ(seeded["exclude"].size(), 1u) << seeded.dump();
+  EXPECT_EQ(seeded["box"]["rotation"][2].get<double>(), 90.0) << seeded.dump();
+  EXPECT_EQ(seeded["seed"][0].get<double>(), -1.0) << seeded.dump();
+  filter->UseBoxOff();
+  filter->UseSeedOff();
+  filter->RemoveAllExcludePoints();
+
   // An image with no values is named.
   vtkNew<vtkImageData> empty;
   empty->SetDimensions(4, 4, 4);
