@@ -11,9 +11,9 @@
 //   BM_SESSION_BENCH_FRAMES=3000 build-session/Testing/Logic/BMSessionTests
 //       --gtest_filter='SessionBenchmark.*'
 //
-// Figures (2 shared cores, 3000 frames, 2636 touching bone), p50 / p99 / max per frame: scanning
-// every query (radius 0) 7.7 / 46.9 / 59 ms; candidates (radius 2, the default) 1.22 / 4.8 / 7.6
-// ms, of which the engine's Step is about 0.67 ms; the checksums are identical.
+// Figures (2 shared cores, 3000 frames, 2636 touching bone) and what the frame spends its time on:
+// Docs/RealTime.md. Scanning every query (radius 0) and the candidates (radius 2, the default)
+// give identical checksums.
 //
 // The bone (world mm, the face centre at the origin, the reaming axis +z out of the bone) is
 // bm::PhantomIsBone's glenoid (bmPhantom.h) in its local frame without the CT import (no ITK
