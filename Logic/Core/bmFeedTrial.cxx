@@ -96,7 +96,7 @@ bool FeedTrial::Run(const std::function<bool(double)>& progress) {
       return false;
   }
   engine.SyncBone();
-  if (RemovedVoxels_ == 0)
+  if (!(RemovedVolume_ > 0))
     Warnings_.push_back("the run removed no bone: the tool never reached bone along the trial "
                         "(check the entry point, the axis and the depth)");
   return true;

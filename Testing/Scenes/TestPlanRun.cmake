@@ -1,0 +1,66 @@
+# BMPlanRun: the clinician's path on the scapula phantom, from the command line: `bmsim plan
+# phantom` (DICOM written, glenoid found and measured, axis proposed), then `bmsim run plan.json`
+# (the guide-pin hole, then the nipple-guided reamer on the same bone) at voxmap 96, checked for
+# the plan summary's outcome; then the reaming step alone, without the pin hole, must stop at the
+# nipple's contact with a message and exit 1.
+#   cmake -DBMSIM=... -DWORK_DIR=... -P TestPlanRun.cmake
+foreach(v BMSIM WORK_DIR)
+  if(NOT DEFINED ${v})
+    message(FATAL_ERROR "TestPlanRun.cmake needs -D${v}=")
+  endif()
+endforeach()
+file(REMOVE_RECURSE ${WORK_DIR})
+
+execute_process(COMMAND ${BMSIM} plan phantom --quiet --out ${WORK_DIR}/plan
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR NOT EXISTS ${WORK_DIR}/plan/plan.json)
+  message(FATAL_ERROR "bmsim plan phantom failed (${rc}):\n${out}\n${err}")
+endif()
+
+execute_process(COMMAND ${BMSIM} run ${WORK_DIR}/plan/plan.json --voxmap-resolution 96 --no-report
+                        --out ${WORK_DIR}/run
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "bmsim run plan.json failed (${rc}):\n${out}\n${err}")
+endif()
+message(STATUS "${out}")
+file(READ ${WORK_DIR}/run/summary.json summary)
+string(JSON completed GET "${summary}" completed)
+string(JSON nsteps LENGTH "${summary}" steps)
+string(JSON angle GET "${summary}" outcome reamed_face_angle_to_axis_deg)
+string(JSON seating GET "${summary}" outcome seating_fraction)
+string(JSON medial GET "${summary}" outcome medialisation_mm)
+string(JSON cortical GET "${summary}" outcome removed_cortical_mm3)
+string(JSON cancellous GET "${summary}" outcome removed_cancellous_mm3)
+string(JSON pinRemoved GET "${summary}" steps 0 summary removed_volume_mm3)
+if(NOT completed STREQUAL "ON" OR NOT nsteps EQUAL 2)
+  message(FATAL_ERROR "the plan did not complete both steps: completed ${completed}, ${nsteps} steps")
+endif()
+foreach(f 1-guide-pin/summary.json 1-guide-pin/forces.csv 2-ream/summary.json 2-ream/forces.csv)
+  if(NOT EXISTS ${WORK_DIR}/run/${f})
+    message(FATAL_ERROR "the plan run wrote no ${f}")
+  endif()
+endforeach()
+file(GLOB leftovers ${WORK_DIR}/run/.bmsim-steps-*)
+if(leftovers)
+  message(FATAL_ERROR "the plan run left its staging folder: ${leftovers}")
+endif()
+# The reamed face within 3 deg of the planned axis at this coarse voxmap (0.52 mm voxels), the
+# joint line medialised by about the 2 mm ream depth, a 25 mm baseplate seated on bone, both
+# tissues removed, and the pin's hole (radius 3.2 mm, 10 mm deep: ~280 mm^3 of bone).
+if(angle GREATER 3.0 OR seating LESS 0.9 OR medial LESS 1.0 OR medial GREATER 3.0 OR
+   cortical LESS 100 OR cancellous LESS 10 OR pinRemoved LESS 200 OR pinRemoved GREATER 360)
+  message(FATAL_ERROR "plan outcome out of range: face ${angle} deg, seating ${seating}, "
+                      "medialisation ${medial} mm, cortical ${cortical}, cancellous ${cancellous}, "
+                      "pin ${pinRemoved} mm^3")
+endif()
+
+# Reaming without the guide-pin hole: the nipple meets solid bone; exit 1 and a message.
+execute_process(COMMAND ${BMSIM} run ${WORK_DIR}/plan/step2-ream.json --voxmap-resolution 96
+                        --no-report --out ${WORK_DIR}/ream-only
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 1 OR NOT err MATCHES "guide nipple .* met solid bone")
+  message(FATAL_ERROR "reaming without the pin hole: exit ${rc}, expected 1 and the nipple's "
+                      "message:\n${out}\n${err}")
+endif()
+message(STATUS "plan run: face ${angle} deg, seating ${seating}, medialisation ${medial} mm")
