@@ -89,7 +89,8 @@ const char* kUsage = R"(usage: bmsim bench [options]
   --session NAME|FILE    instead: the haptic session's frame time on a scene (glenoid: the built-in
                          scene at its default resolutions) in a hand-like trial: the scripted
                          hand (a steady push of --push N, default 3, rising over 0.5 s, with
-                         --tremor N of lateral tremor, default 0.1) on the scene's trial axis from its clearance,
+                         --tremor N of lateral tremor, default 0.1) on the scene's trial axis
+                         from its clearance,
                          --seconds S of session time (default 20) at 1 kHz (--back-to-back: no
                          sleeping between frames), --threads engine threads (default: the
                          scene's). Runs alternate, --repeats times each (default 2): the
