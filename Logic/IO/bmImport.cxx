@@ -26,6 +26,46 @@ std::string Box(const Box3& b) {
   return os.str();
 }
 
+/// The segmentation's bone volume (mm^3) inside a world box: each CT voxel's fraction times the
+/// part of its cell inside the box (exact for a CT on the world axes; for an oblique CT, whole
+/// voxels by their centres). The CT is cropped to the box plus a margin, which this leaves out.
+double VolumeInBox(const BoneSegmentation& seg, const Box3& box) {
+  const FractionImage* f = seg.fraction.GetPointer();
+  const auto region = f->GetLargestPossibleRegion();
+  const auto sp = f->GetSpacing();
+  bool axisAligned = true;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      axisAligned &= std::abs(f->GetDirection()[r][c] - (r == c ? 1.0 : 0.0)) < 1e-9;
+  const float* F = f->GetBufferPointer();
+  long double sum = 0;
+  FractionImage::IndexType index;
+  itk::Point<double, 3> p;
+  int64_t v = 0;
+  for (size_t k = 0; k < region.GetSize(2); ++k)
+    for (size_t j = 0; j < region.GetSize(1); ++j)
+      for (size_t i = 0; i < region.GetSize(0); ++i, ++v) {
+        if (F[v] <= 0)
+          continue;
+        index[0] = region.GetIndex(0) + long(i);
+        index[1] = region.GetIndex(1) + long(j);
+        index[2] = region.GetIndex(2) + long(k);
+        f->TransformIndexToPhysicalPoint(index, p);
+        double share = 1;
+        for (int a = 0; a < 3; ++a) {
+          if (axisAligned) {
+            const double lo = std::max(p[a] - 0.5 * sp[a], box.lo[a]);
+            const double hi = std::min(p[a] + 0.5 * sp[a], box.hi[a]);
+            share *= std::max(0.0, hi - lo) / sp[a];
+          } else if (p[a] < box.lo[a] || p[a] > box.hi[a]) {
+            share = 0;
+          }
+        }
+        sum += share * F[v];
+      }
+  return double(sum) * sp[0] * sp[1] * sp[2];
+}
+
 bool Inside(const Box3& b, const std::array<double, 3>& p) {
   for (int a = 0; a < 3; ++a)
     if (p[a] < b.lo[a] || p[a] > b.hi[a])
@@ -113,7 +153,7 @@ ImportResult ImportVoxmap(CTImage ct, const ImportOptions& optIn, const Progress
 
   BoneSegmentation seg = SegmentBone(ct, opt.segmentation, progress.Range(0, 0.5));
   ct.hu = nullptr; // release the HU voxels
-  r.segmentedVolumeMm3 = seg.boneVolumeMm3;
+  r.segmentedVolumeMm3 = opt.roiMm ? VolumeInBox(seg, *opt.roiMm) : seg.boneVolumeMm3;
   r.numComponents = seg.numComponents;
   r.holesFilled = seg.holesFilled;
   r.separationDepthMm = seg.separation.depthMm;

@@ -48,7 +48,9 @@ struct ImportResult {
   std::vector<std::string> notes; ///< how the series or file was chosen (CTImage::notes)
   IntensityMapping intensity;     ///< what the CT's values meant (bmIntensityMapping.h)
   // Segmentation.
-  double segmentedVolumeMm3 = 0; ///< bone volume at CT resolution (sum of fractions), mm^3
+  /// Bone volume at CT resolution (sum of fractions; with a ROI, of the parts of the voxels
+  /// inside it), mm^3.
+  double segmentedVolumeMm3 = 0;
   int numComponents = 0;
   int holesFilled = 0;
   double separationDepthMm = 0; ///< erosion that split touching bones, mm (0: none needed)

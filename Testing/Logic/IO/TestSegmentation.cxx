@@ -85,6 +85,21 @@ TEST(Segmentation, RealHeadCTKeepsItsBoneVolumeAtEveryResolution) {
   }
 }
 
+TEST(Segmentation, RegionOfInterestVolumeIsTheBoneInsideIt) {
+  // The skull vault of the head CT cropped to the skull scene's 40 x 40 x 35 mm box: the volume
+  // reported at the CT's resolution is the bone inside the box (not the crop's margin), and the
+  // voxmap holds it.
+  const char* cranium = "/usr/share/doc/invesalius-examples/examples/Cranium.inv3";
+  if (!fs::exists(cranium))
+    GTEST_SKIP() << "invesalius-examples is not installed";
+  bm::ImportOptions opt =
+      bm::ImportOptionsFromJson({{"roi", {102.5, 85, 125, 142.5, 125, 160}}, {"resolution", 128}});
+  bm::ImportResult r = bm::ImportVoxmap(cranium, opt);
+  const double seg = r.segmentedVolumeMm3, vox = r.voxmap.BoneVolume();
+  std::cout << "vault ROI: segmented " << seg << " mm^3, voxmap " << vox << " mm^3\n";
+  EXPECT_NEAR(vox, seg, 0.03 * seg);
+}
+
 TEST(Segmentation, CavityCutOpenByTheImageBorderIsFilled) {
   // A hollow sphere (outer radius 12 mm, 2 mm cortical shell at 1500 HU, marrow 0 HU inside) in
   // soft tissue (40 HU), centred 5 mm above the image's bottom face: the border cuts the cavity
