@@ -10,6 +10,7 @@
 #include "bmAtomicFile.h"
 #include "bmFeedTrial.h"
 #include "bmMachiningSetup.h"
+#include "bmPlanRunReport.h"
 #include "bmReamingOutcome.h"
 #ifdef BM_WITH_REPORT
 #include "bmTrialReport.h"
@@ -160,8 +161,13 @@ int RunSceneSteps(const bm::Scene& scene, const ParsedArgs& args, const std::str
     fs::remove_all(target);
     fs::rename(stage.path / folder, target);
   }
-  WriteFileAtomic((fs::path(outDir) / "summary.json").string(), summary.dump(2) + "\n");
-  std::cout << "wrote " << outDir << "/summary.json and " << folders.size() << " step folders\n";
+  summary = WithFaceAngles(std::move(summary));
+  const fs::path d(outDir);
+  WriteFilesAtomic({{(d / "summary.json").string(), summary.dump(2) + "\n"},
+                    {(d / "plan_result.md").string(), PlanRunMarkdown(summary)},
+                    {(d / "plan_result.html").string(), PlanRunHtml(summary)}});
+  std::cout << "wrote " << outDir << "/summary.json, plan_result.md/.html and " << folders.size()
+            << " step folders\n";
   if (blocked)
     std::cerr << "bmsim run: the plan did not complete: a guide met solid bone (see the "
                  "warnings)\n";

@@ -131,10 +131,16 @@ ReamingOutcome MeasureReamingOutcome(const Voxmap& before, const Voxmap& after, 
   // The reamed face and the joint line.
   const double holeR = std::max(o.pinRadiusMm, arc ? arc->Params().nippleRadius : 0.0) + h;
   const double faceR = 0.9 * reamer.OuterRadius();
-  std::vector<Eigen::Vector3d> cut;
+  // Rays on a grid symmetric about the axis; the plane is fitted to the cut points whose mirror
+  // point (-u, -v) was cut too, so that a face of revolution reamed off-centre (the reamer meets
+  // one side of a retroverted glenoid first) does not tilt the fit.
+  const int nGrid = int(std::floor(faceR / h));
+  const int side = 2 * nGrid + 1;
+  std::vector<std::optional<Eigen::Vector3d>> cutAt(size_t(side) * size_t(side));
   std::vector<std::array<double, 3>> preCentre, postCentre;
-  for (double u = -faceR; u <= faceR; u += h)
-    for (double v = -faceR; v <= faceR; v += h) {
+  for (int iu = -nGrid; iu <= nGrid; ++iu)
+    for (int iv = -nGrid; iv <= nGrid; ++iv) {
+      const double u = iu * h, v = iv * h;
       const double rho = std::hypot(u, v);
       if (rho > faceR || rho < holeR)
         continue;
@@ -148,8 +154,16 @@ ReamingOutcome MeasureReamingOutcome(const Voxmap& before, const Voxmap& after, 
       }
       if (hb && ha && *hb - *ha > h) {
         const Vec3 p = f.At(u, v, *ha);
-        cut.emplace_back(p[0], p[1], p[2]);
+        cutAt[size_t(iu + nGrid) * side + size_t(iv + nGrid)] = Eigen::Vector3d(p[0], p[1], p[2]);
       }
+    }
+  std::vector<Eigen::Vector3d> cut;
+  for (int iu = -nGrid; iu <= nGrid; ++iu)
+    for (int iv = -nGrid; iv <= nGrid; ++iv) {
+      const auto& a = cutAt[size_t(iu + nGrid) * side + size_t(iv + nGrid)];
+      const auto& b = cutAt[size_t(nGrid - iu) * side + size_t(nGrid - iv)];
+      if (a && b)
+        cut.push_back(*a);
     }
   out.facePoints = int(cut.size());
   if (cut.size() >= 10) {

@@ -3,8 +3,9 @@
 //  - removed volume, split into cortical and cancellous bone by the voxels' material (material
 //    >= kCorticalMaterial, i.e. >= 600 HU under the default HU mapping, counts as cortical);
 //  - the reamed face: surface points found along rays parallel to the planned axis (the first
-//    voxel at least half full), a least-squares plane through those the reamer cut, and its
-//    normal's angle to the planned axis;
+//    voxel at least half full), a least-squares plane through those the reamer cut whose mirror
+//    point across the axis was cut too (a face of revolution reamed off-centre stays untilted),
+//    and its normal's angle to the planned axis;
 //  - medialisation of the joint line: the face height at the centre before minus after, each
 //    from a least-squares quadratic over the surface heights within 8 mm of the axis (the guide-pin
 //    hole left out);

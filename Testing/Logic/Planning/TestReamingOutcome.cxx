@@ -130,8 +130,9 @@ TEST_P(ReamingOutcome, MatchesTheAnalyticGeometry) {
   EXPECT_LT(r.faceAngleDeg, 2.0) << r.facePoints << " face points";
   EXPECT_NEAR(r.medialisationMm, medialisation, 0.3);
   EXPECT_NEAR(r.seating, seating, 0.05);
-  if (backR > kB)
+  if (backR > kB) {
     EXPECT_LT(seating, 0.95); // the overhang is unsupported
+  }
   EXPECT_NEAR(r.boneBeyondPegMm, kH - g.depth - o.pegLengthMm, 2 * kVoxel);
   EXPECT_NEAR(r.boneBeyondPinMm, kH - kDp, 2 * kVoxel);
   EXPECT_NEAR(r.removedMm3, r.removedCorticalMm3 + r.removedCancellousMm3, 1e-6);
