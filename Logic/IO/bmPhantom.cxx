@@ -15,7 +15,7 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 
 // Glenoid constants (see the header).
-constexpr double gA = 20.0, gB = 14.5, gRc = 35.0, gH = 25.0, gRp = 3.2, gDp = 10.0, gTc = 1.75;
+constexpr double gA = 20.0, gB = 14.5, gRc = 35.0, gH = 25.0, gRp = 4.0, gDp = 10.0, gTc = 1.75;
 constexpr std::array<double, 3> gC{-60.0, 20.0, 40.0}, gN{-1, 0, 0}, gU{0, 0, 1}, gV{0, 1, 0};
 constexpr float kCorticalHU = 1500, kCancellousHU = 300, kFluidHU = 0, kSoftHU = 40;
 // Block.

@@ -8,7 +8,9 @@
 //     (u/a)^2 + (v/b)^2 <= 1,  -H <= w <= s(r) = Rc - sqrt(Rc^2 - r^2)
 //   minus the pilot (guide pin) hole r <= rp, w >= -Dp:
 //   a = 20 mm, b = 14.5 mm (face 40 x 29 mm), Rc = 35 mm (concave face, radius of curvature),
-//   H = 25 mm (vault depth behind the face centre), rp = 3.2 mm, Dp = 10 mm.
+//   H = 25 mm (vault depth behind the face centre), rp = 4.0 mm, Dp = 10 mm. The pilot hole
+//   leaves the reamer's 3 mm guide nipple 1 mm of clearance, about two CT voxels: the voxmap's
+//   partial-volume wall spreads over one CT voxel, and a rigid nipple must not graze it.
 //   Cortical shell tc = 1.75 mm (the inner solid has semi-axes a - tc, b - tc, the face sphere
 //   radius Rc + tc and its bottom at -H + tc) at 1500 HU over cancellous bone at 300 HU; the pilot
 //   hole holds fluid (0 HU); soft tissue (40 HU) around.

@@ -12,8 +12,12 @@
 // estimated at m^3 points (m = ceil(1.5 h / smallest CT spacing), 1..8). The integral of a
 // trilinear interpolant equals the sum of its samples times the voxel volume, so the voxmap holds
 // the segmentation's bone volume at any resolution (within 3 %, Docs/Segmentation.md), thin
-// cortex included; the voxmap's 0.5 iso-surface is the CT's. fill = round(fraction *
-// Voxmap::kFull). The grid must cover the bone's voxels grown by half a CT voxel (the reach of
+// cortex included. That field ramps over about one CT voxel on each side of the surface, and its
+// faint outer part would stand in front of the bone as a haze of nearly empty voxels that a rigid
+// part (a reamer's guide nipple in its pilot hole) meets as bone. So the bone voxels' fractions are
+// then stretched, g(f) = clamp(0.5 + 3 (f - c), 0, 1) (void stays void), with c found by bisection
+// so that the total volume is unchanged: the ramp becomes about a third as wide, and the volume
+// stays the segmentation's. fill = round(g * Voxmap::kFull). The grid must cover the bone's voxels grown by half a CT voxel (the reach of
 // the interpolant) for the volume to be kept whole.
 //
 // Material scale (multiplies the cutting coefficients k_c, k_f): linear in HU, which is roughly
