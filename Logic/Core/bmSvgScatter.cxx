@@ -1,4 +1,5 @@
 #include "bmSvgScatter.h"
+#include "bmHtmlEscape.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,29 +9,6 @@
 namespace bm {
 
 namespace {
-
-std::string Escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-    case '&':
-      out += "&amp;";
-      break;
-    case '<':
-      out += "&lt;";
-      break;
-    case '>':
-      out += "&gt;";
-      break;
-    case '"':
-      out += "&quot;";
-      break;
-    default:
-      out += c;
-    }
-  }
-  return out;
-}
 
 std::string Fmt(double v) {
   char buf[32];
@@ -61,7 +39,7 @@ std::string ScatterSvg(const std::vector<ScatterPanel>& panels, const std::strin
      << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
      << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
      << "<text x=\"" << width / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">"
-     << Escape(title) << "</text>\n";
+     << HtmlEscape(title) << "</text>\n";
   for (size_t p = 0; p < panels.size(); ++p) {
     const ScatterPanel& panel = panels[p];
     double lo = 0, hiX = 0, hiY = 0;
@@ -81,7 +59,7 @@ std::string ScatterSvg(const std::vector<ScatterPanel>& panels, const std::strin
     auto X = [&](double v) { return x0 + (v - loX) / (hiX - loX) * kSize; };
     auto Y = [&](double v) { return y0 - (v - loY) / (hiY - loY) * kSize; };
     os << "<g>\n<text x=\"" << x0 + kSize / 2 << "\" y=\"" << kTop - 10
-       << "\" text-anchor=\"middle\" font-size=\"13\">" << Escape(panel.title) << "</text>\n";
+       << "\" text-anchor=\"middle\" font-size=\"13\">" << HtmlEscape(panel.title) << "</text>\n";
     os << "<rect x=\"" << x0 << "\" y=\"" << kTop << "\" width=\"" << kSize << "\" height=\""
        << kSize << "\" fill=\"none\" stroke=\"#444\"/>\n";
     for (int t = 0; t <= 5; ++t) {
@@ -96,9 +74,9 @@ std::string ScatterSvg(const std::vector<ScatterPanel>& panels, const std::strin
          << "</text>\n";
     }
     os << "<text x=\"" << x0 + kSize / 2 << "\" y=\"" << y0 + 38 << "\" text-anchor=\"middle\">"
-       << Escape(panel.xLabel) << "</text>\n"
+       << HtmlEscape(panel.xLabel) << "</text>\n"
        << "<text transform=\"translate(" << x0 - 48 << "," << kTop + kSize / 2
-       << ") rotate(-90)\" text-anchor=\"middle\">" << Escape(panel.yLabel) << "</text>\n";
+       << ") rotate(-90)\" text-anchor=\"middle\">" << HtmlEscape(panel.yLabel) << "</text>\n";
     if (panel.identityLine) {
       const double a = std::max(loX, loY), b = std::min(hiX, hiY);
       os << "<line x1=\"" << X(a) << "\" y1=\"" << Y(a) << "\" x2=\"" << X(b) << "\" y2=\"" << Y(b)
@@ -114,7 +92,7 @@ std::string ScatterSvg(const std::vector<ScatterPanel>& panels, const std::strin
              << "/>\n";
       os << "<circle cx=\"" << x0 + 6 << "\" cy=\"" << legendY - 4 << "\" r=\"4\" "
          << (s.hollow ? "fill=\"none\" stroke=\"" + s.color + "\"" : "fill=\"" + s.color + "\"")
-         << "/>\n<text x=\"" << x0 + 16 << "\" y=\"" << legendY << "\">" << Escape(s.name)
+         << "/>\n<text x=\"" << x0 + 16 << "\" y=\"" << legendY << "\">" << HtmlEscape(s.name)
          << "</text>\n";
       legendY += 16;
     }

@@ -1,4 +1,5 @@
 #include "bmPlanReport.h"
+#include "bmHtmlEscape.h"
 
 #include <sstream>
 #include <vector>
@@ -98,29 +99,6 @@ Content Build(const PlanReportInput& in) {
   return c;
 }
 
-std::string Html(const std::string& s) {
-  std::string o;
-  for (char ch : s) {
-    switch (ch) {
-    case '&':
-      o += "&amp;";
-      break;
-    case '<':
-      o += "&lt;";
-      break;
-    case '>':
-      o += "&gt;";
-      break;
-    case '"':
-      o += "&quot;";
-      break;
-    default:
-      o += ch;
-    }
-  }
-  return o;
-}
-
 void MdTable(std::ostringstream& md, const Table& t) {
   for (size_t r = 0; r < t.size(); ++r) {
     md << "|";
@@ -141,7 +119,7 @@ void HtmlTable(std::ostringstream& h, const Table& t) {
   for (size_t r = 0; r < t.size(); ++r) {
     h << "<tr>";
     for (const auto& cell : t[r])
-      h << (r == 0 ? "<th>" : "<td>") << Html(cell) << (r == 0 ? "</th>" : "</td>");
+      h << (r == 0 ? "<th>" : "<td>") << HtmlEscape(cell) << (r == 0 ? "</th>" : "</td>");
     h << "</tr>\n";
   }
   h << "</table>\n";
@@ -203,16 +181,17 @@ std::string PlanReportHtml(const PlanReportInput& in) {
        "<style>body{font-family:sans-serif;max-width:60em;margin:2em auto}"
        "table{border-collapse:collapse}td,th{border:1px solid #999;padding:.2em .5em}"
        ".warn{color:#a00}</style></head><body>\n"
-    << "<h1>Glenoid plan</h1>\n<p>CT: <code>" << Html(in.source) << "</code><br>" << Html(kFrame)
-    << "</p>\n";
+    << "<h1>Glenoid plan</h1>\n<p>CT: <code>" << HtmlEscape(in.source) << "</code><br>"
+    << HtmlEscape(kFrame) << "</p>\n";
   if (!in.importSummary.empty())
-    h << "<pre>" << Html(in.importSummary) << "</pre>\n";
+    h << "<pre>" << HtmlEscape(in.importSummary) << "</pre>\n";
   if (c.landmarks.empty()) {
-    h << "<h2 class=\"warn\">No plan: " << Html(c.failure) << "</h2>\n"
+    h << "<h2 class=\"warn\">No plan: " << HtmlEscape(c.failure) << "</h2>\n"
       << "<p>Place these landmarks in a JSON file and plan again with <code>--landmarks "
          "FILE</code>:</p>\n<ul>\n";
     for (const auto& [k, v] : kToPlace.items())
-      h << "<li><code>" << Html(k) << "</code>: " << Html(v.get<std::string>()) << "</li>\n";
+      h << "<li><code>" << HtmlEscape(k) << "</code>: " << HtmlEscape(v.get<std::string>())
+        << "</li>\n";
     h << "</ul>\n</body></html>\n";
     return h.str();
   }
@@ -222,12 +201,12 @@ std::string PlanReportHtml(const PlanReportInput& in) {
   HtmlTable(h, c.measurements);
   h << "<h2>Plan</h2>\n<ul>\n";
   for (const auto& item : c.plan)
-    h << "<li>" << Html(item) << "</li>\n";
+    h << "<li>" << HtmlEscape(item) << "</li>\n";
   h << "</ul>\n";
   if (!c.warnings.empty()) {
     h << "<h2>Warnings</h2>\n<ul class=\"warn\">\n";
     for (const auto& w : c.warnings)
-      h << "<li>" << Html(w) << "</li>\n";
+      h << "<li>" << HtmlEscape(w) << "</li>\n";
     h << "</ul>\n";
   }
   h << "</body></html>\n";

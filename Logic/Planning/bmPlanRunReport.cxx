@@ -1,4 +1,5 @@
 #include "bmPlanRunReport.h"
+#include "bmHtmlEscape.h"
 
 #include <cmath>
 #include <iomanip>
@@ -33,21 +34,6 @@ const nlohmann::json& At(const nlohmann::json& j, std::initializer_list<const ch
 
 Vec3 ToVec(const nlohmann::json& j) {
   return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()};
-}
-
-std::string Escape(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    if (c == '<')
-      o += "&lt;";
-    else if (c == '>')
-      o += "&gt;";
-    else if (c == '&')
-      o += "&amp;";
-    else
-      o += c;
-  }
-  return o;
 }
 
 // The report's rows: a title, then (label, value) pairs per section.
@@ -172,22 +158,23 @@ std::string PlanRunHtml(const nlohmann::json& summary) {
        "<style>body{font-family:sans-serif;max-width:60em;margin:2em auto}"
        "table{border-collapse:collapse}td{border:1px solid #ccc;padding:.3em .6em}"
        ".warn{color:#a00}</style></head><body>\n"
-    << "<h1>Plan rehearsed: " << Escape(summary.value("plan", std::string("plan"))) << "</h1>\n<p>"
+    << "<h1>Plan rehearsed: " << HtmlEscape(summary.value("plan", std::string("plan")))
+    << "</h1>\n<p>"
     << (summary.value("completed", false)
             ? "Both steps ran to their planned depths on one bone."
             : "<b class=\"warn\">The plan did not complete:</b> a step stopped early.")
     << "</p>\n";
   for (const Section& sec : Sections(summary)) {
-    h << "<h2>" << Escape(sec.title) << "</h2>\n<table>\n";
+    h << "<h2>" << HtmlEscape(sec.title) << "</h2>\n<table>\n";
     for (const auto& [k, v] : sec.rows) {
       const bool link = v.size() > 12 && v.compare(v.size() - 12, 12, "/report.html") == 0;
-      h << "<tr><td>" << Escape(k) << "</td><td>"
-        << (link ? "<a href=\"" + Escape(v) + "\">" + Escape(v) + "</a>" : Escape(v))
+      h << "<tr><td>" << HtmlEscape(k) << "</td><td>"
+        << (link ? "<a href=\"" + HtmlEscape(v) + "\">" + HtmlEscape(v) + "</a>" : HtmlEscape(v))
         << "</td></tr>\n";
     }
     h << "</table>\n";
     for (const std::string& n : sec.notes)
-      h << "<p class=\"warn\">Warning: " << Escape(n) << "</p>\n";
+      h << "<p class=\"warn\">Warning: " << HtmlEscape(n) << "</p>\n";
   }
   h << "</body></html>\n";
   return h.str();

@@ -1,5 +1,6 @@
 // bmTrialReport.cxx - see bmTrialReport.h.
 #include "bmTrialReport.h"
+#include "bmHtmlEscape.h"
 
 #include <algorithm>
 #include <cmath>
@@ -62,29 +63,6 @@ std::string Fixed(double v, int digits) {
   std::ostringstream s;
   s << std::fixed << std::setprecision(digits) << v;
   return s.str();
-}
-
-std::string HtmlEscape(const std::string& in) {
-  std::string out;
-  for (char c : in) {
-    switch (c) {
-    case '&':
-      out += "&amp;";
-      break;
-    case '<':
-      out += "&lt;";
-      break;
-    case '>':
-      out += "&gt;";
-      break;
-    case '"':
-      out += "&quot;";
-      break;
-    default:
-      out += c;
-    }
-  }
-  return out;
 }
 
 } // namespace
