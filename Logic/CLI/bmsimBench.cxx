@@ -150,12 +150,12 @@ double ThreadCpuMs() {
 #ifndef BM_WITH_IO
 /// The glenoid phantom's bone (bmPhantom.h's analytic geometry: face centre (-60, 20, 40) mm,
 /// outward axis -x, elliptic face 40 x 29 mm, concave face of radius 35 mm, vault 25 mm deep,
-/// pilot hole r 3.2 mm x 10 mm) sampled straight into a voxmap, for builds without BMIO (no ITK:
+/// pilot hole r 4.0 mm x 10 mm) sampled straight into a voxmap, for builds without BMIO (no ITK:
 /// no CT import). Box: the bone's bounds plus 0.625 mm, `resolution` voxels along its longest
 /// side; fill = 0.5 + (signed distance to the surface) / spacing, clamped (partial volume, as the
 /// CT import's resampling gives), all cortical. Units: mm.
 bm::Voxmap AnalyticGlenoid(int resolution) {
-  const double a = 20, b = 14.5, Rc = 35, H = 25, rp = 3.2, Dp = 10, margin = 0.625;
+  const double a = 20, b = 14.5, Rc = 35, H = 25, rp = 4.0, Dp = 10, margin = 0.625;
   const double wTop = Rc - std::sqrt(Rc * Rc - a * a);
   // World x = -60 - w, y = 20 + v, z = 40 + u.
   const std::array<double, 3> lo{-60 - wTop - margin, 20 - b - margin, 40 - a - margin};
@@ -192,6 +192,21 @@ bm::Voxmap AnalyticGlenoid(int resolution) {
 }
 #endif
 
+/// The scene's bone: the CT (or, without BMIO, the glenoid phantom's analytic bone) or its block.
+bm::Voxmap SceneBone(const bm::Scene& scene) {
+#ifdef BM_WITH_IO
+  return scene.bone.type == "block"
+             ? bm::MakeSceneBlock(scene)
+             : bm::MakeCTVoxmap(scene.bone.ct, scene.baseDir, scene.voxmapResolution);
+#else
+  const bool glenoid =
+      scene.bone.type != "block" && scene.bone.ct.value("phantom", "") == "glenoid";
+  if (scene.bone.type != "block" && !glenoid)
+    throw std::runtime_error("scene '" + scene.name + "' needs CT import (BMIO)");
+  return glenoid ? AnalyticGlenoid(scene.voxmapResolution) : bm::MakeSceneBlock(scene);
+#endif
+}
+
 /// One scripted session of the scene, with or without the live view refreshing.
 struct ViewRun {
   std::vector<double> refreshMs;   ///< refreshes while bone was cut
@@ -219,17 +234,7 @@ struct ViewRun {
 /// every serialFrames frames (the view's own cost, the same bricks in every run).
 ViewRun RunViewSession(const bm::Scene& scene, bool view, double intervalMs, bool realTime,
                        int64_t maxFrames, double budgetMs, int brick, int serialFrames) {
-#ifdef BM_WITH_IO
-  bm::Voxmap bone = scene.bone.type == "block"
-                        ? bm::MakeSceneBlock(scene)
-                        : bm::MakeCTVoxmap(scene.bone.ct, scene.baseDir, scene.voxmapResolution);
-#else
-  const bool glenoid =
-      scene.bone.type != "block" && scene.bone.ct.value("phantom", "") == "glenoid";
-  if (scene.bone.type != "block" && !glenoid)
-    throw std::runtime_error("scene '" + scene.name + "' needs CT import (BMIO)");
-  bm::Voxmap bone = glenoid ? AnalyticGlenoid(scene.voxmapResolution) : bm::MakeSceneBlock(scene);
-#endif
+  bm::Voxmap bone = SceneBone(scene);
   bm::MachiningSetup setup(scene, std::move(bone));
   const bm::TrialSpec& t = scene.trial;
   const double depth =
@@ -429,21 +434,6 @@ int ViewBench(const bm::cli::ParsedArgs& p) {
   bm::WriteFileAtomic(out + "/view.csv", csv.str());
   std::cout << "wrote " << out << "/view.csv\n";
   return 0;
-}
-
-/// The scene's bone: the CT (or, without BMIO, the glenoid phantom's analytic bone) or its block.
-bm::Voxmap SceneBone(const bm::Scene& scene) {
-#ifdef BM_WITH_IO
-  return scene.bone.type == "block"
-             ? bm::MakeSceneBlock(scene)
-             : bm::MakeCTVoxmap(scene.bone.ct, scene.baseDir, scene.voxmapResolution);
-#else
-  const bool glenoid =
-      scene.bone.type != "block" && scene.bone.ct.value("phantom", "") == "glenoid";
-  if (scene.bone.type != "block" && !glenoid)
-    throw std::runtime_error("scene '" + scene.name + "' needs CT import (BMIO)");
-  return glenoid ? AnalyticGlenoid(scene.voxmapResolution) : bm::MakeSceneBlock(scene);
-#endif
 }
 
 /// One hand-like session trial's figures.
