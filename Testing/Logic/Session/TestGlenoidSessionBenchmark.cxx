@@ -18,7 +18,7 @@
 // The bone (world mm, the face centre at the origin, the reaming axis +z out of the bone) is
 // bm::PhantomIsBone's glenoid (bmPhantom.h) in its local frame without the CT import (no ITK
 // here): (u/20)^2 + (v/14.5)^2 <= 1, -H <= w <= 35 - sqrt(35^2 - r^2), minus the pilot hole r <=
-// 3.2 mm, w >= -10 mm; the vault is cut at H = 12 mm (the reamer goes 2 mm deep).
+// 4.0 mm, w >= -10 mm; the vault is cut at H = 12 mm (the reamer goes 2 mm deep).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -35,7 +35,7 @@
 
 namespace {
 
-constexpr double kA = 20, kB = 14.5, kRc = 35, kH = 12, kRp = 3.2, kDp = 10;
+constexpr double kA = 20, kB = 14.5, kRc = 35, kH = 12, kRp = 4.0, kDp = 10;
 
 bool GlenoidBone(double u, double v, double w) {
   const double r2 = u * u + v * v;

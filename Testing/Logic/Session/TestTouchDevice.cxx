@@ -206,8 +206,9 @@ TEST(TouchDevice, ANonFinitePoseOrAnErrorZeroesTheForceInTheServoLoopItself) {
     ASSERT_TRUE(WaitForTicks(touch, 5));
     bm::DevicePose p;
     EXPECT_EQ(touch.Read(p), bm::DeviceStatus::Error);
-    if (nanPose)
+    if (nanPose) {
       EXPECT_NE(touch.LastError().find("non-finite pose"), std::string::npos) << touch.LastError();
+    }
     const long n1 = fake.forceCount();
     long firstZero = -1;
     for (long i = n0; i < n1; ++i)
