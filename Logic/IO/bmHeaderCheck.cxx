@@ -26,7 +26,11 @@ namespace bm {
 namespace {
 
 std::string Q(const fs::path& p) {
-  return "'" + p.string() + "'";
+  // Appended piece by piece: GCC 12 reports a false -Wrestrict for "'" + std::string&&.
+  std::string q = "'";
+  q += p.string();
+  q += '\'';
+  return q;
 }
 
 std::string Lower(std::string s) {
