@@ -7,6 +7,8 @@
 #include <iomanip>
 #include <sstream>
 
+#include <Eigen/Geometry>
+
 #include "bmAtomicFile.h"
 #include "bmEdgeQuadrature.h"
 #include "bmGuideContact.h"
@@ -59,6 +61,7 @@ bool FeedTrial::Run(const std::function<bool(double)>& progress) {
   SweptVolume_ = RemovedVolume_ = 0;
   RemovedVoxels_ = 0;
   Frames_.reserve(size_t(frames));
+  CheckPath();
   for (int64_t k = 0; k < frames; ++k) {
     const double depth = -t.clearanceMm + step * double(k + 1);
     const FrameInput in = path.Frame(depth, k);
@@ -100,6 +103,47 @@ bool FeedTrial::Run(const std::function<bool(double)>& progress) {
     Warnings_.push_back("the run removed no bone: the tool never reached bone along the trial "
                         "(check the entry point, the axis and the depth)");
   return true;
+}
+
+void FeedTrial::CheckPath() {
+  // Rays parallel to the axis, half a voxel apart along it, from the foremost cutting point's start
+  // to its final depth: the axis itself and eight at half the tool's radius (a guided reamer's axis
+  // runs down its pilot hole).
+  const TrialSpec& t = Setup_.GetScene().trial;
+  const Voxmap& bone = Setup_.Bone();
+  const Eigen::Vector3d axis = t.axis.normalized();
+  const Eigen::Vector3d e1 = axis.unitOrthogonal(), e2 = axis.cross(e1);
+  auto boneAt = [&](const Eigen::Vector3d& offset, double depth) {
+    const Eigen::Vector3d p = t.entry + offset - axis * depth;
+    std::array<int, 3> ijk{};
+    return bone.VoxelAt({p(0), p(1), p(2)}, ijk) &&
+           bone.Fraction(bone.Index(ijk[0], ijk[1], ijk[2])) >= 0.5;
+  };
+  std::ostringstream w;
+  w << std::fixed << std::setprecision(2);
+  if (boneAt(Eigen::Vector3d::Zero(), -t.clearanceMm)) {
+    w << "the tool starts inside bone: its foremost cutting point, " << t.clearanceMm
+      << " mm above the entry, is in bone, so the first frame cuts a whole layer at once (raise "
+         "clearance_mm or move the entry to the bone's surface)";
+    Warnings_.push_back(w.str());
+    return;
+  }
+  std::vector<Eigen::Vector3d> rays{Eigen::Vector3d::Zero()};
+  const double r = 0.5 * Setup_.Tool().OuterRadius();
+  for (int k = 0; k < 8; ++k) {
+    const double a = 2 * 3.14159265358979323846 * k / 8;
+    rays.push_back(r * (std::cos(a) * e1 + std::sin(a) * e2));
+  }
+  const double step = 0.5 * bone.Spacing();
+  for (const Eigen::Vector3d& ray : rays)
+    for (double d = -t.clearanceMm; d <= FinalDepth_; d += step)
+      if (boneAt(ray, d))
+        return;
+  w << "the entry lies outside all bone: from " << t.clearanceMm << " mm above the entry to "
+    << FinalDepth_
+    << " mm below it, the tool's axis and the rays at half its radius meet no voxel that is at "
+       "least half bone";
+  Warnings_.push_back(w.str());
 }
 
 nlohmann::json FeedTrial::Summary() const {

@@ -44,7 +44,8 @@ public:
   /// Depth of the foremost cutting point (mm below the entry; negative above it) where the feed
   /// stopped when GuideBlocked().
   double GuideStopDepthMm() const { return GuideStop_; }
-  /// What the run found worth telling (the guide stopped, nothing removed); empty when nothing.
+  /// What the run found worth telling (the tool starts inside bone, the entry lies outside all
+  /// bone, the guide stopped, nothing removed); empty when nothing.
   const std::vector<std::string>& Warnings() const { return Warnings_; }
 
   const std::vector<TrialFrame>& Frames() const { return Frames_; }
@@ -58,6 +59,9 @@ public:
   void WriteOutputs(const std::string& dir) const;
 
 private:
+  /// Warns when the tool starts inside bone or the entry lies outside all bone (along the axis).
+  void CheckPath();
+
   MachiningSetup& Setup_;
   std::vector<TrialFrame> Frames_;
   double FinalDepth_ = 0, EngagedDepth_ = 0;

@@ -111,3 +111,39 @@ TEST(GuideContact, AfterThePinTheReamerReachesItsDepth) {
 }
 
 } // namespace
+
+namespace {
+
+// A feed trial says when its path makes no sense: an entry beside the bone, a start inside it.
+TEST(FeedTrialPath, AnEntryOutsideAllBoneAndAStartInsideBoneAreNamed) {
+  nlohmann::json j = TwoStepPlan();
+  j.erase("steps");
+  j["tool"] = {{"type", "drill"}};
+  j["trial"]["depth_mm"] = 0.5;
+  j["trial"]["clearance_mm"] = 0.2;
+  j["trial"]["frame_s"] = 0.05;
+  j["trial"]["entry_mm"] = {60, 0, 0}; // beside the 40 mm block
+  const bm::Scene beside = bm::Scene::FromJson(j);
+  bm::MachiningSetup a(beside, bm::MakeSceneBlock(beside));
+  bm::FeedTrial ta(a);
+  ASSERT_TRUE(ta.Run());
+  ASSERT_GE(ta.Warnings().size(), 1u);
+  EXPECT_NE(ta.Warnings()[0].find("outside all bone"), std::string::npos) << ta.Warnings()[0];
+
+  j["trial"]["entry_mm"] = {1, 2, -3}; // 3 mm inside the block
+  const bm::Scene inside = bm::Scene::FromJson(j);
+  bm::MachiningSetup b(inside, bm::MakeSceneBlock(inside));
+  bm::FeedTrial tb(b);
+  ASSERT_TRUE(tb.Run());
+  ASSERT_GE(tb.Warnings().size(), 1u);
+  EXPECT_NE(tb.Warnings()[0].find("starts inside bone"), std::string::npos) << tb.Warnings()[0];
+
+  j["trial"]["entry_mm"] = {1, 2, 0}; // on the surface: nothing to say
+  const bm::Scene good = bm::Scene::FromJson(j);
+  bm::MachiningSetup c(good, bm::MakeSceneBlock(good));
+  bm::FeedTrial tc(c);
+  ASSERT_TRUE(tc.Run());
+  EXPECT_TRUE(tc.Warnings().empty()) << tc.Warnings().front();
+}
+
+} // namespace
