@@ -19,17 +19,6 @@ namespace fs = std::filesystem;
 
 namespace bm {
 
-namespace {
-std::string Trim(std::string s) {
-  while (!s.empty() && (std::isspace((unsigned char)s.back()) || s.back() == '\0'))
-    s.pop_back();
-  size_t i = 0;
-  while (i < s.size() && std::isspace((unsigned char)s[i]))
-    ++i;
-  return s.substr(i);
-}
-} // namespace
-
 /// True when the file has the DICOM Part 10 preamble ("DICM" at byte 128).
 bool HasDicomMagic(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
@@ -147,8 +136,10 @@ bool CheckDicomElements(const fs::path& file) {
                                " bytes at byte " + std::to_string(pos + header) +
                                ", past the file's end at byte " + std::to_string(size));
     }
-    if (meta && element == 0x0010 && pos + header + length <= limit)
-      ts = Trim(buf.substr(pos + header, length));
+    if (meta && element == 0x0010 && pos + header + length <= limit) {
+      ts = buf.substr(pos + header, length); // a UID, padded with NUL or space
+      ts.erase(ts.find_last_not_of(std::string(" \0", 2)) + 1);
+    }
     // GDCM asserts on a RecognitionCode (0008,0010; retired, ACR-NEMA) of other content.
     if (!meta && group == 0x0008 && element == 0x0010 && pos + header + length <= limit) {
       const std::string code = buf.substr(pos + header, length);
