@@ -59,6 +59,20 @@ constexpr HDenum kNominalMaxForce = 0x2603;     // N
 constexpr HDenum kNominalMaxDamping = 0x2609;   // N s/mm
 constexpr HDenum kCurrentForce = 0x2700;        // 3 doubles, N
 constexpr HDenum kForceOutput = 0x4000;         // hdEnable capability
+constexpr HDenum kVersion = 0x2500;             // hdGetString: the HD API's version, "3.4.0"
+constexpr HDenum kDeviceModelType = 0x2501;     // hdGetString: the device model, "Touch"
+
+/// Entry points the Touch device calls (bmTouchDevice.cxx), all required; the library's exported
+/// function symbols are checked against this list before any is called.
+inline constexpr const char* kRequiredSymbols[] = {
+    "hdInitDevice",     "hdDisableDevice", "hdMakeCurrentDevice",    "hdBeginFrame",
+    "hdEndFrame",       "hdEnable",        "hdGetDoublev",           "hdGetIntegerv",
+    "hdSetDoublev",     "hdGetError",      "hdScheduleAsynchronous", "hdUnschedule",
+    "hdStartScheduler", "hdStopScheduler"};
+/// Optional entry point: HDstring hdGetString(HDenum), for kVersion and kDeviceModelType.
+inline constexpr const char* kVersionSymbol = "hdGetString";
+/// Oldest HD API major version accepted (OpenHaptics 3 drives the Touch).
+constexpr int kMinimumMajorVersion = 3;
 
 /// Readable name of an HD error code.
 const char* ErrorName(HDerror code);

@@ -3,9 +3,15 @@
 #include <dlfcn.h>
 
 #include <cmath>
+#include <condition_variable>
 #include <cstdlib>
+#include <memory>
+#include <mutex>
+#include <sstream>
 #include <stdexcept>
 #include <thread>
+
+#include "bmSharedLibraryCheck.h"
 
 namespace bm {
 
@@ -77,19 +83,34 @@ struct TouchDevice::Api {
   void (*unschedule)(HDSchedulerHandle);
   void (*startScheduler)();
   void (*stopScheduler)();
+  HDstring (*getString)(HDenum) = nullptr; // optional
 };
 
 namespace {
 template <class F> void Bind(void* lib, const char* name, F& fn, const std::string& path) {
-  void* sym = dlsym(lib, name);
-  if (!sym)
-    throw std::runtime_error("touch: '" + path + "' has no symbol " + name);
-  fn = reinterpret_cast<F>(sym);
+  fn = reinterpret_cast<F>(BindLibraryFunction(lib, name, path));
 }
+
+// An hdInitDevice call on its own thread, so that a library that never returns from it cannot
+// hang Start(): the thread is abandoned at the timeout (and the library left loaded, since the
+// call may still be inside it); should the call return later, the device it opened is disabled.
+struct InitCall {
+  std::mutex m;
+  std::condition_variable done;
+  bool returned = false, abandoned = false;
+  HHD handle = hd::kInvalidHandle;
+  HDErrorInfo error{hd::kSuccess, 0, 0};
+};
 } // namespace
 
-TouchDevice::TouchDevice(std::string libraryPath, double stallTimeoutS)
-    : Path_(std::move(libraryPath)), StallTimeoutS_(stallTimeoutS) {
+TouchDevice::TouchDevice(std::string libraryPath, double stallTimeoutS, double initTimeoutS)
+    : Path_(std::move(libraryPath)), StallTimeoutS_(stallTimeoutS), InitTimeoutS_(initTimeoutS) {
+  if (!std::isfinite(stallTimeoutS) || stallTimeoutS <= 0)
+    throw std::invalid_argument("touch: stall timeout " + std::to_string(stallTimeoutS) +
+                                " s must be finite and > 0");
+  if (!std::isfinite(initTimeoutS) || initTimeoutS <= 0 || initTimeoutS > 600)
+    throw std::invalid_argument("touch: hdInitDevice timeout " + std::to_string(initTimeoutS) +
+                                " s is outside (0, 600] s");
   if (Path_.empty()) {
     const char* env = std::getenv("BM_LIBHD");
     Path_ = env && *env ? env : "libHD.so";
@@ -103,11 +124,27 @@ TouchDevice::~TouchDevice() {
 void TouchDevice::Start() {
   if (Running_)
     return;
+  // A truncated or foreign file would fault inside dlopen (SIGBUS): check its headers first.
+  if (const std::string file = FindSharedLibrary(Path_); !file.empty()) {
+    try {
+      CheckSharedLibraryFile(file);
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(std::string("touch: ") + e.what());
+    }
+  }
   Lib_ = dlopen(Path_.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (!Lib_)
     throw std::runtime_error("touch: cannot load '" + Path_ + "': " + dlerror());
   Api_ = new Api{};
   try {
+    try {
+      for (const char* symbol : hd::kRequiredSymbols) // every one, before any is called
+        BindLibraryFunction(Lib_, symbol, Path_);
+      if (dlsym(Lib_, hd::kVersionSymbol))
+        Bind(Lib_, hd::kVersionSymbol, Api_->getString, Path_);
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(std::string("touch: ") + e.what());
+    }
     Bind(Lib_, "hdInitDevice", Api_->initDevice, Path_);
     Bind(Lib_, "hdDisableDevice", Api_->disableDevice, Path_);
     Bind(Lib_, "hdMakeCurrentDevice", Api_->makeCurrentDevice, Path_);
@@ -129,11 +166,20 @@ void TouchDevice::Start() {
                                  " failed: " + hd::ErrorName(e.errorCode) + " (device code " +
                                  std::to_string(e.internalErrorCode) + ")");
     };
-    Handle_ = Api_->initDevice(nullptr); // HD_DEFAULT_DEVICE
-    check("hdInitDevice");
+    InitDevice();
     if (Handle_ == hd::kInvalidHandle)
       throw std::runtime_error("touch: hdInitDevice returned no device");
     Api_->makeCurrentDevice(Handle_);
+    if (Api_->getString) {
+      const char* version = Api_->getString(hd::kVersion);
+      if (version && *version >= '0' && *version <= '9' &&
+          std::atoi(version) < hd::kMinimumMajorVersion)
+        throw std::runtime_error("touch: '" + Path_ + "' is HD API version " +
+                                 std::string(version).substr(0, 40) + ", older than " +
+                                 std::to_string(hd::kMinimumMajorVersion) +
+                                 " (OpenHaptics 3 drives the Touch)");
+      check("hdGetString(HD_VERSION)");
+    }
     Api_->enable(hd::kForceOutput);
     check("hdEnable(HD_FORCE_OUTPUT)");
     HDdouble v = 0;
@@ -177,6 +223,44 @@ void TouchDevice::Start() {
   } catch (...) {
     Close();
     throw;
+  }
+}
+
+void TouchDevice::InitDevice() {
+  auto call = std::make_shared<InitCall>();
+  auto init = Api_->initDevice;
+  auto disable = Api_->disableDevice;
+  auto getError = Api_->getError;
+  std::thread([call, init, disable, getError] {
+    const HHD handle = init(nullptr); // HD_DEFAULT_DEVICE
+    const HDErrorInfo error = getError();
+    std::lock_guard<std::mutex> lock(call->m);
+    call->returned = true;
+    call->handle = handle;
+    call->error = error;
+    if (call->abandoned && handle != hd::kInvalidHandle)
+      disable(handle);
+    call->done.notify_all();
+  }).detach();
+  std::unique_lock<std::mutex> lock(call->m);
+  if (!call->done.wait_for(lock, std::chrono::duration<double>(InitTimeoutS_),
+                           [&] { return call->returned; })) {
+    call->abandoned = true;
+    Lib_ = nullptr; // left loaded: the abandoned call may still be running inside it
+    std::ostringstream s;
+    s << "touch: hdInitDevice did not return within " << InitTimeoutS_ << " s ('" << Path_
+      << "'); the device was not opened";
+    throw std::runtime_error(s.str());
+  }
+  Handle_ = call->handle;
+  if (call->error.errorCode != hd::kSuccess) {
+    const HDErrorInfo e = call->error;
+    if (Handle_ != hd::kInvalidHandle)
+      Api_->disableDevice(Handle_);
+    Handle_ = hd::kInvalidHandle;
+    throw std::runtime_error(std::string("touch: hdInitDevice failed: ") +
+                             hd::ErrorName(e.errorCode) + " (device code " +
+                             std::to_string(e.internalErrorCode) + ")");
   }
 }
 

@@ -1,7 +1,11 @@
 // bmTouchDevice.h - the 3D Systems Touch through OpenHaptics' HD API, loaded at run time.
 //
-// Start(): dlopen the library (default "libHD.so"; BM_LIBHD in the environment or the
-// constructor's path overrides), hdInitDevice(HD_DEFAULT_DEVICE), hdEnable(HD_FORCE_OUTPUT), query
+// Start(): check the library file (an ELF shared object for this machine, not truncated:
+// bmSharedLibraryCheck.h), dlopen it (default "libHD.so"; BM_LIBHD in the environment or the
+// constructor's path overrides), check every entry point it is to call (exported, a function,
+// defined by the library itself), hdInitDevice(HD_DEFAULT_DEVICE) on a helper thread that is
+// abandoned after `initTimeoutS` (a library that never returns cannot hang Start), refuse an HD
+// API older than version 3 when the library says (hdGetString), hdEnable(HD_FORCE_OUTPUT), query
 // the nominal limits (HD_NOMINAL_MAX_FORCE, HD_NOMINAL_MAX_STIFFNESS, HD_NOMINAL_MAX_DAMPING,
 // HD_UPDATE_RATE), schedule an asynchronous servo callback at the highest priority, start the
 // scheduler and wait for the callback's first pose sample. The callback runs at the device's rate
@@ -11,6 +15,10 @@
 // reported by the next Read() (the session then ramps the force to zero and pauses); a servo loop
 // that has not delivered a new sample for `stallTimeoutS` reads as NoResponse. Stop(): zero force,
 // stop the scheduler, unschedule, disable the device, close the library.
+//
+// A library that crashes still brings the process down here: ask bm::ProbeTouch()
+// (bmTouchProbe.h), which runs the same checks and opens the device in a child process, before
+// starting a session on an unknown library.
 //
 // Units: mm, N, N/mm, N s/mm (OpenHaptics' own units), Hz.
 #pragma once
@@ -27,8 +35,11 @@ namespace bm {
 class TouchDevice final : public Device {
 public:
   /// libraryPath: "" = $BM_LIBHD or "libHD.so". stallTimeoutS: no new servo sample for this
-  /// long (s, default 0.05) reads as NoResponse.
-  explicit TouchDevice(std::string libraryPath = "", double stallTimeoutS = 0.05);
+  /// long (s, default 0.05; finite, > 0) reads as NoResponse. initTimeoutS: how long Start()
+  /// waits for hdInitDevice (s, default kInitTimeoutS; 0 < initTimeoutS <= 600). A value out of
+  /// range throws std::invalid_argument naming it.
+  explicit TouchDevice(std::string libraryPath = "", double stallTimeoutS = 0.05,
+                       double initTimeoutS = kInitTimeoutS);
   ~TouchDevice() override;
   TouchDevice(const TouchDevice&) = delete;
   TouchDevice& operator=(const TouchDevice&) = delete;
@@ -42,6 +53,9 @@ public:
   void Start() override;
   /// How long Start() waits for the servo loop's first sample (s).
   static constexpr double kFirstSampleTimeoutS = 2.0;
+  /// Default time Start() waits for hdInitDevice to return (s); OpenHaptics opens a Touch in
+  /// about a second.
+  static constexpr double kInitTimeoutS = 10.0;
   void Stop() override;
   DeviceStatus Read(DevicePose& pose) override;
   DeviceStatus Write(const Eigen::Vector3d& forceN) override;
@@ -54,9 +68,11 @@ private:
   static HDCallbackCode Servo(void* self);
   HDCallbackCode ServoTick();
   void Close();
+  void InitDevice();
 
   std::string Path_;
   double StallTimeoutS_;
+  double InitTimeoutS_;
   void* Lib_ = nullptr;
   Api* Api_ = nullptr;
   HHD Handle_ = hd::kInvalidHandle;

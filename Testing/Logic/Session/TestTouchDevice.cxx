@@ -1,17 +1,23 @@
 // The Touch device through the fake libHD.so (Testing/Logic/Session/FakeHD): the dlopen path,
 // init, force output, servo callback, limits query, error codes, a stalled servo loop, and a
-// session that pauses with zero force when the device reports an error.
+// session that pauses with zero force when the device reports an error; the library checks and
+// the probe (bmTouchProbe.h) against libraries that crash, hang, lack a symbol, are cut short or
+// too old.
 #include <gtest/gtest.h>
 
 #include <dlfcn.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <thread>
 
 #include "bmHapticSession.h"
 #include "bmSessionTestUtil.h"
 #include "bmTouchDevice.h"
+#include "bmTouchProbe.h"
 
 namespace {
 
@@ -26,6 +32,7 @@ struct FakeHD {
   int (*getForce)(long, double*) = nullptr;
   int (*forceOutput)() = nullptr;
   int (*schedulerRunning)() = nullptr;
+  void (*setFault)(int) = nullptr;
   FakeHD() {
     lib = dlopen(BM_FAKE_HD_PATH, RTLD_NOW | RTLD_LOCAL);
     if (!lib)
@@ -40,6 +47,7 @@ struct FakeHD {
     getForce = reinterpret_cast<int (*)(long, double*)>(dlsym(lib, "fakeHD_GetForce"));
     forceOutput = reinterpret_cast<int (*)()>(dlsym(lib, "fakeHD_ForceOutputEnabled"));
     schedulerRunning = reinterpret_cast<int (*)()>(dlsym(lib, "fakeHD_SchedulerRunning"));
+    setFault = reinterpret_cast<void (*)(int)>(dlsym(lib, "fakeHD_SetFault"));
     reset();
   }
   ~FakeHD() {
@@ -264,6 +272,138 @@ TEST(TouchDevice, SessionSendsOnlyLimitedForcesAndPausesWithZeroForceOnADeviceEr
   session.Stop();
   std::cout << "[touch] " << before << " servo forces before the fault, max |F| " << maxF
             << " N (limit " << touch->Limits().maxForceN << " N)\n";
+}
+
+// A scratch folder for library files made by the tests, removed at the end.
+struct ScratchDir {
+  std::filesystem::path path =
+      std::filesystem::temp_directory_path() / ("bm_touch_probe_" + std::to_string(::getpid()));
+  ScratchDir() { std::filesystem::create_directories(path); }
+  ~ScratchDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+  std::string Write(const std::string& name, const std::string& bytes) const {
+    const auto file = path / name;
+    std::ofstream(file, std::ios::binary) << bytes;
+    return file.string();
+  }
+};
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+bool Has(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+TEST(TouchProbe, OpensTheDeviceWithoutEnablingForceAndReportsItsVersionAndLimits) {
+  FakeHD fake;
+  ASSERT_NE(fake.lib, nullptr) << dlerror();
+  fake.setFault(4); // hdEnable(HD_FORCE_OUTPUT) aborts: the probe must not call it
+  const bm::TouchProbeResult r = bm::ProbeTouch(10.0, BM_FAKE_HD_PATH);
+  fake.setFault(0);
+  EXPECT_TRUE(r.ready) << r.message;
+  EXPECT_EQ(r.message, "");
+  EXPECT_EQ(r.library, BM_FAKE_HD_PATH);
+  EXPECT_EQ(r.version, "3.4.0");
+  EXPECT_EQ(r.model, "Touch (fake)");
+  EXPECT_DOUBLE_EQ(r.limits.maxStiffnessNPerMm, 0.35); // the driver's, not the published 0.4
+  EXPECT_DOUBLE_EQ(r.limits.maxDampingNsPerMm, 0.003);
+  EXPECT_DOUBLE_EQ(r.limits.rateHz, 1000);
+  // The caller's own copy of the library was never touched.
+  EXPECT_EQ(fake.forceOutput(), 0);
+  EXPECT_EQ(fake.schedulerRunning(), 0);
+  EXPECT_THROW(bm::ProbeTouch(0.0, BM_FAKE_HD_PATH), std::invalid_argument);
+  EXPECT_THROW(bm::ProbeTouch(std::nan(""), BM_FAKE_HD_PATH), std::invalid_argument);
+}
+
+TEST(TouchProbe, ALibraryThatCrashesOrHangsEndsOnlyTheProbeAndIsNamed) {
+  FakeHD fake;
+  ASSERT_NE(fake.lib, nullptr);
+  fake.setFault(1); // SIGSEGV inside hdInitDevice
+  bm::TouchProbeResult r = bm::ProbeTouch(10.0, BM_FAKE_HD_PATH);
+  EXPECT_FALSE(r.ready);
+  EXPECT_TRUE(Has(r.message, "crashed during hdInitDevice")) << r.message;
+  EXPECT_TRUE(Has(r.message, "SIGSEGV")) << r.message;
+  fake.setFault(2); // hdInitDevice never returns
+  const auto t0 = std::chrono::steady_clock::now();
+  r = bm::ProbeTouch(0.5, BM_FAKE_HD_PATH);
+  const double waitedS =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  fake.setFault(0);
+  EXPECT_FALSE(r.ready);
+  EXPECT_TRUE(Has(r.message, "did not answer within 0.5 s (hung during hdInitDevice)"))
+      << r.message;
+  EXPECT_LT(waitedS, 5.0); // the timeout and the reaping, not the hang
+  fake.setFault(3);
+  r = bm::ProbeTouch(10.0, BM_FAKE_HD_PATH);
+  fake.setFault(0);
+  EXPECT_FALSE(r.ready);
+  EXPECT_TRUE(Has(r.message, "HD API version 2.10.0, older than 3")) << r.message;
+  fake.failInit(bm::hd::kDeviceFault);
+  r = bm::ProbeTouch(10.0, BM_FAKE_HD_PATH);
+  fake.reset();
+  EXPECT_TRUE(Has(r.message, "hdInitDevice failed: HD_DEVICE_FAULT")) << r.message;
+}
+
+TEST(TouchProbe, RefusesMissingSymbolsAndDamagedFilesBeforeCallingThem) {
+  ScratchDir dir;
+  const std::string good = ReadFile(BM_FAKE_HD_PATH);
+  ASSERT_GT(good.size(), 8192u);
+  struct Case {
+    std::string path, expected;
+  };
+  const std::vector<Case> cases = {
+      {BM_FAKE_HD_NO_END_FRAME_PATH, "has no symbol hdEndFrame"},
+      {dir.Write("libHD-cut.so", good.substr(0, 4096)),
+       "is not a usable shared library: truncated"},
+      {dir.Write("libHD-header.so", good.substr(0, 40)),
+       "truncated: too short for an ELF header (40 bytes)"},
+      {dir.Write("libHD-text.so", "#!/bin/sh\necho not a library\n"), "not an ELF file"},
+      {dir.path.string(), "not a regular file"},
+      {"/nonexistent/libHD.so", "cannot be read"},
+  };
+  for (const Case& c : cases) {
+    const bm::TouchProbeResult r = bm::ProbeTouch(10.0, c.path);
+    EXPECT_FALSE(r.ready) << c.path;
+    EXPECT_TRUE(Has(r.message, c.expected)) << c.path << ": " << r.message;
+    EXPECT_TRUE(Has(r.message, c.path)) << r.message;
+    // The device itself runs the same checks in-process before calling anything (dlopen of the
+    // cut library would fault with SIGBUS).
+    bm::TouchDevice touch(c.path);
+    const std::string error = StartError(touch);
+    EXPECT_TRUE(Has(error, c.expected)) << c.path << ": " << error;
+  }
+}
+
+TEST(TouchDevice, StartGivesUpOnAnHdInitDeviceThatNeverReturns) {
+  FakeHD fake;
+  ASSERT_NE(fake.lib, nullptr);
+  EXPECT_THROW(bm::TouchDevice(BM_FAKE_HD_PATH, 0.05, 0.0), std::invalid_argument);
+  EXPECT_THROW(bm::TouchDevice(BM_FAKE_HD_PATH, -1.0), std::invalid_argument);
+  fake.setFault(2);
+  {
+    bm::TouchDevice touch(BM_FAKE_HD_PATH, 0.05, 0.3);
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::string error = StartError(touch);
+    const double waitedS =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_TRUE(Has(error, "hdInitDevice did not return within 0.3 s")) << error;
+    EXPECT_LT(waitedS, 5.0);
+    EXPECT_EQ(fake.forceOutput(), 0);
+    bm::DevicePose p;
+    EXPECT_EQ(touch.Read(p), bm::DeviceStatus::NoResponse);
+  }
+  fake.setFault(0); // the abandoned call returns; the device opens normally after it
+  WaitMs(50);
+  fake.reset();
+  bm::TouchDevice touch(BM_FAKE_HD_PATH);
+  touch.Start();
+  EXPECT_EQ(fake.forceOutput(), 1);
+  touch.Stop();
 }
 
 } // namespace

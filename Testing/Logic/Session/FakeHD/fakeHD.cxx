@@ -2,13 +2,16 @@
 // binds (bmHDApi.h), plus fakeHD_* controls for the tests. A scheduler thread calls the scheduled
 // callbacks at 1 kHz; forces written with hdSetDoublev(HD_CURRENT_FORCE) are logged; a force above
 // the nominal maximum raises HD_EXCEEDED_MAX_FORCE as the real device does; errors can be injected
-// and the servo loop stalled.
+// and the servo loop stalled. fakeHD_SetFault makes hdInitDevice crash (SIGSEGV) or hang, or the
+// library report an HD API version too old. Built a second time with FAKEHD_WITHOUT_END_FRAME
+// (libHDnoEndFrame.so): a library that lacks one entry point.
 #include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <deque>
 #include <mutex>
+#include <csignal>
 #include <thread>
 #include <vector>
 
@@ -29,6 +32,7 @@ struct Fake {
   std::atomic<long> ticks{0};
   double maxForce = 3.3, maxStiffness = 0.35, maxDamping = 0.003;
   int initError = 0;
+  std::atomic<int> fault{0}; // fakeHD_SetFault's mode
 };
 Fake& F() {
   static Fake f;
@@ -41,6 +45,10 @@ void PushError(HDerror code, int internal) {
 
 extern "C" {
 HHD hdInitDevice(HDstring) {
+  if (F().fault.load() == 1)
+    std::raise(SIGSEGV);        // what a faulting driver does to its process
+  while (F().fault.load() == 2) // a driver that never returns, until the test lets it
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
   std::lock_guard<std::mutex> l(F().m);
   if (F().initError) {
     PushError(HDerror(F().initError), 42);
@@ -56,8 +64,21 @@ void hdDisableDevice(HHD) {
 }
 void hdMakeCurrentDevice(HHD) {}
 void hdBeginFrame(HHD) {}
+#ifndef FAKEHD_WITHOUT_END_FRAME
 void hdEndFrame(HHD) {}
+#endif
+HDstring hdGetString(HDenum p) {
+  if (p == bm::hd::kVersion)
+    return F().fault.load() == 3 ? "2.10.0" : "3.4.0";
+  if (p == bm::hd::kDeviceModelType)
+    return "Touch (fake)";
+  std::lock_guard<std::mutex> l(F().m);
+  PushError(bm::hd::kInvalidEnum, 0);
+  return nullptr;
+}
 void hdEnable(HDenum cap) {
+  if (cap == bm::hd::kForceOutput && F().fault.load() == 4)
+    std::raise(SIGABRT); // the probe must never enable force output
   std::lock_guard<std::mutex> l(F().m);
   if (cap == bm::hd::kForceOutput)
     F().forceOutput = true;
@@ -167,6 +188,12 @@ void fakeHD_Reset() {
   F().errors.clear();
   F().stalled = false;
   F().initError = 0;
+  F().fault = 0;
+}
+// 0: none; 1: hdInitDevice raises SIGSEGV; 2: hdInitDevice blocks until the mode changes;
+// 3: hdGetString(HD_VERSION) says "2.10.0"; 4: hdEnable(HD_FORCE_OUTPUT) raises SIGABRT.
+void fakeHD_SetFault(int mode) {
+  F().fault = mode;
 }
 void fakeHD_SetPosition(double x, double y, double z) {
   std::lock_guard<std::mutex> l(F().m);
