@@ -1,4 +1,5 @@
 #include "bmForceModel.h"
+#include "bmJson.h"
 
 #include <cmath>
 #include <filesystem>
@@ -191,9 +192,9 @@ nlohmann::json LoadCoefficientSet(const std::string& nameOrPath) {
   std::ifstream in(file);
   nlohmann::json j;
   try {
-    in >> j;
-  } catch (const nlohmann::json::exception& e) {
-    throw std::invalid_argument("coefficient file " + file.string() + ": " + e.what());
+    j = ParseJson(in, "coefficient file " + file.string());
+  } catch (const std::runtime_error& e) {
+    throw std::invalid_argument(e.what());
   }
   if (!j.is_object() || !j.contains("lips"))
     throw std::invalid_argument("coefficient file " + file.string() +

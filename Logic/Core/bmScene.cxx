@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "bmJson.h"
 #include "bmResources.h"
 
 namespace bm {
@@ -230,12 +231,7 @@ Scene Scene::Load(const std::string& path) {
   std::ifstream in(path);
   if (!in)
     throw std::runtime_error("cannot read scene file '" + path + "'");
-  json j;
-  try {
-    j = json::parse(in);
-  } catch (const json::parse_error& e) {
-    throw std::runtime_error("scene file '" + path + "' is not valid JSON: " + e.what());
-  }
+  const json j = ParseJson(in, "scene file '" + path + "'");
   Scene s = FromJson(j);
   s.baseDir = std::filesystem::absolute(path).parent_path().string();
   return s;

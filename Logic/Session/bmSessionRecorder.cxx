@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "bmAtomicFile.h"
+#include "bmJson.h"
 
 #ifdef BM_SESSION_HDF5
 #include <hdf5.h>
@@ -217,7 +218,8 @@ Recording ReadRecording(const std::string& path) {
     if (file < 0)
       throw std::runtime_error("cannot open HDF5 recording '" + path + "'");
     try {
-      rec.meta = nlohmann::json::parse(ReadStringAttribute(file, "meta"));
+      rec.meta =
+          ParseJson(ReadStringAttribute(file, "meta"), "the header of recording '" + path + "'");
       hid_t ds = H5Dopen2(file, "frames", H5P_DEFAULT);
       if (ds < 0)
         throw std::runtime_error("'" + path + "' has no /frames dataset");
@@ -257,7 +259,9 @@ Recording ReadRecording(const std::string& path) {
   while (std::getline(in, line)) {
     ++lineNo;
     if (line.rfind("# bmsession ", 0) == 0) {
-      rec.meta = nlohmann::json::parse(line.substr(12));
+      rec.meta =
+          ParseJson(std::string_view(line).substr(12),
+                    "the header of recording '" + path + "' (line " + std::to_string(lineNo) + ")");
       continue;
     }
     if (line.empty() || line[0] == '#' || line.rfind("frame,", 0) == 0)
