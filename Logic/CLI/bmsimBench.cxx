@@ -27,6 +27,8 @@
 #include "bmTimingStats.h"
 #include "bmMachiningSetup.h"
 #include "bmScene.h"
+#include "bmSceneOverrides.h"
+#include "bmSessionBuilder.h"
 #include "bmSpeedAccuracyChart.h"
 #include "bmsimArgs.h"
 #include "bmsimCommand.h"
@@ -192,19 +194,13 @@ bm::Voxmap AnalyticGlenoid(int resolution) {
 }
 #endif
 
-/// The scene's bone: the CT (or, without BMIO, the glenoid phantom's analytic bone) or its block.
+/// The scene's bone (bm::MakeSceneBone; without BMIO, the glenoid phantom's analytic bone).
 bm::Voxmap SceneBone(const bm::Scene& scene) {
-#ifdef BM_WITH_IO
-  return scene.bone.type == "block"
-             ? bm::MakeSceneBlock(scene)
-             : bm::MakeCTVoxmap(scene.bone.ct, scene.baseDir, scene.voxmapResolution);
-#else
-  const bool glenoid =
-      scene.bone.type != "block" && scene.bone.ct.value("phantom", "") == "glenoid";
-  if (scene.bone.type != "block" && !glenoid)
-    throw std::runtime_error("scene '" + scene.name + "' needs CT import (BMIO)");
-  return glenoid ? AnalyticGlenoid(scene.voxmapResolution) : bm::MakeSceneBlock(scene);
+#ifndef BM_WITH_IO
+  if (scene.bone.type != "block" && scene.bone.ct.value("phantom", "") == "glenoid")
+    return AnalyticGlenoid(scene.voxmapResolution);
 #endif
+  return bm::MakeSceneBone(scene);
 }
 
 /// One scripted session of the scene, with or without the live view refreshing.
@@ -237,8 +233,7 @@ ViewRun RunViewSession(const bm::Scene& scene, bool view, double intervalMs, boo
   bm::Voxmap bone = SceneBone(scene);
   bm::MachiningSetup setup(scene, std::move(bone));
   const bm::TrialSpec& t = scene.trial;
-  const double depth =
-      t.depthMm >= 0 ? t.depthMm : bm::FullEngagementDepth(setup.Tool()) + t.extraDepthMm;
+  const double depth = bm::TrialDepthMm(setup);
   const bm::FeedPath path(setup);
   int64_t frames = int64_t(std::ceil((depth + t.clearanceMm) / path.StepMm()));
   if (maxFrames > 0)
@@ -362,10 +357,7 @@ int ViewBench(const bm::cli::ParsedArgs& p) {
   const int serial = int(p.GetInt("serial", 0, 1000000).value_or(0));
   const std::string sceneName = p.Get("scene", "glenoid");
   const std::string out = p.Get("out", "out/bench-view");
-  bm::Scene base = (std::filesystem::path(sceneName).extension() == ".json" ||
-                    std::filesystem::exists(sceneName))
-                       ? bm::Scene::Load(sceneName)
-                       : bm::Scene::Builtin(sceneName);
+  const bm::Scene base = bm::ResolveScene(sceneName);
   std::ostringstream csv;
   // 0: the scene's shell scaled with the voxmap (bm::Scene::WithVoxmapResolution).
   const std::vector<int> shells = Resolutions(p, "shells", {0});
@@ -383,13 +375,12 @@ int ViewBench(const bm::cli::ParsedArgs& p) {
             << " voxels; machine: " << MachineName() << "\n";
   for (int v : voxmaps)
     for (int shellAsked : shells) {
-      const int shell = shellAsked > 0 ? shellAsked : base.WithVoxmapResolution(v).shellResolution;
-      nlohmann::json j = base.ToJson();
-      j["voxmap_resolution"] = v;
-      j["shell_resolution"] = shell;
-      j["threads"] = threads;
-      bm::Scene scene = bm::Scene::FromJson(j);
-      scene.baseDir = base.baseDir;
+      bm::SceneOverrides o;
+      o.voxmapResolution = v;
+      o.shellResolution = shellAsked; // 0: the scene's shell scaled with the voxmap
+      o.threads = threads;
+      const bm::Scene scene = bm::ApplyOverrides(base, o);
+      const int shell = scene.shellResolution;
       for (int run = 1; run <= repeats; ++run)
         for (bool view : {false, true}) {
           const ViewRun r =
@@ -450,22 +441,20 @@ struct SessionRun {
 /// (the incremental path) or none (every query scans the shell: the full pass).
 SessionRun RunHandSession(const bm::Scene& scene, bool candidates, double pushN, double tremorN,
                           double seconds, bool realTime) {
-  bm::MachiningSetup setup(scene, SceneBone(scene));
-  const bm::FeedPath path(setup);
-  const bm::FrameInput start = path.Frame(-scene.trial.clearanceMm, 0);
-  bm::ScriptedDeviceOptions d;
-  d.mode = bm::ScriptMode::Hand;
-  d.startMm = start.position;
-  d.rotation = start.rotation;
-  d.axis = start.rotation.col(2);
-  d.appliedForceN = pushN;
-  d.handTremorN = tremorN;
-  auto device = std::make_shared<bm::ScriptedDevice>(d);
-  bm::SessionOptions o;
-  o.realTime = realTime;
-  o.overrunLimit = -1; // count the overruns, never pause
-  o.maxFrames = int64_t(std::llround(seconds / scene.trial.frameS));
-  o.rateHz = 1.0 / scene.trial.frameS;
+  // A hand on the device pushing through a unit coupling (force scale 1), counting its overruns.
+  bm::SessionRequest req;
+  req.mode = bm::ScriptMode::Hand;
+  req.appliedForceN = pushN;
+  req.handTremorN = tremorN;
+  req.forceScale = 1.0;
+  req.realTime = realTime;
+  req.overrunLimit = -1;
+  req.rateHz = 1.0 / scene.trial.frameS;
+  req.maxFrames = int64_t(std::llround(seconds / scene.trial.frameS));
+  bm::BuiltSession built = bm::BuildSession(scene, SceneBone(scene), req);
+  const std::shared_ptr<bm::Device>& device = built.device;
+  bm::MachiningSetup& setup = *built.setup;
+  bm::SessionOptions o = built.options;
   o.recordCapacity = size_t(o.maxFrames) + 16;
   if (!candidates)
     o.proxy.candidateRadiusVoxels = 0;
@@ -510,21 +499,14 @@ SessionRun RunHandSession(const bm::Scene& scene, bool candidates, double pushN,
 int SessionBench(const bm::cli::ParsedArgs& p) {
   const std::string sceneName = p.Get("session", "glenoid");
   const double seconds = p.GetDouble("seconds", 0.01, 3600).value_or(20.0);
-  const double push = p.GetDouble("push", 0.01, 1000).value_or(3.0);
-  const double tremor = p.GetDouble("tremor", 0, 1000).value_or(0.1);
+  const double push = p.GetDouble("push", 0.01, bm::DeviceLimits().maxForceN).value_or(3.0);
+  const double tremor = p.GetDouble("tremor", 0, bm::DeviceLimits().maxForceN).value_or(0.1);
   const int repeats = int(p.GetInt("repeats", 1, 100).value_or(2));
   const bool realTime = !p.Has("back-to-back");
-  bm::Scene scene = (std::filesystem::path(sceneName).extension() == ".json" ||
-                     std::filesystem::exists(sceneName))
-                        ? bm::Scene::Load(sceneName)
-                        : bm::Scene::Builtin(sceneName);
-  if (auto t = p.GetInt("threads", 1, 64)) {
-    nlohmann::json j = scene.ToJson();
-    j["threads"] = int(*t);
-    const std::string dir = scene.baseDir;
-    scene = bm::Scene::FromJson(j);
-    scene.baseDir = dir;
-  }
+  bm::SceneOverrides overrides;
+  if (auto t = p.GetInt("threads", 1, 64))
+    overrides.threads = int(*t);
+  const bm::Scene scene = bm::ApplyOverrides(bm::ResolveScene(sceneName), overrides);
   std::cout << std::fixed << std::setprecision(3);
   std::cout << "session bench, scene " << scene.name << " (voxmap " << scene.voxmapResolution
             << ", shell " << scene.shellResolution << ", " << scene.threads

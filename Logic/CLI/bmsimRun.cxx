@@ -8,6 +8,7 @@
 #include "bmTrialReport.h"
 #endif
 #include "bmScene.h"
+#include "bmSceneOverrides.h"
 #include "bmsimArgs.h"
 #include "bmsimCommand.h"
 #include "bmsimProgressBar.h"
@@ -53,34 +54,17 @@ int RunCommand(const bm::cli::Args& args) {
   const std::string name = p.Positional()[0];
   bm::Scene scene;
   try {
-    if (std::filesystem::path(name).extension() == ".json" || std::filesystem::exists(name))
-      scene = bm::Scene::Load(name);
-    else
-      scene = bm::Scene::Builtin(name);
-    nlohmann::json j = scene.ToJson();
-    if (auto v = p.GetDouble("feed", 1e-5, 1.0))
-      j["trial"]["feed_mm_per_rev"] = *v;
-    if (auto v = p.GetDouble("speed", 1.0, 100000.0))
-      j["trial"]["speed_rpm"] = *v;
-    const auto voxmap = p.GetInt("voxmap-resolution", 8, 4096);
-    const auto shell = p.GetInt("shell-resolution", 8, 4096);
-    if (voxmap && shell)
-      j["voxmap_resolution"] = *voxmap;
-    if (shell)
-      j["shell_resolution"] = *shell;
-    if (auto v = p.Get("method")) {
-      j["method"] = *v;
-      j.erase("force_model");
-    }
+    bm::SceneOverrides o;
+    o.feedMmPerRev = p.GetDouble("feed", 1e-5, 1.0);
+    o.speedRpm = p.GetDouble("speed", 1.0, 100000.0);
+    o.voxmapResolution = int(p.GetInt("voxmap-resolution", 8, 4096).value_or(0));
+    o.shellResolution = int(p.GetInt("shell-resolution", 8, 4096).value_or(0));
+    o.method = p.Get("method", "");
     if (auto v = p.GetInt("threads", 1, 64))
-      j["threads"] = *v;
-    if (auto v = p.Get("backend"))
-      j["backend"] = *v;
-    if (auto v = p.Get("lips"))
-      j["lips"] = *v;
-    scene = bm::Scene::FromJson(j);
-    if (voxmap && !shell)
-      scene = scene.WithVoxmapResolution(int(*voxmap));
+      o.threads = int(*v);
+    o.backend = p.Get("backend", "");
+    o.lips = p.Get("lips", "");
+    scene = bm::ApplyOverrides(bm::ResolveScene(name), o);
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }

@@ -8,15 +8,13 @@
 #include <memory>
 
 #include "bmAtomicFile.h"
-#ifdef BM_WITH_IO
-#include "bmCTVoxmap.h"
-#endif
 #include "bmsimCommand.h"
 #include "bmsimProgressBar.h"
 #include "bmEdgeQuadrature.h"
 #include "bmHapticSession.h"
 #include "bmMachiningSetup.h"
 #include "bmScriptedDevice.h"
+#include "bmSessionBuilder.h"
 #include "bmSessionRecorder.h"
 #include "bmTouchDevice.h"
 
@@ -27,16 +25,10 @@ const std::set<std::string> kSessionRunOptions = {
     "contact", "rendering", "rate",  "overrun-limit", "force-scale", "seed"};
 
 Voxmap SceneBone(const bm::Scene& scene) {
-  if (scene.bone.type == "block")
-    return bm::MakeSceneBlock(scene);
-#ifdef BM_WITH_IO
+  if (scene.bone.type == "block" || !CanImportSceneBones())
+    return MakeSceneBone(scene);
   ProgressBar bar("import bone");
-  return bm::MakeCTVoxmap(scene.bone.ct, scene.baseDir, scene.voxmapResolution,
-                          [&](double f, const std::string&) { return bar.Update(f); });
-#else
-  throw std::runtime_error("scene '" + scene.name +
-                           "' needs CT import, which this build leaves out");
-#endif
+  return MakeSceneBone(scene, [&](double f, const std::string&) { return bar.Update(f); });
 }
 
 void CheckWritableOutput(const std::string& what, const std::string& path, bool isFolder) {
@@ -97,36 +89,42 @@ nlohmann::json ToJson(const Stats& s) {
 } // namespace
 
 int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::string& outDir) {
+  SessionRequest req;
   const std::string deviceName = args.Get("device", "scripted");
   if (deviceName != "scripted" && deviceName != "touch")
     throw UsageError("--device must be scripted or touch for a session run, not '" + deviceName +
                      "'");
+  req.device = deviceName == "touch" ? SessionDevice::Touch : SessionDevice::Scripted;
   const std::string mode = args.Get("mode", "feed");
   if (mode != "feed" && mode != "force" && mode != "trajectory" && mode != "hand")
     throw UsageError("--mode must be feed, force, trajectory or hand, not '" + mode + "'");
-  SessionOptions so;
-  so.proxy.coupling.forceScale =
+  req.mode = mode == "feed"    ? ScriptMode::Feed
+             : mode == "force" ? ScriptMode::Force
+             : mode == "hand"  ? ScriptMode::Hand
+                               : ScriptMode::Trajectory;
+  req.forceScale =
       args.GetDouble("force-scale", 1e-3, kMaxForceScale).value_or(kDefaultSessionForceScale);
   try {
-    so.proxy.method = ContactMethodFromString(args.Get("contact", "cutting"));
-    so.proxy.rendering = RenderingFromString(args.Get("rendering", "coupled"));
+    req.contact = ContactMethodFromString(args.Get("contact", "cutting"));
+    req.rendering = RenderingFromString(args.Get("rendering", "coupled"));
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
-  // The overrun pause protects a hand on a real device; a scripted robot run reports overruns
-  // instead of stopping at them (unless --overrun-limit says otherwise).
-  so.overrunLimit = deviceName == "touch" ? 5 : -1;
   if (auto v = args.GetInt("overrun-limit", -1, 1000000))
-    so.overrunLimit = int(*v);
+    req.overrunLimit = int(*v);
   if (auto r = args.GetDouble("rate", 10, 10000))
-    so.rateHz = *r;
-  so.realTime = true;
+    req.rateHz = *r;
+  req.realTime = true;
   // The push is the hand's at the device: at most the device's maximum force (the Touch's for a
   // scripted device, the nominal one for the Touch before it reports its own).
   const DeviceLimits nominal;
-  const double appliedN = args.GetDouble("force", 0.0, nominal.maxForceN).value_or(2.5);
-  const auto seed = args.GetInt("seed", 0, 1000000000);
-  const auto durationOpt = args.GetDouble("duration", 0.001, 3600);
+  req.appliedForceN = args.GetDouble("force", 0.0, nominal.maxForceN).value_or(2.5);
+  if (auto seed = args.GetInt("seed", 0, 1000000000))
+    req.handSeed = uint64_t(*seed);
+  // A hand on a Touch holds it for 10 s unless told otherwise; scripted runs last the device's
+  // own time (bmSessionBuilder.h).
+  req.durationS = args.GetDouble("duration", 0.001, 3600)
+                      .value_or(req.device == SessionDevice::Touch ? 10.0 : 0.0);
   const auto record = args.Get("record");
   CheckWritableOutput("--out", outDir, true);
   if (record)
@@ -136,52 +134,23 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
        std::filesystem::path(*record).extension() == ".hdf5") &&
       !HasHdf5())
     throw UsageError("--record " + *record + ": this build has no HDF5; use a .csv file");
-  std::vector<TrajectorySample> trajectory;
-  if (mode == "trajectory") {
+  if (req.mode == ScriptMode::Trajectory && req.device == SessionDevice::Scripted) {
     const auto file = args.Get("trajectory");
     if (!file)
       throw UsageError("--mode trajectory needs --trajectory FILE");
-    trajectory = LoadTrajectoryCsv(*file);
+    req.trajectory = LoadTrajectoryCsv(*file);
+  }
+  try {
+    ValidateSessionRequest(req);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
   }
 
-  MachiningSetup setup(scene, SceneBone(scene));
-  const TrialSpec& t = scene.trial;
-  const Eigen::Vector3d axis = t.axis.normalized();
-  std::shared_ptr<Device> device;
-  double duration = 10;
-  if (deviceName == "touch") {
-    device = std::make_shared<TouchDevice>();
-  } else {
-    ScriptedDeviceOptions o;
-    o.mode = mode == "feed"    ? ScriptMode::Feed
-             : mode == "force" ? ScriptMode::Force
-             : mode == "hand"  ? ScriptMode::Hand
-                               : ScriptMode::Trajectory;
-    if (seed)
-      o.handSeed = uint64_t(*seed);
-    // The tool's foremost cutting point starts `clearance` above the entry, as in the feed trial.
-    o.startMm = t.entry + axis * t.clearanceMm -
-                setup.ToolRotation() * Eigen::Vector3d(0, 0, ForemostCuttingZ(setup.Tool()));
-    o.axis = axis;
-    o.rotation = setup.ToolRotation();
-    o.feedMmPerRev = t.feedMmPerRev;
-    o.speedRpm = t.speedRpm;
-    o.appliedForceN = appliedN;
-    o.trajectory = trajectory;
-    device = std::make_shared<ScriptedDevice>(o);
-    const double depth =
-        t.depthMm >= 0 ? t.depthMm : FullEngagementDepth(setup.Tool()) + t.extraDepthMm;
-    if (mode == "feed")
-      duration = (depth + t.clearanceMm) / (t.feedMmPerRev * t.speedRpm / 60.0);
-    else if (mode == "force" || mode == "hand")
-      duration = 2.0;
-    else
-      duration = trajectory.back().timeS;
-  }
-  if (durationOpt)
-    duration = *durationOpt;
-  so.maxFrames = int64_t(std::ceil(duration * so.rateHz));
-
+  BuiltSession built = BuildSession(scene, SceneBone(scene), req);
+  MachiningSetup& setup = *built.setup;
+  const std::shared_ptr<Device>& device = built.device;
+  const SessionOptions& so = built.options;
+  const double duration = built.durationS;
   HapticSession session(setup, device, so);
   std::vector<FrameRecord> frames;
   frames.reserve(size_t(so.maxFrames));
@@ -207,45 +176,45 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
     }
   }
   // Depth of the foremost cutting point below the entry.
-  const Eigen::Vector3d p0 =
-      t.entry - setup.ToolRotation() * Eigen::Vector3d(0, 0, ForemostCuttingZ(setup.Tool()));
-  const double depth = frames.empty()
-                           ? 0.0
-                           : -(Eigen::Vector3d(frames.back().proxyPos[0], frames.back().proxyPos[1],
-                                               frames.back().proxyPos[2]) -
-                               p0)
-                                  .dot(axis);
-  nlohmann::json s = {{"scene", scene.name},
-                      {"device", deviceName},
-                      {"mode", mode},
-                      {"applied_force_N", mode == "force" || mode == "hand" ? appliedN : 0.0},
-                      {"force_scale", so.proxy.coupling.forceScale},
-                      {"tool_max_force_N", session.Coupling().MaxForce()},
-                      {"contact", ToString(so.proxy.method)},
-                      {"rendering", ToString(so.proxy.rendering)},
-                      {"engine", setup.GetEngine().Name()},
-                      {"rate_hz", so.rateHz},
-                      {"frames", frames.size()},
-                      {"duration_s", double(frames.size()) / so.rateHz},
-                      {"frame_ms_p50", ts.p50Ms},
-                      {"frame_ms_p99", ts.p99Ms},
-                      {"frame_ms_max", ts.maxMs},
-                      {"frame_ms_mean", ts.meanMs},
-                      {"overruns", ts.overruns},
-                      {"pause_reason", ToString(last.pauseReason)},
-                      {"thrust_N", ToJson(Describe(thrust))},
-                      {"torque_Nmm", ToJson(Describe(torque))},
-                      {"feed_mm_per_rev", ToJson(Describe(feed))},
-                      {"device_force_N", ToJson(Describe(force))},
-                      {"device_max_force_N", device->Limits().maxForceN},
-                      {"coupling_stiffness_N_per_mm", session.Coupling().Stiffness()},
-                      {"coupling_damping_Ns_per_mm", session.Coupling().Damping()},
-                      {"removed_volume_mm3", last.removedVolumeMm3},
-                      {"removed_voxels", last.removedVoxels},
-                      {"final_depth_mm", depth},
-                      {"dropped_records", last.droppedRecords},
-                      {"voxmap_resolution", scene.voxmapResolution},
-                      {"shell_resolution", scene.shellResolution}};
+  const double depth =
+      frames.empty()
+          ? 0.0
+          : ToolDepthMm(setup,
+                        Eigen::Vector3d(frames.back().proxyPos[0], frames.back().proxyPos[1],
+                                        frames.back().proxyPos[2]),
+                        setup.ToolRotation());
+  nlohmann::json s = {
+      {"scene", scene.name},
+      {"device", deviceName},
+      {"mode", mode},
+      {"applied_force_N", mode == "force" || mode == "hand" ? req.appliedForceN : 0.0},
+      {"force_scale", so.proxy.coupling.forceScale},
+      {"tool_max_force_N", session.Coupling().MaxForce()},
+      {"contact", ToString(so.proxy.method)},
+      {"rendering", ToString(so.proxy.rendering)},
+      {"engine", setup.GetEngine().Name()},
+      {"rate_hz", so.rateHz},
+      {"frames", frames.size()},
+      {"duration_s", double(frames.size()) / so.rateHz},
+      {"frame_ms_p50", ts.p50Ms},
+      {"frame_ms_p99", ts.p99Ms},
+      {"frame_ms_max", ts.maxMs},
+      {"frame_ms_mean", ts.meanMs},
+      {"overruns", ts.overruns},
+      {"pause_reason", ToString(last.pauseReason)},
+      {"thrust_N", ToJson(Describe(thrust))},
+      {"torque_Nmm", ToJson(Describe(torque))},
+      {"feed_mm_per_rev", ToJson(Describe(feed))},
+      {"device_force_N", ToJson(Describe(force))},
+      {"device_max_force_N", device->Limits().maxForceN},
+      {"coupling_stiffness_N_per_mm", session.Coupling().Stiffness()},
+      {"coupling_damping_Ns_per_mm", session.Coupling().Damping()},
+      {"removed_volume_mm3", last.removedVolumeMm3},
+      {"removed_voxels", last.removedVoxels},
+      {"final_depth_mm", depth},
+      {"dropped_records", last.droppedRecords},
+      {"voxmap_resolution", scene.voxmapResolution},
+      {"shell_resolution", scene.shellResolution}};
   Recording rec;
   rec.meta = {{"scene", scene.ToJson()},
               {"scene_base_dir", scene.baseDir},

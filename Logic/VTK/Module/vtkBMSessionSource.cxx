@@ -4,15 +4,14 @@
 #include "bmBoneFractionImage.h"
 #include "bmBoneSurface.h"
 #ifdef BM_WITH_IO
-#include "bmCTVoxmap.h"
 #include "bmVoxmapFile.h"
 #endif
-#include "bmEdgeQuadrature.h"
 #include "bmHapticSession.h"
 #include "bmMachiningSetup.h"
 #include "bmProgrammableDevice.h"
 #include "bmScene.h"
-#include "bmScriptedDevice.h"
+#include "bmSceneOverrides.h"
+#include "bmSessionBuilder.h"
 #include "bmTouchDevice.h"
 #include "vtkBMToolSource.h"
 
@@ -45,19 +44,6 @@
 #include <vector>
 
 namespace {
-/// Limits of the scripted robot and the mouse proxy: both are position sources with no hand on
-/// them, held by a stiff arm (2000 N/mm, up to 5 kN), so the proxy lags the commanded pose by
-/// thrust / K (0.25 mm at 500 N of reaming thrust). A Touch (3.3 N) could not push a 36.5 mm
-/// reamer through cortical bone at a useful feed.
-bm::DeviceLimits PositionSourceLimits() {
-  bm::DeviceLimits l;
-  l.maxForceN = 5000;
-  l.maxStiffnessNPerMm = 2000;
-  l.maxDampingNsPerMm = 2.0;
-  l.workspaceRadiusMm = 1000;
-  return l;
-}
-
 /// Most time one update spends re-extracting the bone's surface, ms (ParaView polls every 33 ms;
 /// a quarter of that keeps the haptic frame as fast as without the view on two busy cores).
 constexpr double kSurfaceBudgetMs = 8.0;
@@ -87,10 +73,7 @@ public:
 
   /// Depth (mm) of the foremost cutting point of a tool at (pos, rot) below the entry point.
   double Depth(const Eigen::Vector3d& pos, const Eigen::Matrix3d& rot) const {
-    const bm::TrialSpec& t = this->Setup->GetScene().trial;
-    const Eigen::Vector3d tip =
-        pos + rot * Eigen::Vector3d(0, 0, bm::ForemostCuttingZ(this->Setup->Tool()));
-    return (t.entry - tip).dot(t.axis.normalized());
+    return bm::ToolDepthMm(*this->Setup, pos, rot);
   }
 
   /// Moves the session's new frame records into History (one row per stepS of session time)
@@ -124,13 +107,7 @@ public:
 
   /// The mouse device's pose for a depth (mm) of the foremost cutting point below the entry.
   bm::DevicePose MousePose(double depthMm) const {
-    const bm::TrialSpec& t = this->Setup->GetScene().trial;
-    const Eigen::Matrix3d rot = this->Setup->ToolRotation();
-    bm::DevicePose pose;
-    pose.positionMm = t.entry - t.axis.normalized() * depthMm -
-                      rot * Eigen::Vector3d(0, 0, bm::ForemostCuttingZ(this->Setup->Tool()));
-    pose.rotation = rot;
-    return pose;
+    return bm::ToolPoseAtDepth(*this->Setup, depthMm);
   }
 };
 
@@ -231,119 +208,32 @@ bool vtkBMSessionSource::Start() {
   in.Session.reset();
   in.Error.clear();
   try {
-    const std::string name = this->Scene ? this->Scene : "glenoid";
-    bm::Scene scene =
-        (std::filesystem::path(name).extension() == ".json" || std::filesystem::exists(name))
-            ? bm::Scene::Load(name)
-            : bm::Scene::Builtin(name);
-    nlohmann::json j = scene.ToJson();
-    if (this->ShellResolution > 0)
-      j["shell_resolution"] = this->ShellResolution;
-    if (this->Tool && *this->Tool) {
-      nlohmann::json tool;
-      try {
-        tool = nlohmann::json::parse(this->Tool);
-      } catch (const std::exception& e) {
-        throw std::invalid_argument(std::string("the tool specification is not JSON: ") + e.what());
-      }
-      if (!tool.is_object())
-        throw std::invalid_argument("the tool specification must be a JSON object");
-      j["tool"] = tool;
-    }
+    bm::SceneOverrides o;
+    o.voxmapResolution = this->VoxmapResolution;
+    o.shellResolution = this->ShellResolution;
+    o.toolJson = this->Tool ? this->Tool : "";
     if (this->Method != SCENE_METHOD)
-      j["method"] = this->Method == ZHENG ? "zheng" : "lazar";
-    const bool fromFile = this->BoneFile && *this->BoneFile;
-    if (fromFile) {
-      const std::filesystem::path file = std::filesystem::absolute(this->BoneFile);
-      if (!std::filesystem::is_regular_file(file))
-        throw std::runtime_error("the bone file '" + file.string() + "' does not exist");
-      j["bone"] = {{"type", "ct"}, {"ct", {{"voxmap", file.string()}}}};
-    }
-    if (this->BoneCT && *this->BoneCT) {
-      if (fromFile)
-        throw std::invalid_argument("set either a bone file or a CT bone, not both");
-      nlohmann::json ct;
-      try {
-        ct = nlohmann::json::parse(this->BoneCT);
-      } catch (const std::exception& e) {
-        throw std::invalid_argument(std::string("the CT bone description is not JSON: ") +
-                                    e.what());
-      }
-      if (!ct.is_object() || !ct.contains("ct"))
-        throw std::invalid_argument("the CT bone description must be a JSON object with \"ct\"");
-      j["bone"] = {{"type", "ct"}, {"ct", ct}};
-    }
+      o.method = this->Method == ZHENG ? "zheng" : "lazar";
+    o.boneFile = this->BoneFile ? this->BoneFile : "";
+    o.boneCTJson = this->BoneCT ? this->BoneCT : "";
     if (this->OverrideTrial) {
-      const Eigen::Vector3d axis(this->Axis[0], this->Axis[1], this->Axis[2]);
-      if (!(axis.norm() > 0))
-        throw std::invalid_argument("the trial axis is zero");
-      j["trial"]["entry_mm"] = {this->Entry[0], this->Entry[1], this->Entry[2]};
-      const Eigen::Vector3d unit = axis.normalized();
-      j["trial"]["axis"] = {unit[0], unit[1], unit[2]};
+      o.entryMm = Eigen::Vector3d(this->Entry[0], this->Entry[1], this->Entry[2]);
+      o.axis = Eigen::Vector3d(this->Axis[0], this->Axis[1], this->Axis[2]);
     }
-    const std::string baseDir = scene.baseDir;
-    scene = bm::Scene::FromJson(j);
-    scene.baseDir = baseDir;
-    // A finer voxmap takes a finer shell along (the scene's grid ratio), unless both are set.
-    if (this->VoxmapResolution > 0) {
-      if (this->ShellResolution > 0)
-        scene.voxmapResolution = this->VoxmapResolution;
-      else
-        scene = scene.WithVoxmapResolution(this->VoxmapResolution);
-    }
-#ifdef BM_WITH_IO
-    bm::Voxmap bone =
-        scene.bone.type == "block"
-            ? bm::MakeSceneBlock(scene)
-            : bm::MakeCTVoxmap(scene.bone.ct, scene.baseDir, fromFile ? 0 : scene.voxmapResolution);
-#else
-    if (scene.bone.type != "block")
-      throw std::runtime_error("scene '" + scene.name +
-                               "' needs CT import, which this build leaves out");
-    bm::Voxmap bone = bm::MakeSceneBlock(scene);
-#endif
-    in.Setup = std::make_unique<bm::MachiningSetup>(scene, std::move(bone));
+    const bm::Scene scene =
+        bm::ApplyOverrides(bm::ResolveScene(this->Scene ? this->Scene : "glenoid"), o);
 
-    const bm::TrialSpec& t = scene.trial;
-    const Eigen::Vector3d axis = t.axis.normalized();
-    bm::SessionOptions options;
-    options.realTime = this->RealTime;
-    if (!this->RealTime)
-      options.overrunLimit = -1; // frames back to back have no period to overrun
-    std::shared_ptr<bm::Device> device;
-    if (this->DeviceType == MOUSE) {
-      in.Mouse = std::make_shared<bm::ProgrammableDevice>(PositionSourceLimits());
-      in.Mouse->SetPose(in.MousePose(this->ToolDepth));
-      // A depth step (a wheel click, a typed depth) reaches the tool over frames, at 20 mm/s.
-      in.Mouse->SetMaxSpeed(20.0);
-      device = in.Mouse;
-      options.maxFrames = this->MaxFrames;
-    } else if (this->DeviceType == TOUCH) {
-      in.Mouse.reset();
-      device = std::make_shared<bm::TouchDevice>();
-      // The Touch's 3.3 N push becomes the tool's reaming thrust (Docs/Session.md, force scaling).
-      options.proxy.coupling.forceScale = bm::kDefaultSessionForceScale;
-      // The stylus at the workspace centre holds the tool 10 mm above the entry point.
-      options.deviceOffsetMm = t.entry + axis * 10.0;
-      options.maxFrames = this->MaxFrames;
-    } else {
-      in.Mouse.reset();
-      bm::ScriptedDeviceOptions o;
-      o.mode = bm::ScriptMode::Feed;
-      o.startMm = t.entry + axis * t.clearanceMm;
-      o.axis = axis;
-      o.rotation = in.Setup->ToolRotation();
-      o.feedMmPerRev = t.feedMmPerRev;
-      o.speedRpm = t.speedRpm;
-      o.limits = PositionSourceLimits();
-      device = std::make_shared<bm::ScriptedDevice>(o);
-      const double depth =
-          t.depthMm >= 0 ? t.depthMm : bm::FullEngagementDepth(in.Setup->Tool()) + t.extraDepthMm;
-      const double duration = (depth + t.clearanceMm) / (t.feedMmPerRev * t.speedRpm / 60.0);
-      options.maxFrames =
-          this->MaxFrames >= 0 ? this->MaxFrames : int64_t(std::ceil(duration * options.rateHz));
-    }
-    in.Session = std::make_unique<bm::HapticSession>(*in.Setup, device, options);
+    bm::SessionRequest request;
+    request.device = this->DeviceType == MOUSE   ? bm::SessionDevice::Mouse
+                     : this->DeviceType == TOUCH ? bm::SessionDevice::Touch
+                                                 : bm::SessionDevice::Robot;
+    request.realTime = this->RealTime;
+    request.maxFrames = this->MaxFrames >= 0 ? this->MaxFrames : -1;
+    request.mouseDepthMm = this->ToolDepth;
+    bm::BuiltSession built = bm::BuildSession(scene, request);
+    in.Setup = std::move(built.setup);
+    in.Mouse = built.mouse;
+    in.Session = std::make_unique<bm::HapticSession>(*in.Setup, built.device, built.options);
 
     const nlohmann::json& tool = scene.tool;
     const std::string kind = tool.value("type", "drill");
@@ -472,10 +362,6 @@ int vtkBMSessionSource::RequestData(vtkInformation*, vtkInformationVector**,
   place->Update();
   tool->ShallowCopy(place->GetOutput());
 
-  const bm::TrialSpec& t = in.Setup->GetScene().trial;
-  const Eigen::Vector3d tip =
-      s.proxyPositionMm +
-      s.toolRotation * Eigen::Vector3d(0, 0, bm::ForemostCuttingZ(in.Setup->Tool()));
   this->State = int(s.state);
   in.PauseReason = bm::ToString(s.pauseReason);
   this->Frame = s.frame;
@@ -483,7 +369,7 @@ int vtkBMSessionSource::RequestData(vtkInformation*, vtkInformationVector**,
   this->ThrustN = s.thrustN;
   this->TorqueNmm = s.torqueNmm;
   this->RemovedVolumeMm3 = s.removedVolumeMm3;
-  this->DepthMm = (t.entry - tip).dot(t.axis.normalized());
+  this->DepthMm = in.Depth(s.proxyPositionMm, s.toolRotation);
   in.DrainHistory(s.toolRotation, this->HistoryStepS, this->HistorySeconds);
   vtkTable::GetData(outputVector, 2)->ShallowCopy(in.HistoryTable);
   if (this->VolumeOutput) {

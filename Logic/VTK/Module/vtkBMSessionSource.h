@@ -18,8 +18,10 @@
 // atomic loads, after marking their bricks seen (bm::Voxmap::SeenBrickGeneration): a brick read
 // while a frame cuts it shows that frame half done and is re-extracted at the next update.
 //
-// Devices: SCRIPTED feeds the tool along the scene's axis at its feed and speed (a robot-driven
-// trial, to its depth); MOUSE is a programmable device whose pose follows SetToolDepth() (mm of
+// The session is built as every session is (bm::ApplyOverrides, bm::BuildSession; Docs/Session.md,
+// "Building a session"). Devices: SCRIPTED feeds the tool along the scene's axis at its feed and
+// speed from the trial's clearance above the entry (a robot-driven trial, to its depth,
+// bm::SessionDevice::Robot); MOUSE is a programmable device whose pose follows SetToolDepth() (mm of
 // the foremost cutting point below the scene's entry point along its axis), the mouse proxy of the
 // panel for users without a Touch; TOUCH is a 3D Systems Touch through OpenHaptics
 // (bm::TouchDevice, libHD loaded at Start(); ProbeTouch() says whether it can be opened and why

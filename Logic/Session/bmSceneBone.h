@@ -1,0 +1,26 @@
+// bmSceneBone.h - a scene's bone as a voxmap: its block (Core), or its CT, phantom or saved voxmap
+// through the IO library (bmCTVoxmap.h) when this build has it. One rule for bmsim, the BM Session
+// source and the benchmarks (Docs/Session.md, "Building a session").
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "bmScene.h"
+#include "bmVoxmap.h"
+
+namespace bm {
+
+/// Progress of a bone import: fraction done (0..1) and the stage; returning false cancels.
+using BoneProgress = std::function<bool(double, const std::string&)>;
+
+/// Whether this build can build CT, phantom and saved-voxmap bones (the IO library is linked).
+bool CanImportSceneBones();
+
+/// The scene's bone: MakeSceneBlock for a block; for bone.type "ct" the CT, phantom or voxmap file
+/// it names (relative paths from scene.baseDir) at scene.voxmapResolution cells along the region's
+/// longest side (a voxmap file keeps its own). Throws std::runtime_error naming the scene when the
+/// bone needs the IO library and this build has none, or naming the import's problem.
+Voxmap MakeSceneBone(const Scene& scene, const BoneProgress& progress = {});
+
+} // namespace bm

@@ -1,0 +1,189 @@
+// bmSessionBuilder.cxx - see bmSessionBuilder.h.
+#include "bmSessionBuilder.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "bmEdgeQuadrature.h"
+#include "bmTouchDevice.h"
+#include "bmVirtualCoupling.h"
+
+namespace bm {
+
+namespace {
+
+void CheckRange(const char* what, double v, double lo, double hi) {
+  if (std::isfinite(v) && v >= lo && v <= hi)
+    return;
+  std::ostringstream m;
+  m << what << " must be in [" << lo << ", " << hi << "], not " << v;
+  throw std::invalid_argument(m.str());
+}
+
+/// Where a Touch's workspace centre sits above the entry point along the axis, mm.
+constexpr double kTouchCentreAboveEntryMm = 10.0;
+/// Scripted force and hand runs last this long unless the request says otherwise, s.
+constexpr double kPushDurationS = 2.0;
+
+} // namespace
+
+const char* ToString(SessionDevice d) {
+  switch (d) {
+  case SessionDevice::Scripted:
+    return "scripted";
+  case SessionDevice::Robot:
+    return "robot";
+  case SessionDevice::Touch:
+    return "touch";
+  case SessionDevice::Mouse:
+    return "mouse";
+  }
+  return "?";
+}
+
+SessionDevice SessionDeviceFromString(const std::string& s) {
+  for (SessionDevice d :
+       {SessionDevice::Scripted, SessionDevice::Robot, SessionDevice::Touch, SessionDevice::Mouse})
+    if (s == ToString(d))
+      return d;
+  throw std::invalid_argument("the session device must be scripted, robot, touch or mouse, not '" +
+                              s + "'");
+}
+
+DeviceLimits PositionSourceLimits() {
+  DeviceLimits l;
+  l.maxForceN = 5000;
+  l.maxStiffnessNPerMm = 2000;
+  l.maxDampingNsPerMm = 2.0;
+  l.workspaceRadiusMm = 1000;
+  return l;
+}
+
+double TrialDepthMm(const MachiningSetup& setup) {
+  const TrialSpec& t = setup.GetScene().trial;
+  return t.depthMm >= 0 ? t.depthMm : FullEngagementDepth(setup.Tool()) + t.extraDepthMm;
+}
+
+double ToolDepthMm(const MachiningSetup& setup, const Eigen::Vector3d& positionMm,
+                   const Eigen::Matrix3d& rotation) {
+  const TrialSpec& t = setup.GetScene().trial;
+  const Eigen::Vector3d tip =
+      positionMm + rotation * Eigen::Vector3d(0, 0, ForemostCuttingZ(setup.Tool()));
+  return (t.entry - tip).dot(t.axis.normalized());
+}
+
+DevicePose ToolPoseAtDepth(const MachiningSetup& setup, double depthMm) {
+  const TrialSpec& t = setup.GetScene().trial;
+  DevicePose pose;
+  pose.rotation = setup.ToolRotation();
+  pose.positionMm = t.entry - t.axis.normalized() * depthMm -
+                    pose.rotation * Eigen::Vector3d(0, 0, ForemostCuttingZ(setup.Tool()));
+  return pose;
+}
+
+void ValidateSessionRequest(const SessionRequest& r) {
+  const bool scripted = r.device == SessionDevice::Scripted;
+  if (r.device == SessionDevice::Robot && r.mode != ScriptMode::Feed)
+    throw std::invalid_argument(std::string("a robot session only feeds; mode '") +
+                                ToString(r.mode) + "' needs the scripted device");
+  if (scripted && (r.mode == ScriptMode::Force || r.mode == ScriptMode::Hand))
+    CheckRange("the applied force (N at the device)", r.appliedForceN, 0.0,
+               DeviceLimits().maxForceN);
+  if (scripted && r.mode == ScriptMode::Hand)
+    CheckRange("the hand's tremor (N at the device)", r.handTremorN, 0.0, DeviceLimits().maxForceN);
+  if (scripted && r.mode == ScriptMode::Trajectory && r.trajectory.empty())
+    throw std::invalid_argument("a trajectory session needs trajectory samples");
+  if (r.forceScale != 0)
+    CheckRange("the force scale (tool N per device N)", r.forceScale, 1e-3, kMaxForceScale);
+  CheckRange("the haptic rate (Hz)", r.rateHz, 10, 10000);
+  if (r.overrunLimit)
+    CheckRange("the overrun limit (frames in 100)", *r.overrunLimit, -1, 1e6);
+  if (r.durationS != 0)
+    CheckRange("the session duration (s)", r.durationS, 1e-3, 3600);
+  if (r.maxFrames < -1)
+    throw std::invalid_argument("the frame limit must be >= 0 (or -1: from the duration), not " +
+                                std::to_string(r.maxFrames));
+  if (r.device == SessionDevice::Mouse && !std::isfinite(r.mouseDepthMm))
+    throw std::invalid_argument("the mouse proxy's depth must be finite (mm)");
+}
+
+BuiltSession BuildSession(const Scene& scene, const SessionRequest& r,
+                          const BoneProgress& progress) {
+  ValidateSessionRequest(r);
+  return BuildSession(scene, MakeSceneBone(scene, progress), r);
+}
+
+BuiltSession BuildSession(const Scene& scene, Voxmap bone, const SessionRequest& r) {
+  ValidateSessionRequest(r);
+  BuiltSession b;
+  b.setup = std::make_unique<MachiningSetup>(scene, std::move(bone));
+  const MachiningSetup& setup = *b.setup;
+  const TrialSpec& t = setup.GetScene().trial;
+  const Eigen::Vector3d axis = t.axis.normalized();
+  SessionOptions& o = b.options;
+  o.rateHz = r.rateHz;
+  o.realTime = r.realTime;
+  o.proxy.method = r.contact;
+  o.proxy.rendering = r.rendering;
+  const bool positionSource = r.device == SessionDevice::Robot || r.device == SessionDevice::Mouse;
+  o.proxy.coupling.forceScale = r.forceScale != 0 ? r.forceScale
+                                : positionSource  ? 1.0
+                                                  : kDefaultSessionForceScale;
+  // The overrun pause protects a hand on a device; a scripted or robot run reports its overruns
+  // instead, and frames back to back have no period to overrun.
+  const bool hand = r.device == SessionDevice::Touch || r.device == SessionDevice::Mouse;
+  o.overrunLimit = r.overrunLimit ? *r.overrunLimit : (hand && r.realTime ? 5 : -1);
+
+  // The feed's length: from clearance above the entry to the trial's depth.
+  const double feedS = (TrialDepthMm(setup) + t.clearanceMm) / (t.feedMmPerRev * t.speedRpm / 60.0);
+  double duration = -1;
+  switch (r.device) {
+  case SessionDevice::Touch: {
+    b.device = std::make_shared<TouchDevice>();
+    o.deviceOffsetMm = t.entry + axis * kTouchCentreAboveEntryMm;
+    break;
+  }
+  case SessionDevice::Mouse: {
+    b.mouse = std::make_shared<ProgrammableDevice>(PositionSourceLimits());
+    b.mouse->SetPose(ToolPoseAtDepth(setup, r.mouseDepthMm));
+    // A depth step (a wheel click, a typed depth) reaches the tool over frames, at 20 mm/s.
+    b.mouse->SetMaxSpeed(20.0);
+    b.device = b.mouse;
+    break;
+  }
+  case SessionDevice::Scripted:
+  case SessionDevice::Robot: {
+    ScriptedDeviceOptions d;
+    d.mode = r.device == SessionDevice::Robot ? ScriptMode::Feed : r.mode;
+    d.startMm = ToolPoseAtDepth(setup, -t.clearanceMm).positionMm;
+    d.axis = axis;
+    d.rotation = setup.ToolRotation();
+    d.feedMmPerRev = t.feedMmPerRev;
+    d.speedRpm = t.speedRpm;
+    d.appliedForceN = r.appliedForceN;
+    d.handTremorN = r.handTremorN;
+    d.handSeed = r.handSeed;
+    d.trajectory = r.trajectory;
+    if (positionSource)
+      d.limits = PositionSourceLimits();
+    b.device = std::make_shared<ScriptedDevice>(d);
+    duration = d.mode == ScriptMode::Feed         ? feedS
+               : d.mode == ScriptMode::Trajectory ? r.trajectory.back().timeS
+                                                  : kPushDurationS;
+    break;
+  }
+  }
+  if (r.durationS > 0)
+    duration = r.durationS;
+  if (r.maxFrames >= 0) {
+    o.maxFrames = r.maxFrames;
+    b.durationS = double(r.maxFrames) / o.rateHz;
+  } else if (duration > 0) {
+    o.maxFrames = int64_t(std::ceil(duration * o.rateHz));
+    b.durationS = duration;
+  }
+  return b;
+}
+
+} // namespace bm

@@ -1,0 +1,119 @@
+// bmSessionBuilder.h - a scene and a device request turned into a ready haptic session: the bone
+// (bmSceneBone.h), the machining setup, the device placed at the trial's start, the session
+// options and the session's length. The one way to build a session: bmsim run (session), bmsim
+// bench --session and the BM Session source all go through BuildSession (Docs/Session.md,
+// "Building a session").
+//
+// Devices:
+//  - Scripted: a simulated hand on a Touch (the Touch's limits, force scale
+//    kDefaultSessionForceScale): feed (prescribed feed and speed), force (a constant push), hand
+//    (a rising push with tremor) or trajectory (a recorded path) - bmScriptedDevice.h.
+//  - Robot: a robot arm feeding the tool along the trial at its feed and speed, a position source
+//    (PositionSourceLimits(), force scale 1).
+//  - Touch: a 3D Systems Touch through OpenHaptics (bmTouchDevice.h), its workspace centre 10 mm
+//    above the entry point along the axis, force scale kDefaultSessionForceScale.
+//  - Mouse: a programmable position source whose pose follows a depth (ToolPoseAtDepth), the
+//    panel's mouse proxy (PositionSourceLimits(), force scale 1).
+// Scripted and robot devices start with the tool's foremost cutting point the trial's clearance
+// above the entry point, as the offline feed trial does (bmFeedTrial.h).
+//
+// Units: mm, N, s, rpm, mm/rev, Hz.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bmDevice.h"
+#include "bmHapticSession.h"
+#include "bmMachiningSetup.h"
+#include "bmProgrammableDevice.h"
+#include "bmSceneBone.h"
+#include "bmScriptedDevice.h"
+
+namespace bm {
+
+enum class SessionDevice { Scripted, Robot, Touch, Mouse };
+const char* ToString(SessionDevice d);
+/// "scripted", "robot", "touch" or "mouse"; throws std::invalid_argument listing them.
+SessionDevice SessionDeviceFromString(const std::string& s);
+
+/// What session to build on a scene. Defaults: a scripted feed at the scene's feed and speed.
+struct SessionRequest {
+  SessionDevice device = SessionDevice::Scripted;
+  /// Scripted device's mode (default Feed); a robot always feeds.
+  ScriptMode mode = ScriptMode::Feed;
+  /// Scripted force and hand modes: the push along the feed at the device, N, in [0, the Touch's
+  /// maximum force] (default 2.5, a firm push on a Touch).
+  double appliedForceN = 2.5;
+  /// Scripted hand mode: the lateral tremor's amplitude, N, in [0, the Touch's maximum force]
+  /// (default 0.1), and its seed (default 1).
+  double handTremorN = 0.1;
+  uint64_t handSeed = 1;
+  /// Scripted trajectory mode: the samples (bmScriptedDevice.h LoadTrajectoryCsv); required there.
+  std::vector<TrajectorySample> trajectory;
+  /// Tool force = forceScale x device force, in [1e-3, kMaxForceScale]; 0 (default): the
+  /// device's (scripted, touch: kDefaultSessionForceScale; robot, mouse: 1).
+  double forceScale = 0;
+  ContactMethod contact = ProxyOptions().method;  ///< default: the cutting contact
+  Rendering rendering = ProxyOptions().rendering; ///< default: coupled
+  double rateHz = 1000;                           ///< haptic rate, Hz, in [10, 10000]
+  bool realTime = true; ///< false: frames back to back (tests, benchmarks)
+  /// Pause after more than this many overruns in 100 frames (-1: never), in [-1, 1e6]. nullopt
+  /// (default): the device's rule, 5 for a hand on a Touch or the mouse, never for scripted and
+  /// robot runs (they report overruns instead) and never for frames back to back.
+  std::optional<int> overrunLimit;
+  /// Session time, s, in (0, 3600]. 0 (default): the device's - scripted feed and robot: the
+  /// trial's depth plus clearance at the feed rate; scripted force and hand: 2 s; trajectory: its
+  /// length; touch and mouse: no limit.
+  double durationS = 0;
+  /// Frames to run (>= 0), replacing durationS; -1 (default): from the duration.
+  int64_t maxFrames = -1;
+  /// Mouse device: the foremost cutting point's starting depth below the entry point, mm
+  /// (negative: above; default -2), finite.
+  double mouseDepthMm = -2.0;
+};
+
+/// A built session's parts: construct bm::HapticSession(*setup, device, options).
+struct BuiltSession {
+  std::unique_ptr<MachiningSetup> setup;
+  std::shared_ptr<Device> device;
+  /// The mouse device (also `device`) for SessionDevice::Mouse: move it with ToolPoseAtDepth.
+  std::shared_ptr<ProgrammableDevice> mouse;
+  SessionOptions options;
+  /// Session time the frame limit stands for, s; < 0: no limit.
+  double durationS = -1;
+};
+
+/// Checks the request's values without building anything; throws std::invalid_argument naming
+/// the field and its range.
+void ValidateSessionRequest(const SessionRequest& r);
+
+/// The session for the scene: checks the request, builds the bone (MakeSceneBone, with
+/// progress), the setup and the device. Throws std::invalid_argument for a bad request (before
+/// the bone is built) and std::runtime_error for an import or setup failure.
+BuiltSession BuildSession(const Scene& scene, const SessionRequest& r,
+                          const BoneProgress& progress = {});
+/// As above on a bone built by the caller.
+BuiltSession BuildSession(const Scene& scene, Voxmap bone, const SessionRequest& r);
+
+/// Limits of the robot arm and the mouse proxy: position sources with no hand on them, held by a
+/// stiff arm (2000 N/mm, up to 5 kN), so the proxy lags the commanded pose by thrust / K (0.25 mm
+/// at 500 N of reaming thrust). A Touch (3.3 N) could not push a 36.5 mm reamer through cortical
+/// bone at a useful feed.
+DeviceLimits PositionSourceLimits();
+
+/// The trial's final depth of the foremost cutting point below the entry point, mm: the scene's
+/// depth, or full engagement of the tool's edges plus the scene's extra depth.
+double TrialDepthMm(const MachiningSetup& setup);
+/// Depth (mm) of the foremost cutting point of the tool at (positionMm, rotation), world, below
+/// the trial's entry point along its axis (negative: above).
+double ToolDepthMm(const MachiningSetup& setup, const Eigen::Vector3d& positionMm,
+                   const Eigen::Matrix3d& rotation);
+/// The tool's pose (world mm, tool -> world rotation) on the trial axis with its foremost cutting
+/// point depthMm below the entry point (negative: above).
+DevicePose ToolPoseAtDepth(const MachiningSetup& setup, double depthMm);
+
+} // namespace bm

@@ -1,0 +1,233 @@
+// The one way to build a session (bmSessionBuilder.h) and a scene's overrides
+// (bmSceneOverrides.h): the command line's and the BM Session source's requests start the tool
+// at the same pose and run the same frames; bad overrides and requests are refused by name.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "bmEdgeQuadrature.h"
+#include "bmSceneOverrides.h"
+#include "bmSessionBuilder.h"
+#include "bmVirtualCoupling.h"
+
+namespace {
+
+/// The drilling scene at voxmap 32 (shell 128): small enough to build in milliseconds.
+bm::Scene SmallDrilling() {
+  bm::SceneOverrides o;
+  o.voxmapResolution = 32;
+  return bm::ApplyOverrides(bm::ResolveScene("drilling"), o);
+}
+
+/// The message of the std::invalid_argument that f throws ("" when it throws none).
+template <class F> std::string Refusal(F&& f) {
+  try {
+    f();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+bm::DevicePose StartPose(const bm::BuiltSession& b) {
+  auto* scripted = dynamic_cast<bm::ScriptedDevice*>(b.device.get());
+  EXPECT_NE(scripted, nullptr);
+  return scripted ? scripted->PoseAt(0) : bm::DevicePose();
+}
+
+TEST(SceneOverrides, VoxmapAloneScalesTheShellAndKeepsTheBaseDir) {
+  const bm::Scene base = bm::ResolveScene("drilling");
+  bm::SceneOverrides o;
+  o.voxmapResolution = 64;
+  const bm::Scene s = bm::ApplyOverrides(base, o);
+  EXPECT_EQ(s.voxmapResolution, 64);
+  EXPECT_EQ(s.shellResolution, base.shellResolution * 64 / base.voxmapResolution);
+  EXPECT_EQ(s.baseDir, base.baseDir);
+  o.shellResolution = 100;
+  const bm::Scene both = bm::ApplyOverrides(base, o);
+  EXPECT_EQ(both.voxmapResolution, 64);
+  EXPECT_EQ(both.shellResolution, 100);
+}
+
+TEST(SceneOverrides, TrialToolAndMethodReplaceTheScenes) {
+  bm::SceneOverrides o;
+  o.entryMm = Eigen::Vector3d(1, 2, 3);
+  o.axis = Eigen::Vector3d(0, 0, 2);
+  o.feedMmPerRev = 0.05;
+  o.speedRpm = 600;
+  o.toolJson = R"({"type": "drill", "radius_mm": 2.0})";
+  o.method = "zheng";
+  const bm::Scene s = bm::ApplyOverrides(bm::ResolveScene("drilling"), o);
+  EXPECT_EQ(s.trial.entry, Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(s.trial.axis, Eigen::Vector3d(0, 0, 1)); // normalised
+  EXPECT_DOUBLE_EQ(s.trial.feedMmPerRev, 0.05);
+  EXPECT_DOUBLE_EQ(s.trial.speedRpm, 600);
+  EXPECT_DOUBLE_EQ(s.tool.at("radius_mm").get<double>(), 2.0);
+  EXPECT_EQ(s.ToJson().at("method"), "zheng");
+}
+
+TEST(SceneOverrides, BadOverridesAreRefusedByName) {
+  const bm::Scene base = bm::ResolveScene("drilling");
+  auto refusal = [&](const bm::SceneOverrides& o) {
+    return Refusal([&] { bm::ApplyOverrides(base, o); });
+  };
+  bm::SceneOverrides o;
+  o.voxmapResolution = 4;
+  EXPECT_NE(refusal(o).find("voxmap resolution (cells) must be in [8, 4096], not 4"),
+            std::string::npos)
+      << refusal(o);
+  o = {};
+  o.shellResolution = 5000;
+  EXPECT_NE(refusal(o).find("shell resolution (cells) must be in [8, 4096]"), std::string::npos);
+  o = {};
+  o.toolJson = "{radius";
+  EXPECT_NE(refusal(o).find("the tool specification is not JSON"), std::string::npos);
+  o.toolJson = "[1, 2]";
+  EXPECT_NE(refusal(o).find("the tool specification must be a JSON object"), std::string::npos);
+  o = {};
+  o.method = "euler";
+  EXPECT_NE(refusal(o).find("lazar or zheng, not 'euler'"), std::string::npos);
+  o = {};
+  o.boneFile = "a.nrrd";
+  o.boneCTJson = R"({"ct": "x"})";
+  EXPECT_NE(refusal(o).find("not both"), std::string::npos);
+  o = {};
+  o.boneCTJson = R"({"threshold": 300})";
+  EXPECT_NE(refusal(o).find("with \"ct\""), std::string::npos);
+  o = {};
+  o.entryMm = Eigen::Vector3d(0, 0, 0);
+  EXPECT_NE(refusal(o).find("both an entry point and an axis"), std::string::npos);
+  o.axis = Eigen::Vector3d::Zero();
+  EXPECT_NE(refusal(o).find("axis must be finite and non-zero"), std::string::npos);
+  o = {};
+  o.feedMmPerRev = 2.0;
+  EXPECT_NE(refusal(o).find("the feed (mm/rev) must be in [1e-05, 1], not 2"), std::string::npos)
+      << refusal(o);
+  o = {};
+  o.threads = 0;
+  EXPECT_NE(refusal(o).find("thread count must be in [1, 64]"), std::string::npos);
+  EXPECT_NE(Refusal([] { bm::ResolveScene("no-such-scene"); }).find("no-such-scene"),
+            std::string::npos);
+  bm::SceneOverrides missing;
+  missing.boneFile = "/nonexistent/cut.nrrd";
+  EXPECT_THROW(bm::ApplyOverrides(base, missing), std::runtime_error);
+}
+
+TEST(SessionBuilder, CommandLineAndSourceFeedsStartAtTheSamePoseAndRunTheSameFrames) {
+  const bm::Scene scene = SmallDrilling();
+  bm::SessionRequest cli; // bmsim run --device scripted (--mode feed)
+  bm::SessionRequest source;
+  source.device = bm::SessionDevice::Robot; // the BM Session source's "Scripted robot"
+  source.realTime = false;
+  const bm::BuiltSession a = bm::BuildSession(scene, cli);
+  const bm::BuiltSession b = bm::BuildSession(scene, source);
+  const bm::DevicePose pa = StartPose(a), pb = StartPose(b);
+  EXPECT_TRUE(pa.positionMm.isApprox(pb.positionMm, 1e-12));
+  EXPECT_TRUE(pa.rotation.isApprox(pb.rotation, 1e-12));
+  // The foremost cutting point starts the trial's clearance above the entry, as the feed trial.
+  const bm::TrialSpec& t = a.setup->GetScene().trial;
+  EXPECT_NEAR(bm::ToolDepthMm(*a.setup, pa.positionMm, pa.rotation), -t.clearanceMm, 1e-12);
+  // Both run to the trial's depth at its feed rate.
+  const double depth = bm::FullEngagementDepth(a.setup->Tool()) + t.extraDepthMm;
+  EXPECT_NEAR(bm::TrialDepthMm(*a.setup), depth, 1e-12);
+  const double seconds = (depth + t.clearanceMm) / (t.feedMmPerRev * t.speedRpm / 60.0);
+  EXPECT_EQ(a.options.maxFrames, int64_t(std::ceil(seconds * 1000)));
+  EXPECT_EQ(b.options.maxFrames, a.options.maxFrames);
+  EXPECT_NEAR(a.durationS, seconds, 1e-9);
+  // They differ where the devices do: a hand on a Touch against a stiff robot arm.
+  EXPECT_DOUBLE_EQ(a.options.proxy.coupling.forceScale, bm::kDefaultSessionForceScale);
+  EXPECT_DOUBLE_EQ(b.options.proxy.coupling.forceScale, 1.0);
+  EXPECT_DOUBLE_EQ(a.device->Limits().maxForceN, bm::DeviceLimits().maxForceN);
+  EXPECT_DOUBLE_EQ(b.device->Limits().maxForceN, bm::PositionSourceLimits().maxForceN);
+  EXPECT_EQ(a.options.overrunLimit, -1); // a scripted run reports overruns, never pauses on them
+  EXPECT_EQ(b.options.overrunLimit, -1);
+}
+
+TEST(SessionBuilder, DurationsFramesAndTouchPlacementFollowTheDevice) {
+  const bm::Scene scene = SmallDrilling();
+  bm::SessionRequest r;
+  r.mode = bm::ScriptMode::Force;
+  EXPECT_EQ(bm::BuildSession(scene, r).options.maxFrames, 2000); // 2 s at 1 kHz
+  r.durationS = 0.5;
+  EXPECT_EQ(bm::BuildSession(scene, r).options.maxFrames, 500);
+  r.rateHz = 500;
+  EXPECT_EQ(bm::BuildSession(scene, r).options.maxFrames, 250);
+  r.maxFrames = 7;
+  const bm::BuiltSession seven = bm::BuildSession(scene, r);
+  EXPECT_EQ(seven.options.maxFrames, 7);
+  EXPECT_NEAR(seven.durationS, 7.0 / 500, 1e-12);
+
+  bm::SessionRequest touch;
+  touch.device = bm::SessionDevice::Touch;
+  const bm::BuiltSession tb = bm::BuildSession(scene, touch);
+  const bm::TrialSpec& t = tb.setup->GetScene().trial;
+  EXPECT_TRUE(tb.options.deviceOffsetMm.isApprox(t.entry + t.axis.normalized() * 10.0, 1e-12));
+  EXPECT_EQ(tb.options.maxFrames, -1); // a hand on the device: no limit
+  EXPECT_LT(tb.durationS, 0);
+  EXPECT_EQ(tb.options.overrunLimit, 5);
+  EXPECT_DOUBLE_EQ(tb.options.proxy.coupling.forceScale, bm::kDefaultSessionForceScale);
+
+  bm::SessionRequest mouse;
+  mouse.device = bm::SessionDevice::Mouse;
+  mouse.mouseDepthMm = -1.25;
+  const bm::BuiltSession mb = bm::BuildSession(scene, mouse);
+  ASSERT_TRUE(mb.mouse);
+  EXPECT_EQ(mb.device, mb.mouse);
+  const bm::DevicePose p = bm::ToolPoseAtDepth(*mb.setup, -1.25);
+  EXPECT_NEAR(bm::ToolDepthMm(*mb.setup, p.positionMm, p.rotation), -1.25, 1e-12);
+}
+
+TEST(SessionBuilder, BadRequestsAreRefusedByNameBeforeTheBoneIsBuilt) {
+  bm::Scene scene = SmallDrilling();
+  auto refusal = [&](const bm::SessionRequest& r) {
+    return Refusal([&] { bm::BuildSession(scene, r); });
+  };
+  bm::SessionRequest r;
+  r.device = bm::SessionDevice::Robot;
+  r.mode = bm::ScriptMode::Hand;
+  EXPECT_NE(refusal(r).find("a robot session only feeds; mode 'hand'"), std::string::npos)
+      << refusal(r);
+  r = {};
+  r.forceScale = 1e6;
+  EXPECT_NE(refusal(r).find("force scale (tool N per device N) must be in [0.001, 1000]"),
+            std::string::npos)
+      << refusal(r);
+  r = {};
+  r.rateHz = 5;
+  EXPECT_NE(refusal(r).find("haptic rate (Hz) must be in [10, 10000], not 5"), std::string::npos);
+  r = {};
+  r.mode = bm::ScriptMode::Trajectory;
+  EXPECT_NE(refusal(r).find("needs trajectory samples"), std::string::npos);
+  r = {};
+  r.mode = bm::ScriptMode::Force;
+  r.appliedForceN = 50;
+  EXPECT_NE(refusal(r).find("applied force (N at the device) must be in [0, 3.3]"),
+            std::string::npos)
+      << refusal(r);
+  r = {};
+  r.durationS = -1;
+  EXPECT_NE(refusal(r).find("session duration (s)"), std::string::npos);
+  EXPECT_NE(Refusal([] {
+              bm::SessionDeviceFromString("phantom");
+            }).find("scripted, robot, touch or mouse, not 'phantom'"),
+            std::string::npos);
+  // A request refused before the bone: a CT scene whose CT does not exist still names the request.
+  scene.bone.type = "ct";
+  scene.bone.ct = {{"ct", "/nonexistent/ct.nrrd"}};
+  r = {};
+  r.rateHz = 1e6;
+  EXPECT_NE(refusal(r).find("haptic rate"), std::string::npos);
+}
+
+TEST(SceneBone, BlockSceneIsTheSceneBlock) {
+  const bm::Scene scene = SmallDrilling();
+  const bm::Voxmap a = bm::MakeSceneBone(scene);
+  const bm::Voxmap b = bm::MakeSceneBlock(scene);
+  EXPECT_EQ(a.Dims(), b.Dims());
+  EXPECT_DOUBLE_EQ(a.BoneVolume(), b.BoneVolume());
+  EXPECT_GT(a.BoneVolume(), 0.0);
+}
+
+} // namespace
