@@ -1,7 +1,12 @@
 // pqBMDockWindow.cxx - see pqBMDockWindow.h.
 #include "pqBMDockWindow.h"
 
+#include "bmPanelLogic.h"
+#include "qBMCTWidget.h"
+#include "qBMChartsWidget.h"
 #include "qBMPanel.h"
+#include "qBMSessionWidget.h"
+#include "qBMToolWidget.h"
 #include "vtkBMSessionSource.h"
 
 #include "pqActiveObjects.h"
@@ -16,9 +21,12 @@
 #include "vtkSMParaViewPipelineControllerWithRendering.h"
 #include "vtkSMPVRepresentationProxy.h"
 #include "vtkSMPropertyHelper.h"
+#include "vtkSMRenderViewProxy.h"
 #include "vtkSMSourceProxy.h"
 #include "vtkSMViewProxy.h"
 
+#include <QApplication>
+#include <QWheelEvent>
 #include <QScrollArea>
 #include <QTimer>
 
@@ -33,26 +41,62 @@ pqBMDockWindow::pqBMDockWindow(QWidget* parent)
   scroll->setFrameShape(QFrame::NoFrame);
   scroll->setWidget(this->Panel);
   this->setWidget(scroll);
-  QObject::connect(this->Panel, &qBMPanel::addToolRequested, this, &pqBMDockWindow::addTool);
-  QObject::connect(this->Panel, &qBMPanel::startSessionRequested, this,
+  qBMSessionWidget* session = this->Panel->sessionWidget();
+  QObject::connect(this->Panel->toolWidget(), &qBMToolWidget::addToolRequested, this,
+                   &pqBMDockWindow::addTool);
+  QObject::connect(session, &qBMSessionWidget::startSessionRequested, this,
                    &pqBMDockWindow::startSession);
-  QObject::connect(this->Panel, &qBMPanel::pauseSessionRequested, this,
+  QObject::connect(session, &qBMSessionWidget::pauseSessionRequested, this,
                    &pqBMDockWindow::pauseSession);
-  QObject::connect(this->Panel, &qBMPanel::stopSessionRequested, this,
+  QObject::connect(session, &qBMSessionWidget::stopSessionRequested, this,
                    &pqBMDockWindow::stopSession);
-  QObject::connect(this->Panel, &qBMPanel::toolDepthChanged, this, &pqBMDockWindow::setToolDepth);
-  QObject::connect(this->Panel, &qBMPanel::saveBoneRequested, this, &pqBMDockWindow::saveBone);
-  QObject::connect(this->Panel, &qBMPanel::volumeRenderingToggled, this,
+  QObject::connect(session, &qBMSessionWidget::toolDepthChanged, this,
+                   &pqBMDockWindow::setToolDepth);
+  QObject::connect(session, &qBMSessionWidget::saveBoneRequested, this, &pqBMDockWindow::saveBone);
+  QObject::connect(session, &qBMSessionWidget::volumeRenderingToggled, this,
                    &pqBMDockWindow::setVolumeRendering);
-  QObject::connect(this->Panel, &qBMPanel::previewCTRequested, this, &pqBMDockWindow::previewCT);
+  QObject::connect(this->Panel->ctWidget(), &qBMCTWidget::previewCTRequested, this,
+                   &pqBMDockWindow::previewCT);
   this->Poll->setInterval(33);
   QObject::connect(this->Poll, &QTimer::timeout, this, &pqBMDockWindow::pollSession);
 }
 
 pqBMDockWindow::~pqBMDockWindow() = default;
 
+namespace {
+/// The bone's and the tool's colours in the view (RGB 0..1): bone ivory, tool steel blue.
+const double kBoneColour[3] = {0.93, 0.87, 0.74};
+const double kToolColour[3] = {0.35, 0.5, 0.8};
+
+/// Shows `port` of `proxy` in `view` in a solid colour (no scalar colouring).
+vtkSMProxy* ShowInColour(vtkSMSourceProxy* proxy, int port, pqView* view, const double rgb[3]) {
+  vtkNew<vtkSMParaViewPipelineControllerWithRendering> controller;
+  vtkSMProxy* repr = controller->Show(proxy, port, view->getViewProxy());
+  if (repr) {
+    vtkSMPVRepresentationProxy::SetScalarColoring(repr, nullptr, vtkDataObject::POINT);
+    vtkSMPropertyHelper(repr, "DiffuseColor").Set(rgb, 3);
+    vtkSMPropertyHelper(repr, "AmbientColor").Set(rgb, 3);
+    repr->UpdateVTKObjects();
+  }
+  return repr;
+}
+} // namespace
+
+bool pqBMDockWindow::eventFilter(QObject* watched, QEvent* event) {
+  // The wheel over the 3D view moves the mouse proxy's depth while a mouse-proxy session runs.
+  if (watched == this->WheelView && event->type() == QEvent::Wheel && this->Session &&
+      this->Poll->isActive()) {
+    const int delta = static_cast<QWheelEvent*>(event)->angleDelta().y();
+    if (delta != 0)
+      this->Panel->sessionWidget()->stepToolDepth(delta > 0 ? 1 : -1);
+    return true;
+  }
+  return Superclass::eventFilter(watched, event);
+}
+
 void pqBMDockWindow::addTool(int toolType, int resolution) {
   pqServer* server = pqActiveObjects::instance().activeServer();
+  qBMToolWidget* tool = this->Panel->toolWidget();
   if (!server)
     return;
   BEGIN_UNDO_SET(tr("Create BM Tool"));
@@ -63,56 +107,72 @@ void pqBMDockWindow::addTool(int toolType, int resolution) {
     vtkSMPropertyHelper(proxy, "ToolType").Set(toolType);
     vtkSMPropertyHelper(proxy, "Resolution").Set(resolution);
     // The panel's edited parameters (its whole, validated specification; "type" is ignored).
-    vtkSMPropertyHelper(proxy, "Parameters")
-        .Set(this->Panel->toolSpecification().toUtf8().constData());
+    vtkSMPropertyHelper(proxy, "Parameters").Set(tool->toolSpecification().toUtf8().constData());
     proxy->UpdateVTKObjects();
     source->updatePipeline();
     source->setModifiedState(pqProxy::UNMODIFIED);
     if (pqView* view = pqActiveObjects::instance().activeView()) {
-      vtkNew<vtkSMParaViewPipelineControllerWithRendering> controller;
-      controller->Show(proxy, 0, view->getViewProxy());
+      ShowInColour(proxy, 0, view, kToolColour);
       view->resetDisplay();
       view->render();
     }
     pqActiveObjects::instance().setActiveSource(source);
-    this->Panel->setStatusMessage(tr("Added %1 to the pipeline.").arg(source->getSMName()));
+    tool->setStatusMessage(tr("Added %1 to the pipeline.").arg(source->getSMName()));
   } else {
-    this->Panel->setStatusMessage(tr("Could not create a BM Tool source: is the plugin loaded "
-                                     "on the server?"));
+    tool->setStatusMessage(tr("Could not create a BM Tool source: is the plugin loaded "
+                              "on the server?"));
   }
   END_UNDO_SET();
+}
+
+void pqBMDockWindow::removeSession() {
+  this->Poll->stop();
+  if (this->WheelView)
+    this->WheelView->removeEventFilter(this);
+  this->WheelView = nullptr;
+  if (!this->Session)
+    return;
+  this->Session->getProxy()->InvokeCommand("Stop");
+  pqApplicationCore::instance()->getObjectBuilder()->destroy(this->Session);
+  this->Session = nullptr;
 }
 
 void pqBMDockWindow::startSession(const QString& scene, int voxmapResolution, int shellResolution,
                                   int deviceType) {
   pqServer* server = pqActiveObjects::instance().activeServer();
+  qBMSessionWidget* panel = this->Panel->sessionWidget();
+  qBMToolWidget* tool = this->Panel->toolWidget();
+  qBMCTWidget* ct = this->Panel->ctWidget();
   if (!server)
     return;
-  if (this->Panel->useChosenTool() && this->Panel->toolSpecification().isEmpty()) {
+  if (panel->useChosenTool() && !tool->isToolValid()) {
     // Refused before any source is made: the scene's tool must not stand in silently.
-    this->Panel->setSessionStatus(tr("Cannot start: %1").arg(this->Panel->toolSummary()), false);
+    panel->setSessionStatus(tr("Cannot start: %1").arg(tool->toolSummary()), false);
     return;
   }
   std::string boneCT;
-  if (this->Panel->useCTBone()) {
+  if (ct->useCTBone()) {
     this->previewCT(); // the CT settings as they are now, checked before the session starts
     if (!this->CTBone) {
-      this->Panel->setSessionStatus(tr("Cannot start: no BM CT Bone source."), false);
+      panel->setSessionStatus(tr("Cannot start: no BM CT Bone source."), false);
       return;
     }
-    vtkSMProxy* ct = this->CTBone->getProxy();
-    const std::string error = vtkSMPropertyHelper(ct, "LastErrorInfo").GetAsString();
+    vtkSMProxy* ctProxy = this->CTBone->getProxy();
+    const std::string error = vtkSMPropertyHelper(ctProxy, "LastErrorInfo").GetAsString();
     if (!error.empty()) {
-      this->Panel->setSessionStatus(
+      panel->setSessionStatus(
           tr("Cannot start on the CT bone: %1").arg(QString::fromStdString(error)), false);
       return;
     }
-    boneCT = vtkSMPropertyHelper(ct, "BoneSpecificationInfo").GetAsString();
+    boneCT = vtkSMPropertyHelper(ctProxy, "BoneSpecificationInfo").GetAsString();
   }
+  // The new session replaces the previous one, its bone and tool in the view too.
+  this->removeSession();
+  this->Panel->chartsWidget()->clearHistory();
   pqPipelineSource* source = pqApplicationCore::instance()->getObjectBuilder()->createSource(
       "sources", "BMSessionSource", server);
   if (!source) {
-    this->Panel->setSessionStatus(tr("Could not create a BM Session source."), false);
+    panel->setSessionStatus(tr("Could not create a BM Session source."), false);
     return;
   }
   vtkSMSourceProxy* proxy = vtkSMSourceProxy::SafeDownCast(source->getProxy());
@@ -120,52 +180,64 @@ void pqBMDockWindow::startSession(const QString& scene, int voxmapResolution, in
   vtkSMPropertyHelper(proxy, "VoxmapResolution").Set(voxmapResolution);
   vtkSMPropertyHelper(proxy, "ShellResolution").Set(shellResolution);
   vtkSMPropertyHelper(proxy, "DeviceType").Set(deviceType);
-  vtkSMPropertyHelper(proxy, "ToolDepth").Set(this->Panel->toolDepth());
-  vtkSMPropertyHelper(proxy, "Method").Set(this->Panel->method());
+  vtkSMPropertyHelper(proxy, "ToolDepth").Set(panel->toolDepth());
+  vtkSMPropertyHelper(proxy, "Method").Set(panel->method());
   vtkSMPropertyHelper(proxy, "Tool")
-      .Set(this->Panel->useChosenTool() ? this->Panel->toolSpecification().toUtf8().constData()
-                                        : "");
+      .Set(panel->useChosenTool() ? tool->toolSpecification().toUtf8().constData() : "");
   vtkSMPropertyHelper(proxy, "BoneFile")
-      .Set(this->Panel->startFromBoneFile() ? this->Panel->boneFile().toUtf8().constData() : "");
-  vtkSMPropertyHelper(proxy, "VolumeOutput").Set(this->Panel->volumeRendering() ? 1 : 0);
+      .Set(panel->startFromBoneFile() ? panel->boneFile().toUtf8().constData() : "");
+  vtkSMPropertyHelper(proxy, "VolumeOutput").Set(panel->volumeRendering() ? 1 : 0);
   vtkSMPropertyHelper(proxy, "BoneCT").Set(boneCT.c_str());
-  vtkSMPropertyHelper(proxy, "OverrideTrial").Set(this->Panel->useCTBone() ? 1 : 0);
-  vtkSMPropertyHelper(proxy, "Entry").Set(this->Panel->entry().constData(), 3);
-  vtkSMPropertyHelper(proxy, "Axis").Set(this->Panel->axis().constData(), 3);
+  vtkSMPropertyHelper(proxy, "OverrideTrial").Set(ct->useCTBone() ? 1 : 0);
+  vtkSMPropertyHelper(proxy, "Entry").Set(ct->entry().constData(), 3);
+  vtkSMPropertyHelper(proxy, "Axis").Set(ct->axis().constData(), 3);
   proxy->UpdateVTKObjects();
+  // Building the bone takes seconds (a glenoid voxmap): say so before the GUI thread is busy.
+  panel->setBusy(true, tr("Building %1's bone and tool...").arg(source->getSMName()));
+  QApplication::setOverrideCursor(Qt::WaitCursor);
+  QApplication::processEvents(QEventLoop::ExcludeUserInputEvents);
   proxy->InvokeCommand("Start");
   proxy->UpdatePropertyInformation();
+  QApplication::restoreOverrideCursor();
+  panel->setBusy(false);
   const std::string error = vtkSMPropertyHelper(proxy, "LastErrorInfo").GetAsString();
   if (!error.empty()) { // Start() failed (bad scene, import error)
-    this->Panel->setSessionStatus(
+    panel->setSessionStatus(
         tr("Could not start %1: %2").arg(source->getSMName(), QString::fromStdString(error)),
         false);
     return;
   }
   source->updatePipeline();
   source->setModifiedState(pqProxy::UNMODIFIED);
-  if (pqView* view = pqActiveObjects::instance().activeView()) {
-    vtkNew<vtkSMParaViewPipelineControllerWithRendering> controller;
-    controller->Show(proxy, 0, view->getViewProxy());
-    controller->Show(proxy, 1, view->getViewProxy());
-    this->Session = source;
-    if (this->Panel->volumeRendering())
-      this->setVolumeRendering(true);
-    view->resetDisplay();
-    view->render();
-  }
   this->Session = source;
+  if (pqView* view = pqActiveObjects::instance().activeView()) {
+    vtkSMProxy* bone = ShowInColour(proxy, 0, view, kBoneColour);
+    ShowInColour(proxy, 1, view, kToolColour);
+    if (panel->volumeRendering())
+      this->setVolumeRendering(true);
+    // The camera frames the bone (the tool may start far above it).
+    auto* renderView = vtkSMRenderViewProxy::SafeDownCast(view->getViewProxy());
+    if (renderView && bone)
+      renderView->ZoomTo(bone);
+    else
+      view->resetDisplay();
+    view->render();
+    if (deviceType == vtkBMSessionSource::MOUSE && view->widget()) {
+      this->WheelView = view->widget();
+      this->WheelView->installEventFilter(this);
+    }
+  }
   this->ChartedFrame = -1;
   this->ChartClock.start();
   this->Poll->start();
-  this->Panel->setSessionStatus(tr("Started %1.").arg(source->getSMName()), true);
+  panel->setSessionStatus(tr("Started %1.").arg(source->getSMName()), true);
 }
 
 void pqBMDockWindow::pauseSession(bool paused) {
   if (!this->Session)
     return;
   this->Session->getProxy()->InvokeCommand(paused ? "Pause" : "Resume");
-  this->Panel->setSessionStatus(
+  this->Panel->sessionWidget()->setSessionStatus(
       (paused ? tr("Paused %1.") : tr("Resumed %1.")).arg(this->Session->getSMName()), true);
 }
 
@@ -178,7 +250,8 @@ void pqBMDockWindow::stopSession() {
   this->ForceCharts = true;
   this->pollSession();
   this->ForceCharts = false;
-  this->Panel->setSessionStatus(tr("Stopped %1.").arg(this->Session->getSMName()), false);
+  this->Panel->sessionWidget()->setSessionStatus(tr("Stopped %1.").arg(this->Session->getSMName()),
+                                                 false);
 }
 
 void pqBMDockWindow::setToolDepth(double depthMm) {
@@ -190,13 +263,14 @@ void pqBMDockWindow::setToolDepth(double depthMm) {
 }
 
 void pqBMDockWindow::saveBone(const QString& path) {
+  qBMSessionWidget* panel = this->Panel->sessionWidget();
   if (!this->Session) {
-    this->Panel->setSessionStatus(tr("No session bone to save: start a session first."), false);
+    panel->setSessionStatus(tr("No session bone to save: start a session first."), false);
     return;
   }
   if (path.isEmpty()) {
-    this->Panel->setSessionStatus(tr("Choose a bone file (.nrrd or .mha) to save to."),
-                                  this->Poll->isActive());
+    panel->setSessionStatus(tr("Choose a bone file (.nrrd or .mha) to save to."),
+                            this->Poll->isActive());
     return;
   }
   vtkSMProxy* proxy = this->Session->getProxy();
@@ -206,7 +280,7 @@ void pqBMDockWindow::saveBone(const QString& path) {
   const std::string error = vtkSMPropertyHelper(proxy, "LastErrorInfo").GetAsString();
   vtkSMPropertyHelper(proxy, "SaveBone").Set(""); // so that the same path can be saved again
   proxy->UpdateVTKObjects();
-  this->Panel->setSessionStatus(
+  panel->setSessionStatus(
       error.empty() ? tr("Saved the bone of %1 to %2.").arg(this->Session->getSMName(), path)
                     : tr("Could not save the bone: %1").arg(QString::fromStdString(error)),
       this->Poll->isActive());
@@ -233,29 +307,30 @@ void pqBMDockWindow::setVolumeRendering(bool on) {
     controller->Hide(proxy, 0, view->getViewProxy()); // the opaque surface would hide it
   } else {
     controller->Hide(proxy, 3, view->getViewProxy());
-    controller->Show(proxy, 0, view->getViewProxy());
+    ShowInColour(proxy, 0, view, kBoneColour);
   }
   view->render();
 }
 
 void pqBMDockWindow::previewCT() {
   pqServer* server = pqActiveObjects::instance().activeServer();
+  qBMCTWidget* ct = this->Panel->ctWidget();
   if (!server)
     return;
   if (!this->CTBone) {
     this->CTBone = pqApplicationCore::instance()->getObjectBuilder()->createSource(
         "sources", "BMCTBoneSource", server);
     if (!this->CTBone) {
-      this->Panel->setCTPreview(0, 0, {}, {}, tr("could not create a BM CT Bone source"));
+      ct->setCTPreview(0, 0, {}, {}, tr("could not create a BM CT Bone source"));
       return;
     }
   }
   vtkSMSourceProxy* proxy = vtkSMSourceProxy::SafeDownCast(this->CTBone->getProxy());
-  vtkSMPropertyHelper(proxy, "FileName").Set(this->Panel->ctFileName().toUtf8().constData());
-  vtkSMPropertyHelper(proxy, "ThresholdHU").Set(this->Panel->thresholdHU());
-  vtkSMPropertyHelper(proxy, "ROI").Set(this->Panel->roi().constData(), 6);
-  vtkSMPropertyHelper(proxy, "Resolution").Set(this->Panel->ctResolution());
-  vtkSMPropertyHelper(proxy, "Axis").Set(this->Panel->axis().constData(), 3);
+  vtkSMPropertyHelper(proxy, "FileName").Set(ct->ctFileName().toUtf8().constData());
+  vtkSMPropertyHelper(proxy, "ThresholdHU").Set(ct->thresholdHU());
+  vtkSMPropertyHelper(proxy, "ROI").Set(ct->roi().constData(), 6);
+  vtkSMPropertyHelper(proxy, "Resolution").Set(ct->ctResolution());
+  vtkSMPropertyHelper(proxy, "Axis").Set(ct->axis().constData(), 3);
   proxy->UpdateVTKObjects();
   this->CTBone->updatePipeline();
   this->CTBone->setModifiedState(pqProxy::UNMODIFIED);
@@ -265,9 +340,9 @@ void pqBMDockWindow::previewCT() {
   QVector<double> bounds(6), entry(3);
   vtkSMPropertyHelper(proxy, "BoneBoundsInfo").Get(bounds.data(), 6);
   vtkSMPropertyHelper(proxy, "SuggestedEntryInfo").Get(entry.data(), 3);
-  this->Panel->setCTPreview(vtkSMPropertyHelper(proxy, "BoneVoxelsInfo").GetAsIdType(),
-                            vtkSMPropertyHelper(proxy, "BoneVolumeInfo").GetAsDouble(), bounds,
-                            entry, error);
+  ct->setCTPreview(vtkSMPropertyHelper(proxy, "BoneVoxelsInfo").GetAsIdType(),
+                   vtkSMPropertyHelper(proxy, "BoneVolumeInfo").GetAsDouble(), bounds, entry,
+                   error);
   pqView* view = pqActiveObjects::instance().activeView();
   if (!view || !error.isEmpty())
     return;
@@ -284,31 +359,29 @@ void pqBMDockWindow::previewCT() {
 void pqBMDockWindow::pollSession() {
   if (!this->Session)
     return;
+  qBMSessionWidget* panel = this->Panel->sessionWidget();
   vtkSMProxy* proxy = this->Session->getProxy();
   proxy->UpdatePropertyInformation();
   // The history table lives where the source runs: with the built-in server that is here. The
-  // charts are redrawn only when the source executed since, and at most every 100 ms: drawing
-  // takes the cores the haptic thread needs.
+  // charts take the rows newer than theirs only when the source executed since, and at most
+  // every 100 ms: drawing takes the cores the haptic thread needs.
   const vtkIdType frame = vtkSMPropertyHelper(proxy, "FrameInfo").GetAsIdType();
   if (frame != this->ChartedFrame && (this->ForceCharts || this->ChartClock.elapsed() >= 100)) {
     if (auto* logic = vtkBMSessionSource::SafeDownCast(proxy->GetClientSideObject())) {
-      this->Panel->setHistory(logic->GetHistory());
+      this->Panel->chartsWidget()->setHistory(logic->GetHistory());
       this->ChartedFrame = frame;
       this->ChartClock.restart();
     }
   }
-  // The state, and why it paused (the trial's end, overruns, a device fault, the user).
-  const int state = vtkSMPropertyHelper(proxy, "StateInfo").GetAsInt();
-  const QString reason =
-      QString::fromStdString(vtkSMPropertyHelper(proxy, "PauseReasonInfo").GetAsString());
-  this->Panel->setSessionState(state == 1   ? tr("running")
-                               : state == 2 ? tr("paused: %1").arg(reason)
-                               : state == 3 ? tr("stopped")
-                                            : QString());
-  this->Panel->setSessionNumbers(vtkSMPropertyHelper(proxy, "TimeInfo").GetAsDouble(),
-                                 vtkSMPropertyHelper(proxy, "DepthInfo").GetAsDouble(),
-                                 vtkSMPropertyHelper(proxy, "RemovedVolumeInfo").GetAsDouble(),
-                                 vtkSMPropertyHelper(proxy, "ThrustInfo").GetAsDouble(),
-                                 vtkSMPropertyHelper(proxy, "TorqueInfo").GetAsDouble(),
-                                 vtkSMPropertyHelper(proxy, "FrameMsP99Info").GetAsDouble());
+  // The state (vtkBMSessionSource's StateInfo is a bm::SessionState) and why it paused (the
+  // trial's end, overruns, a device fault, the user).
+  panel->setSessionState(
+      static_cast<bm::SessionState>(vtkSMPropertyHelper(proxy, "StateInfo").GetAsInt()),
+      QString::fromStdString(vtkSMPropertyHelper(proxy, "PauseReasonInfo").GetAsString()));
+  panel->setSessionNumbers(vtkSMPropertyHelper(proxy, "TimeInfo").GetAsDouble(),
+                           vtkSMPropertyHelper(proxy, "DepthInfo").GetAsDouble(),
+                           vtkSMPropertyHelper(proxy, "RemovedVolumeInfo").GetAsDouble(),
+                           vtkSMPropertyHelper(proxy, "ThrustInfo").GetAsDouble(),
+                           vtkSMPropertyHelper(proxy, "TorqueInfo").GetAsDouble(),
+                           vtkSMPropertyHelper(proxy, "FrameMsP99Info").GetAsDouble());
 }

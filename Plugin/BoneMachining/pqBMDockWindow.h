@@ -1,5 +1,6 @@
 // pqBMDockWindow.h - the BoneMachining dock in ParaView: hosts the qBMPanel (Widgets/) and turns
-// its requests into ParaView pipeline actions. Glue only; the panel and the logic do the rest.
+// its sections' requests into ParaView pipeline actions. Glue only; the panel and the logic do
+// the rest (Docs/Plugin.md).
 #pragma once
 
 #include <QDockWidget>
@@ -24,14 +25,23 @@ public:
   /// The hosted module panel.
   qBMPanel* panel() const { return this->Panel; }
 
+protected:
+  /// While a mouse-proxy session runs, the wheel over the active 3D view steps the proxy's depth
+  /// (qBMSessionWidget::stepToolDepth) instead of zooming.
+  bool eventFilter(QObject* watched, QEvent* event) override;
+
 private Q_SLOTS:
-  /// Creates a "BM Tool" source (vtkBMToolSource) with the given ToolType and Resolution on the
-  /// active server, applies it and shows it in the active view, if there is one.
+  /// Creates a "BM Tool" source (vtkBMToolSource) with the given ToolType, Resolution and the tool
+  /// section's edited parameters on the active server, applies it and shows it in the active
+  /// view, if there is one.
   void addTool(int toolType, int resolution);
   /// Creates a "BM Session" source (vtkBMSessionSource) with the panel's choices (scene,
-  /// resolutions, device, force model, tool, bone file, volume), starts it and shows the cut bone
-  /// and the tool in the active view. ParaView's live-source behaviour re-executes it as it cuts;
-  /// pollSession() reads its numbers and, with the built-in server, its history into the panel
+  /// resolutions, device, force model, tool, bone file, volume), starts it (the panel shows a
+  /// busy indicator while the bone is built) and shows the cut bone and the tool in the active
+  /// view in their own colours, the camera framing the bone. The previous session, if any, is
+  /// stopped and removed with its outputs. ParaView's live-source behaviour re-executes it as it
+  /// cuts; pollSession() reads its numbers and, with the built-in server, its history into the
+  /// panel
   /// (~30 Hz). On the CT bone, the CT is previewed with the panel's current settings first and
   /// an import error refuses the start.
   void startSession(const QString& scene, int voxmapResolution, int shellResolution,
@@ -53,7 +63,11 @@ private Q_SLOTS:
 
 private:
   Q_DISABLE_COPY(pqBMDockWindow);
+  /// Stops and deletes the session source, its representations with it.
+  void removeSession();
   qBMPanel* Panel;
+  /// The view widget whose wheel steps the mouse proxy's depth (null: none).
+  QPointer<QWidget> WheelView;
   QPointer<pqPipelineSource> Session;
   QPointer<pqPipelineSource> CTBone;
   QTimer* Poll;

@@ -1,6 +1,9 @@
-// qBMPanel's live charts: a history table handed to setHistory() is drawn. The thrust line is
-// drawn in the chart's first series colour; with no history (or one row) no line is drawn.
+// The module panel's live charts (qBMChartsWidget): a history table handed to setHistory() is
+// drawn; with no history (or one row) no line is drawn. The charts keep their rows across
+// updates whose window has moved on (a pause, the session's 10 s window), a new session (time
+// going back) starts them again, and frames over the period are counted and marked.
 // Run under Xvfb (Debian's VTK renders through GLX).
+#include "qBMChartsWidget.h"
 #include "qBMPanel.h"
 
 #include "QVTKOpenGLNativeWidget.h"
@@ -31,7 +34,7 @@ int ColouredPixels(QVTKOpenGLNativeWidget* chart) {
   return count;
 }
 
-vtkNew<vtkTable> History(int rows) {
+vtkNew<vtkTable> History(int rows, int first = 0, int overrunEvery = 0) {
   vtkNew<vtkTable> table;
   for (const char* name : {"time_s", "thrust_N", "torque_Nmm", "frame_ms", "depth_mm"}) {
     vtkNew<vtkDoubleArray> column;
@@ -40,11 +43,12 @@ vtkNew<vtkTable> History(int rows) {
     table->AddColumn(column);
   }
   for (int i = 0; i < rows; ++i) {
-    const double t = 0.01 * i;
+    const double t = 0.01 * (first + i);
     table->SetValue(i, 0, t);
     table->SetValue(i, 1, 10 + 5 * std::sin(10 * t));
     table->SetValue(i, 2, 20 + 3 * std::cos(7 * t));
-    table->SetValue(i, 3, 0.2 + 0.05 * std::sin(30 * t));
+    const bool overrun = overrunEvery > 0 && (first + i) % overrunEvery == 0;
+    table->SetValue(i, 3, overrun ? 1.5 : 0.2 + 0.05 * std::sin(30 * t));
     table->SetValue(i, 4, t);
   }
   return table;
@@ -64,10 +68,11 @@ int main(int argc, char* argv[]) {
     std::fprintf(stderr, "FAIL: the panel has no ForceChartWidget / FrameChartWidget\n");
     return 1;
   }
-  panel.setHistory(History(1));
+  qBMChartsWidget* charts = panel.chartsWidget();
+  charts->setHistory(History(1));
   app.processEvents();
   const int emptyForce = ColouredPixels(force), emptyFrame = ColouredPixels(frame);
-  panel.setHistory(History(300));
+  charts->setHistory(History(300));
   app.processEvents();
   const int fullForce = ColouredPixels(force), fullFrame = ColouredPixels(frame);
   std::printf("coloured pixels: force chart %d -> %d, frame chart %d -> %d\n", emptyForce,
@@ -77,10 +82,25 @@ int main(int argc, char* argv[]) {
     std::fprintf(stderr, "FAIL: the history was not drawn\n");
     return 1;
   }
-  panel.setHistory(nullptr);
+  charts->setHistory(nullptr);
   app.processEvents();
-  if (ColouredPixels(force) > emptyForce + 20) {
+  if (ColouredPixels(force) > emptyForce + 20 || charts->historyRows() != 0) {
     std::fprintf(stderr, "FAIL: the charts were not cleared\n");
+    return 1;
+  }
+  // The session's window moves on (rows 0-299, then 200-499 after a pause): the charts keep all.
+  charts->setHistory(History(300, 0, 50));
+  charts->setHistory(History(300, 200, 50));
+  std::printf("rows %d, overruns %d, title '%s'\n", charts->historyRows(), charts->overrunRows(),
+              charts->frameChartTitle().toUtf8().constData());
+  if (charts->historyRows() != 500 || charts->overrunRows() != 10 ||
+      charts->frameChartTitle() != "Haptic frame time (ms): 10 over the 1 ms period") {
+    std::fprintf(stderr, "FAIL: the history across the pause or its overruns\n");
+    return 1;
+  }
+  charts->setHistory(History(100)); // a new session: its time went back
+  if (charts->historyRows() != 100 || charts->overrunRows() != 0) {
+    std::fprintf(stderr, "FAIL: a new session did not start the charts again\n");
     return 1;
   }
   std::printf("ok\n");

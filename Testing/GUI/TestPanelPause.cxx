@@ -1,15 +1,31 @@
-// qBMPanel's session controls: the Pause button follows the session (it reads Resume, and is
-// checked, while the session is paused, whether the user paused it or the session paused itself,
-// and Pause otherwise), Save gives the bone file a voxmap extension, and tool parameters have
-// human labels with units and a tooltip each, and Add tool refuses invalid parameters.
+// The module panel's session and tool sections: the Pause button follows the session (it reads
+// Resume, and is checked, while the session is paused, whether the user paused it or the session
+// paused itself, and Pause otherwise); Start shows a busy indicator while a session is built; the
+// Touch is probed off the GUI thread and its entry enabled only when ready; the wheel over the
+// depth control steps the depth; the force scale shows its default; Save gives the bone file a
+// voxmap extension; tool parameters have human labels with units and a tooltip each, and Add
+// tool refuses invalid parameters.
+#include "bmHapticSession.h"
 #include "qBMPanel.h"
+#include "qBMSessionWidget.h"
+#include "qBMToolWidget.h"
+#include "qBMTouchProbe.h"
 
 #include "QVTKOpenGLNativeWidget.h"
 
 #include <QApplication>
+#include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QElapsedTimer>
+#include <QLabel>
+#include <QLineEdit>
+#include <QProgressBar>
 #include <QPushButton>
+#include <QSignalSpy>
 #include <QSpinBox>
+#include <QStandardItemModel>
 #include <QSurfaceFormat>
+#include <QWheelEvent>
 
 #include <cstdio>
 #include <vector>
@@ -20,24 +36,44 @@ void Expect(bool ok, const char* what) {
   std::printf("%s: %s\n", ok ? "ok" : "FAIL", what);
   failures += ok ? 0 : 1;
 }
+
+void Wheel(QWidget* widget, int delta) {
+  const QPointF at(widget->width() / 2.0, widget->height() / 2.0);
+  QWheelEvent event(at, widget->mapToGlobal(at.toPoint()), QPoint(), QPoint(0, delta), Qt::NoButton,
+                    Qt::NoModifier, Qt::NoScrollPhase, false);
+  QApplication::sendEvent(widget, &event);
+}
 } // namespace
 
 int main(int argc, char* argv[]) {
   QSurfaceFormat::setDefaultFormat(QVTKOpenGLNativeWidget::defaultFormat());
   QApplication app(argc, argv);
   qBMPanel panel;
+  qBMSessionWidget* session = panel.sessionWidget();
+  // The Touch probe answers on the GUI thread, queued (BM_LIBHD names a missing library).
+  {
+    QSignalSpy answered(session->touchProbe(), &qBMTouchProbe::finished);
+    Expect(answered.wait(10000) || !session->touchProbe()->isRunning(), "the probe answers");
+  }
+  auto* device = session->findChild<QComboBox*>("DeviceComboBox");
+  auto* model = device ? qobject_cast<QStandardItemModel*>(device->model()) : nullptr;
+  std::printf("touch status: %s\n", session->touchStatus().toUtf8().constData());
+  Expect(session->touchStatus().contains("/nonexistent/libHD.so"),
+         "the probe names the missing library");
+  Expect(model && !model->item(2)->isEnabled(), "the Touch entry is disabled");
   panel.show();
   app.processEvents();
-  auto* pause = panel.findChild<QPushButton*>("PauseButton");
-  if (!pause) {
-    std::fprintf(stderr, "FAIL: the panel has no PauseButton\n");
+  auto* pause = session->findChild<QPushButton*>("PauseButton");
+  auto* start = session->findChild<QPushButton*>("StartButton");
+  if (!pause || !start) {
+    std::fprintf(stderr, "FAIL: the session section has no PauseButton or StartButton\n");
     return 1;
   }
   std::vector<bool> requests; // what pauseSessionRequested asked for
-  QObject::connect(&panel, &qBMPanel::pauseSessionRequested,
+  QObject::connect(session, &qBMSessionWidget::pauseSessionRequested,
                    [&requests](bool paused) { requests.push_back(paused); });
-  panel.setSessionStatus("running", true);
-  panel.setSessionState("running");
+  session->setSessionStatus("running", true);
+  session->setSessionState(bm::SessionState::Running, "none");
   Expect(pause->text() == "Pause" && !pause->isChecked(), "a running session shows Pause");
   pause->click(); // the user pauses
   Expect(pause->text() == "Resume" && pause->isChecked(), "after a click the button reads Resume");
@@ -45,43 +81,74 @@ int main(int argc, char* argv[]) {
   pause->click(); // and resumes
   Expect(pause->text() == "Pause" && !pause->isChecked(), "a second click reads Pause again");
   Expect(requests.size() == 2 && !requests[1], "the second click asked to resume");
-  panel.setSessionState("paused: overrun"); // the session paused itself
+  session->setSessionState(bm::SessionState::Paused, "overrun"); // the session paused itself
   Expect(pause->text() == "Resume" && pause->isChecked(), "a self-paused session reads Resume");
+  auto* state = session->findChild<QLabel*>("SessionStateLabel");
+  Expect(state && state->text() == "Session paused: overrun", "the state names the reason");
   Expect(requests.size() == 2, "showing the state requests nothing");
-  panel.setSessionState("running");
+  session->setSessionState(bm::SessionState::Running, "none");
   Expect(pause->text() == "Pause" && !pause->isChecked(), "running again reads Pause");
-  panel.setSessionState("paused: device error");
-  panel.setSessionStatus("stopped", false);
+  session->setSessionState(bm::SessionState::Paused, "device error");
+  session->setSessionStatus("stopped", false);
   Expect(pause->text() == "Pause" && !pause->isChecked() && !pause->isEnabled(),
          "a stopped session resets the button");
-  Expect(qBMPanel::withVoxmapExtension("/tmp/cut") == "/tmp/cut.nrrd", "no extension: .nrrd");
-  Expect(qBMPanel::withVoxmapExtension("/tmp/cut", "mha") == "/tmp/cut.mha",
-         "the MHA filter: .mha");
-  Expect(qBMPanel::withVoxmapExtension("/tmp/cut.MHA") == "/tmp/cut.MHA", "an extension is kept");
-  Expect(qBMPanel::withVoxmapExtension("/tmp/cut.txt") == "/tmp/cut.txt",
-         "another extension is left for the save to refuse");
-  Expect(qBMPanel::withVoxmapExtension("/tmp/a.b/cut") == "/tmp/a.b/cut.nrrd",
-         "a dot in a folder name is not an extension");
-  Expect(qBMPanel::withVoxmapExtension("").isEmpty(), "no name stays empty");
-  Expect(qBMPanel::parameterLabel("arc_centre_offset_mm") == "Arc centre offset (mm)",
-         "a label with its unit");
-  Expect(qBMPanel::parameterLabel("alpha_deg") == "Alpha (deg)", "degrees");
-  Expect(qBMPanel::parameterLabel("lips") == "Lips", "no unit");
-  Expect(qBMPanel::parameterToolTip("nipple_radius_mm") != qBMPanel::parameterToolTip("lips") &&
-             qBMPanel::parameterToolTip("nipple_radius_mm").contains("mm"),
+  // Start's progress: a busy indicator and the status while the bone is built.
+  auto* progress = session->findChild<QProgressBar*>("StartProgressBar");
+  Expect(progress && !progress->isVisible() && start->isEnabled(), "not busy: no indicator");
+  session->setBusy(true, "Building BMSession1's bone and tool...");
+  Expect(progress && progress->isVisible() && !start->isEnabled() &&
+             session->sessionStatus() == "Building BMSession1's bone and tool...",
+         "busy: the indicator shows, Start is disabled and the status says why");
+  session->setBusy(false);
+  Expect(progress && !progress->isVisible() && start->isEnabled(), "done: the indicator goes");
+  // The wheel over the depth control moves the depth (0.1 mm a notch) and is not passed on.
+  auto* depth = session->findChild<QDoubleSpinBox*>("ToolDepthSpinBox");
+  QSignalSpy depthChanged(session, &qBMSessionWidget::toolDepthChanged);
+  if (depth) {
+    Wheel(depth, 120);
+    Expect(std::abs(session->toolDepth() - (-1.9)) < 1e-9 && depthChanged.count() == 1,
+           "a wheel notch deepens the proxy by 0.1 mm");
+    session->setToolDepth(20.0);
+    Wheel(depth, 120);
+    Expect(session->toolDepth() == 20.0, "at the end of the range the depth stays");
+  } else {
+    Expect(false, "the session section has a ToolDepthSpinBox");
+  }
+  Expect(session->forceScale() == 50.0, "the force scale defaults to 50 tool N per device N");
+  session->setForceScale(5000.0);
+  Expect(session->forceScale() == 1000.0, "the force scale is clamped to 1000");
+  // Save gives a name without an extension the voxmap's.
+  QSignalSpy saved(session, &qBMSessionWidget::saveBoneRequested);
+  session->setBoneFile("/tmp/cut");
+  if (auto* save = session->findChild<QPushButton*>("SaveBoneButton"))
+    save->click();
+  Expect(saved.count() == 1 && saved.at(0).at(0).toString() == "/tmp/cut.nrrd" &&
+             session->boneFile() == "/tmp/cut.nrrd",
+         "Save adds .nrrd");
+  // Tool parameters: a label with its unit and a tooltip each.
+  qBMToolWidget* tool = panel.toolWidget();
+  tool->setToolType(1); // the reamer
+  auto* arc = tool->findChild<QDoubleSpinBox*>("arc_centre_offset_mm");
+  auto* nipple = tool->findChild<QDoubleSpinBox*>("nipple_radius_mm");
+  auto* lipsBox = tool->findChild<QSpinBox*>("lips");
+  bool labelled = false;
+  for (QLabel* label : tool->findChildren<QLabel*>())
+    labelled = labelled || (label->buddy() == arc && label->text() == "Arc centre offset (mm):");
+  Expect(arc && labelled, "a label with its unit");
+  Expect(nipple && lipsBox && nipple->toolTip() != lipsBox->toolTip() &&
+             nipple->toolTip().contains("mm"),
          "a tooltip of its own");
   // Add tool with invalid parameters adds nothing and says why.
   int added = 0;
-  QObject::connect(&panel, &qBMPanel::addToolRequested, [&added](int, int) { ++added; });
-  auto* add = panel.findChild<QPushButton*>("AddToolButton");
-  auto* lips = panel.findChild<QSpinBox*>("lips");
-  Expect(add && lips, "the panel has AddToolButton and a lips editor");
-  if (add && lips) {
+  QObject::connect(tool, &qBMToolWidget::addToolRequested, [&added](int, int) { ++added; });
+  auto* add = tool->findChild<QPushButton*>("AddToolButton");
+  Expect(add && lipsBox, "the tool section has AddToolButton and a lips editor");
+  if (add && lipsBox) {
     add->click();
     Expect(added == 1, "a valid tool is added");
-    lips->setValue(0);
+    lipsBox->setValue(0);
     add->click();
-    Expect(added == 1 && panel.statusMessage().contains("lips"),
+    Expect(added == 1 && tool->statusMessage().contains("lips"),
            "an invalid tool is refused, naming the parameter");
   }
   return failures == 0 ? 0 : 1;

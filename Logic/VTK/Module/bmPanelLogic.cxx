@@ -1,0 +1,160 @@
+// bmPanelLogic.cxx - see bmPanelLogic.h.
+#include "bmPanelLogic.h"
+
+#include "bmHapticSession.h"
+#include "bmScene.h"
+#include "bmVirtualCoupling.h"
+#include "vtkBMSessionSource.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <map>
+#include <utility>
+
+namespace bm::PanelLogic {
+
+namespace {
+std::string Format(const char* format, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, format, value);
+  return text;
+}
+} // namespace
+
+std::string ParameterLabel(const std::string& key) {
+  static const std::pair<const char*, const char*> units[] = {
+      {"_mm", "mm"}, {"_deg", "deg"}, {"_rpm", "rpm"}, {"_n", "N"}};
+  std::string words = key, unit;
+  for (const auto& [suffix, name] : units) {
+    const std::string s = suffix;
+    if (words.size() > s.size() && words.compare(words.size() - s.size(), s.size(), s) == 0) {
+      words.resize(words.size() - s.size());
+      unit = name;
+      break;
+    }
+  }
+  std::replace(words.begin(), words.end(), '_', ' ');
+  if (!words.empty())
+    words[0] = char(std::toupper(static_cast<unsigned char>(words[0])));
+  return unit.empty() ? words : words + " (" + unit + ")";
+}
+
+std::string ParameterToolTip(const std::string& key) {
+  static const std::map<std::string, const char*> tips = {
+      {"alpha_deg", "Angle of the reamer's lips to the face, deg"},
+      {"arc_centre_offset_mm", "Distance of the lip arc's centre from the axis, mm"},
+      {"arc_radius_mm", "Radius of the lips' arc, mm"},
+      {"chisel_angle_deg", "Drill chisel edge angle, deg"},
+      {"flute_length_mm", "Length of the drill's flutes, mm"},
+      {"head_thickness_mm", "Axial thickness of the reamer head behind its rim, mm"},
+      {"helix_angle_deg", "Drill helix angle, deg"},
+      {"lips", "Number of cutting lips (flutes)"},
+      {"nipple_length_mm", "How far the guide nipple reaches beyond the face, mm (0 = no nipple)"},
+      {"nipple_radius_mm", "Radius of the central guide nipple, mm (0 = none)"},
+      {"outer_radius_mm", "Outer radius where the lips end, mm (half the diameter)"},
+      {"point_angle_deg", "Drill point angle, deg"},
+      {"radius_mm", "Burr radius, mm"},
+      {"rake_deg", "Normal rake angle of the lips, deg"},
+      {"shaft_length_mm", "Modelled length of the shaft behind the head, mm"},
+      {"shaft_radius_mm", "Radius of the shaft, mm"},
+      {"web_half_width_mm", "Half the drill's web thickness at the point, mm"}};
+  const auto it = tips.find(key);
+  return it != tips.end() ? it->second : "Tool parameter: " + ParameterLabel(key);
+}
+
+std::string WithVoxmapExtension(const std::string& path, const std::string& defaultSuffix) {
+  // Only a name with no extension at all gets one: another extension is the user's choice, and
+  // the save refuses it naming the formats.
+  if (path.empty() || std::filesystem::path(path).has_extension())
+    return path;
+  return path + "." + defaultSuffix;
+}
+
+std::string StateText(SessionState state, const std::string& pauseReason) {
+  switch (state) {
+  case SessionState::Running:
+    return "running";
+  case SessionState::Paused:
+    return pauseReason.empty() ? "paused" : "paused: " + pauseReason;
+  case SessionState::Stopped:
+    return "stopped";
+  case SessionState::Idle:
+    break;
+  }
+  return "";
+}
+
+bool IsPaused(SessionState state) {
+  return state == SessionState::Paused;
+}
+
+bool IsActive(SessionState state) {
+  return state == SessionState::Running || state == SessionState::Paused;
+}
+
+double MinForceScale() {
+  return 1e-3;
+}
+double MaxForceScale() {
+  return kMaxForceScale;
+}
+double DefaultForceScale() {
+  return kDefaultSessionForceScale;
+}
+
+std::string ForceScaleError(double scale) {
+  try {
+    CheckForceScale(scale);
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+ExpectedCost::ExpectedCost() {
+  try {
+    this->Table_ = BenchmarkTable::Load(BenchmarkTable::DefaultPath());
+  } catch (const std::exception& e) {
+    this->Error_ = e.what();
+  }
+}
+
+ExpectedCost::ExpectedCost(BenchmarkTable table) : Table_(std::move(table)) {}
+
+std::string ExpectedCost::Line(const std::string& sceneName, int voxmap, int shell,
+                               int method) const {
+  if (!this->Table_)
+    return "No measured costs: " + this->Error_;
+  Scene scene;
+  try {
+    const auto builtin = Scene::BuiltinNames();
+    scene = std::find(builtin.begin(), builtin.end(), sceneName) != builtin.end()
+                ? Scene::Builtin(sceneName)
+                : Scene::Load(sceneName);
+    // The resolutions a session runs at (vtkBMSessionSource: a voxmap set alone scales the
+    // scene's shell alike).
+    if (voxmap > 0 && shell <= 0)
+      scene = scene.WithVoxmapResolution(voxmap);
+  } catch (const std::exception& e) {
+    return std::string("Expected cost unknown: ") + e.what();
+  }
+  const int v = voxmap > 0 ? voxmap : scene.voxmapResolution;
+  const int s = shell > 0 ? shell : scene.shellResolution;
+  const std::string name = method == vtkBMSessionSource::LAZAR   ? "lazar"
+                           : method == vtkBMSessionSource::ZHENG ? "zheng"
+                                                                 : ToString(scene.method);
+  const BenchmarkCell* cell = this->Table_->Nearest(name, scene.backend, s, v);
+  if (!cell)
+    return "Expected cost unknown: no " + name + " / " + scene.backend + " cell was measured";
+  return "Expected (" + name + ", shell " + std::to_string(s) + " / voxmap " + std::to_string(v) +
+         ", nearest measured: " + std::to_string(cell->shell) + " / " +
+         std::to_string(cell->voxmap) + "): frame " + Format("%.3g", cell->medianMs) +
+         " ms median, " + Format("%.3g", cell->p99Ms) + " ms p99; force error " +
+         Format("%.2g", cell->forceError * 100.0) + " %";
+}
+
+} // namespace bm::PanelLogic

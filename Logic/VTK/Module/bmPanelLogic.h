@@ -1,0 +1,76 @@
+// bmPanelLogic.h - what the BoneMachining panel shows that is computed, without Qt: tool
+// parameter labels and tooltips with their units, the bone file's extension, the session state as
+// words, the force scale's range, and the expected cost of a session's resolutions (from the
+// measured benchmark table, bmBenchmarkTable.h). The Widgets/ panels display these strings and
+// compute nothing themselves (Docs/Plugin.md).
+//
+// Units: mm, deg, rpm, N (in the parameter keys' suffixes); ms and % in the expected cost; the
+// force scale is tool N per device N.
+#pragma once
+
+#include "bmBenchmarkTable.h"
+
+#include <optional>
+#include <string>
+
+namespace bm {
+
+enum class SessionState; // bmHapticSession.h: Idle, Running, Paused, Stopped
+
+namespace PanelLogic {
+
+/// A tool parameter's label for a key of the tool specification (bmToolModel.h): words and the
+/// unit from the key's suffix, e.g. "arc_centre_offset_mm" -> "Arc centre offset (mm)",
+/// "alpha_deg" -> "Alpha (deg)", "lips" -> "Lips".
+std::string ParameterLabel(const std::string& key);
+/// What a tool parameter is, with its unit, for its tooltip (one per known key; "Tool parameter:
+/// <label>" for others).
+std::string ParameterToolTip(const std::string& key);
+
+/// `path` with a voxmap extension: a name without any extension gets "." + defaultSuffix
+/// (default "nrrd"); a name with an extension is returned unchanged (the save refuses formats
+/// other than .nrrd and .mha, naming them), and so is "". A dot in a folder name is not an
+/// extension.
+std::string WithVoxmapExtension(const std::string& path, const std::string& defaultSuffix = "nrrd");
+
+/// The session state in words: "" (Idle), "running", "paused: <reason>" ("paused" when the
+/// reason is empty), "stopped". `reason` is bm::ToString(PauseReason), e.g. "overrun".
+std::string StateText(SessionState state, const std::string& pauseReason);
+/// Whether the Pause button reads Resume: the session is paused (by the user or by itself).
+bool IsPaused(SessionState state);
+/// Whether the session holds the device and its thread (Running or Paused): Pause and Stop are
+/// enabled, Start is not.
+bool IsActive(SessionState state);
+
+/// Force scale (tool N per device N): the accepted range [1e-3, 1000] (bm::CheckForceScale) and
+/// the sessions' default, bm::kDefaultSessionForceScale (50).
+double MinForceScale();
+double MaxForceScale();
+double DefaultForceScale();
+/// "" when `scale` is a valid force scale, else why not (naming the accepted range).
+std::string ForceScaleError(double scale);
+
+/// The expected frame time and force error of a session's resolutions: the nearest measured
+/// cell of the benchmark table for the scene's method and backend.
+class ExpectedCost {
+public:
+  /// Reads the table at bm::BenchmarkTable::DefaultPath() ($BM_BENCHMARK_CSV or the resources');
+  /// a table that cannot be read is remembered and named by Line().
+  ExpectedCost();
+  /// Uses `table` (tests).
+  explicit ExpectedCost(BenchmarkTable table);
+  /// One line for the panel: "Expected (<method>, shell S / voxmap V, nearest measured: s / v):
+  /// frame <median> ms median, <p99> ms p99; force error <e> %", or why it is unknown (an
+  /// unreadable table, an unknown scene, no cell of that method and backend).
+  /// `scene`: a built-in name or a scene file; `voxmap`, `shell`: cells along the longest side,
+  /// 0 = the scene's (a voxmap set alone scales the scene's shell alike, as the session does);
+  /// `method`: a vtkBMSessionSource::MethodTypes value (0 the scene's, 1 Lazar, 2 Zheng).
+  std::string Line(const std::string& scene, int voxmap, int shell, int method) const;
+
+private:
+  std::optional<BenchmarkTable> Table_;
+  std::string Error_;
+};
+
+} // namespace PanelLogic
+} // namespace bm

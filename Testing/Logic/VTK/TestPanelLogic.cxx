@@ -1,0 +1,78 @@
+// bmPanelLogic: the panel's labels, tooltips, bone file extension, state words, force scale
+// range and expected-cost line, without Qt.
+#include "bmPanelLogic.h"
+
+#include "bmHapticSession.h"
+#include "vtkBMSessionSource.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+namespace PL = bm::PanelLogic;
+
+TEST(PanelLogic, ParameterLabelsCarryTheUnit) {
+  EXPECT_EQ(PL::ParameterLabel("arc_centre_offset_mm"), "Arc centre offset (mm)");
+  EXPECT_EQ(PL::ParameterLabel("alpha_deg"), "Alpha (deg)");
+  EXPECT_EQ(PL::ParameterLabel("speed_rpm"), "Speed (rpm)");
+  EXPECT_EQ(PL::ParameterLabel("lips"), "Lips");
+}
+
+TEST(PanelLogic, EachParameterHasItsOwnToolTip) {
+  EXPECT_NE(PL::ParameterToolTip("nipple_radius_mm"), PL::ParameterToolTip("lips"));
+  EXPECT_NE(PL::ParameterToolTip("nipple_radius_mm").find("mm"), std::string::npos);
+  EXPECT_EQ(PL::ParameterToolTip("wobble_mm"), "Tool parameter: Wobble (mm)");
+}
+
+TEST(PanelLogic, BoneFileGetsAVoxmapExtension) {
+  EXPECT_EQ(PL::WithVoxmapExtension("/tmp/cut"), "/tmp/cut.nrrd");
+  EXPECT_EQ(PL::WithVoxmapExtension("/tmp/cut", "mha"), "/tmp/cut.mha");
+  EXPECT_EQ(PL::WithVoxmapExtension("/tmp/cut.MHA"), "/tmp/cut.MHA");
+  EXPECT_EQ(PL::WithVoxmapExtension("/tmp/cut.txt"), "/tmp/cut.txt");
+  EXPECT_EQ(PL::WithVoxmapExtension("/tmp/a.b/cut"), "/tmp/a.b/cut.nrrd");
+  EXPECT_EQ(PL::WithVoxmapExtension(""), "");
+}
+
+TEST(PanelLogic, StateInWords) {
+  using S = bm::SessionState;
+  EXPECT_EQ(PL::StateText(S::Idle, ""), "");
+  EXPECT_EQ(PL::StateText(S::Running, "none"), "running");
+  EXPECT_EQ(PL::StateText(S::Paused, bm::ToString(bm::PauseReason::Overrun)), "paused: overrun");
+  EXPECT_EQ(PL::StateText(S::Paused, ""), "paused");
+  EXPECT_EQ(PL::StateText(S::Stopped, "user"), "stopped");
+  EXPECT_TRUE(PL::IsPaused(S::Paused));
+  EXPECT_FALSE(PL::IsPaused(S::Running));
+  EXPECT_TRUE(PL::IsActive(S::Running) && PL::IsActive(S::Paused));
+  EXPECT_FALSE(PL::IsActive(S::Idle) || PL::IsActive(S::Stopped));
+}
+
+TEST(PanelLogic, ForceScaleRange) {
+  EXPECT_DOUBLE_EQ(PL::DefaultForceScale(), 50.0);
+  EXPECT_EQ(PL::ForceScaleError(PL::DefaultForceScale()), "");
+  EXPECT_EQ(PL::ForceScaleError(1.0), "");
+  EXPECT_NE(PL::ForceScaleError(0.0), "");
+  EXPECT_NE(PL::ForceScaleError(PL::MaxForceScale() * 2), "");
+  EXPECT_LT(PL::MinForceScale(), 1.0);
+}
+
+TEST(PanelLogic, ExpectedCostIsTheNearestMeasuredCell) {
+  const std::string path = testing::TempDir() + "PanelLogicBench.csv";
+  {
+    std::ofstream csv(path);
+    csv << "method,backend,shell,voxmap,status,median_ms,p99_ms,force_error\n"
+           "lazar,cpu,128,128,ok,0.05,0.1,0.004\n"
+           "lazar,cpu,256,256,ok,0.09,0.19,0.0003\n"
+           "zheng,cpu,128,128,ok,0.27,0.45,0.0024\n";
+  }
+  const PL::ExpectedCost cost(bm::BenchmarkTable::Load(path));
+  std::remove(path.c_str());
+  EXPECT_EQ(cost.Line("drilling", 64, 113, vtkBMSessionSource::ZHENG),
+            "Expected (zheng, shell 113 / voxmap 64, nearest measured: 128 / 128): frame 0.27 ms "
+            "median, 0.45 ms p99; force error 0.24 %");
+  EXPECT_EQ(cost.Line("drilling", 300, 300, vtkBMSessionSource::LAZAR).substr(0, 60),
+            "Expected (lazar, shell 300 / voxmap 300, nearest measured: 2");
+  EXPECT_NE(cost.Line("no-such-scene.json", 0, 0, 0).find("Expected cost unknown"),
+            std::string::npos);
+}

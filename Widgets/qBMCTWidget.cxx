@@ -1,0 +1,179 @@
+// qBMCTWidget.cxx - see qBMCTWidget.h.
+#include "qBMCTWidget.h"
+
+#include "ui_qBMCTWidget.h"
+
+#include <QFileDialog>
+
+class qBMCTWidgetPrivate : public Ui_qBMCTWidget {
+  Q_DECLARE_PUBLIC(qBMCTWidget);
+
+public:
+  explicit qBMCTWidgetPrivate(qBMCTWidget& object) : q_ptr(&object) {}
+  void init();
+  QVector<QDoubleSpinBox*> roiBoxes() const {
+    return {this->RoiX0SpinBox, this->RoiY0SpinBox, this->RoiZ0SpinBox,
+            this->RoiX1SpinBox, this->RoiY1SpinBox, this->RoiZ1SpinBox};
+  }
+  QVector<QDoubleSpinBox*> axisBoxes() const {
+    return {this->AxisXSpinBox, this->AxisYSpinBox, this->AxisZSpinBox};
+  }
+  QVector<QDoubleSpinBox*> entryBoxes() const {
+    return {this->EntryXSpinBox, this->EntryYSpinBox, this->EntryZSpinBox};
+  }
+  static QVector<double> values(const QVector<QDoubleSpinBox*>& boxes) {
+    QVector<double> v;
+    for (QDoubleSpinBox* box : boxes)
+      v.append(box->value());
+    return v;
+  }
+  static void setValues(const QVector<QDoubleSpinBox*>& boxes, const QVector<double>& v) {
+    for (int i = 0; i < boxes.size() && i < v.size(); ++i)
+      boxes[i]->setValue(v[i]);
+  }
+
+  qBMCTWidget* const q_ptr;
+  /// The last preview's suggested entry point, mm (empty: none yet).
+  QVector<double> SuggestedEntry;
+};
+
+void qBMCTWidgetPrivate::init() {
+  Q_Q(qBMCTWidget);
+  this->setupUi(q);
+  this->ThresholdSpinBox->setRange(-2000.0, 10000.0);
+  this->ThresholdSpinBox->setDecimals(0);
+  this->ThresholdSpinBox->setSingleStep(50.0);
+  this->ThresholdSpinBox->setValue(200.0);
+  for (QDoubleSpinBox* box : this->roiBoxes() + this->entryBoxes()) {
+    box->setRange(-10000.0, 10000.0);
+    box->setDecimals(2);
+  }
+  for (QDoubleSpinBox* box : this->axisBoxes()) {
+    box->setRange(-1.0, 1.0);
+    box->setDecimals(3);
+    box->setSingleStep(0.1);
+  }
+  this->AxisZSpinBox->setValue(1.0);
+  this->CTResolutionSpinBox->setRange(8, 1024);
+  this->CTResolutionSpinBox->setValue(96);
+  this->UseSuggestedEntryButton->setEnabled(false);
+  QObject::connect(this->PreviewCTButton, &QPushButton::clicked, q,
+                   [q]() { Q_EMIT q->previewCTRequested(); });
+  QObject::connect(this->UseSuggestedEntryButton, &QPushButton::clicked, q,
+                   [this, q]() { q->setEntry(this->SuggestedEntry); });
+  QObject::connect(this->BrowseCTFileButton, &QPushButton::clicked, q, [this, q]() {
+    const QString path = QFileDialog::getOpenFileName(
+        q, qBMCTWidget::tr("CT file"), this->CTFileLineEdit->text(),
+        qBMCTWidget::tr(
+            "CT volumes (*.nrrd *.nhdr *.mha *.mhd *.nii *.nii.gz *.dcm);;All files (*)"));
+    if (!path.isEmpty())
+      this->CTFileLineEdit->setText(path);
+  });
+  QObject::connect(this->BrowseCTFolderButton, &QPushButton::clicked, q, [this, q]() {
+    const QString path = QFileDialog::getExistingDirectory(q, qBMCTWidget::tr("DICOM folder"),
+                                                           this->CTFileLineEdit->text());
+    if (!path.isEmpty())
+      this->CTFileLineEdit->setText(path);
+  });
+}
+
+qBMCTWidget::qBMCTWidget(QWidget* parent)
+    : Superclass(parent), d_ptr(new qBMCTWidgetPrivate(*this)) {
+  Q_D(qBMCTWidget);
+  d->init();
+}
+
+qBMCTWidget::~qBMCTWidget() = default;
+
+QString qBMCTWidget::ctFileName() const {
+  Q_D(const qBMCTWidget);
+  return d->CTFileLineEdit->text();
+}
+
+double qBMCTWidget::thresholdHU() const {
+  Q_D(const qBMCTWidget);
+  return d->ThresholdSpinBox->value();
+}
+
+QVector<double> qBMCTWidget::roi() const {
+  Q_D(const qBMCTWidget);
+  return d->values(d->roiBoxes());
+}
+
+int qBMCTWidget::ctResolution() const {
+  Q_D(const qBMCTWidget);
+  return d->CTResolutionSpinBox->value();
+}
+
+QVector<double> qBMCTWidget::axis() const {
+  Q_D(const qBMCTWidget);
+  return d->values(d->axisBoxes());
+}
+
+QVector<double> qBMCTWidget::entry() const {
+  Q_D(const qBMCTWidget);
+  return d->values(d->entryBoxes());
+}
+
+bool qBMCTWidget::useCTBone() const {
+  Q_D(const qBMCTWidget);
+  return d->UseCTCheckBox->isChecked();
+}
+
+void qBMCTWidget::setCTFileName(const QString& path) {
+  Q_D(qBMCTWidget);
+  d->CTFileLineEdit->setText(path);
+}
+
+void qBMCTWidget::setThresholdHU(double hu) {
+  Q_D(qBMCTWidget);
+  d->ThresholdSpinBox->setValue(hu);
+}
+
+void qBMCTWidget::setRoi(const QVector<double>& box) {
+  Q_D(qBMCTWidget);
+  d->setValues(d->roiBoxes(), box);
+}
+
+void qBMCTWidget::setAxis(const QVector<double>& axis) {
+  Q_D(qBMCTWidget);
+  d->setValues(d->axisBoxes(), axis);
+}
+
+void qBMCTWidget::setEntry(const QVector<double>& entry) {
+  Q_D(qBMCTWidget);
+  d->setValues(d->entryBoxes(), entry);
+}
+
+void qBMCTWidget::setUseCTBone(bool use) {
+  Q_D(qBMCTWidget);
+  d->UseCTCheckBox->setChecked(use);
+}
+
+void qBMCTWidget::setCTPreview(qint64 boneVoxels, double boneVolumeMm3,
+                               const QVector<double>& bounds, const QVector<double>& suggestedEntry,
+                               const QString& error) {
+  Q_D(qBMCTWidget);
+  if (!error.isEmpty() || bounds.size() < 6 || suggestedEntry.size() < 3) {
+    d->SuggestedEntry.clear();
+    d->UseSuggestedEntryButton->setEnabled(false);
+    d->CTSummaryLabel->setText(tr("No CT bone: %1").arg(error));
+    return;
+  }
+  d->SuggestedEntry = suggestedEntry;
+  d->UseSuggestedEntryButton->setEnabled(true);
+  d->CTSummaryLabel->setText(
+      tr("Bone: %1 voxels, %2 mm^3 in [%3, %4] x [%5, %6] x [%7, %8] mm; suggested entry "
+         "(%9, %10, %11) mm")
+          .arg(boneVoxels)
+          .arg(boneVolumeMm3, 0, 'f', 1)
+          .arg(bounds[0], 0, 'f', 1)
+          .arg(bounds[1], 0, 'f', 1)
+          .arg(bounds[2], 0, 'f', 1)
+          .arg(bounds[3], 0, 'f', 1)
+          .arg(bounds[4], 0, 'f', 1)
+          .arg(bounds[5], 0, 'f', 1)
+          .arg(suggestedEntry[0], 0, 'f', 2)
+          .arg(suggestedEntry[1], 0, 'f', 2)
+          .arg(suggestedEntry[2], 0, 'f', 2));
+}

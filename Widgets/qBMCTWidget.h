@@ -1,0 +1,66 @@
+// qBMCTWidget.h - the module panel's CT section: a DICOM folder or CT file, the bone threshold,
+// the region of interest and the preview's resolution; the tool axis and entry point for a
+// session on the CT bone; the preview's result (bone voxels, volume, bounds, suggested entry) or
+// why the import failed.
+//
+// Computes nothing: the import runs in the BM CT Bone source (vtkBMCTBoneSource) that whoever
+// listens to previewCTRequested() updates, and its result comes back through setCTPreview().
+// Object names (CTGroupBox, CTFileLineEdit, ThresholdSpinBox, PreviewCTButton, ...) address it
+// from the GUI tests.
+#pragma once
+
+#include <QGroupBox>
+#include <QScopedPointer>
+#include <QString>
+#include <QVector>
+
+class qBMCTWidgetPrivate;
+
+class qBMCTWidget : public QGroupBox {
+  Q_OBJECT
+
+public:
+  using Superclass = QGroupBox;
+  explicit qBMCTWidget(QWidget* parent = nullptr);
+  ~qBMCTWidget() override;
+
+  /// The DICOM folder or CT file. Default "".
+  QString ctFileName() const;
+  /// The bone threshold, HU. Default 200, range [-2000, 10000].
+  double thresholdHU() const;
+  /// The region of interest (x0, y0, z0, x1, y1, z1), mm; all zero (the default): none.
+  QVector<double> roi() const;
+  /// The preview's voxmap cells along the region's longest side. Default 96, range [8, 1024].
+  int ctResolution() const;
+  /// Tool axis (world, from the bone out; default 0, 0, 1; each component in [-1, 1]).
+  QVector<double> axis() const;
+  /// Entry point, mm. Default 0, 0, 0.
+  QVector<double> entry() const;
+  /// Whether a session machines the CT bone (at entry() along axis()). Default false.
+  bool useCTBone() const;
+
+public Q_SLOTS:
+  void setCTFileName(const QString& path);
+  void setThresholdHU(double hu);
+  /// Sets the region of interest (mm); extra values are ignored, missing ones kept.
+  void setRoi(const QVector<double>& box);
+  void setAxis(const QVector<double>& axis);
+  void setEntry(const QVector<double>& entry);
+  void setUseCTBone(bool use);
+  /// Show the CT preview's result: voxels holding bone, bone volume (mm^3), the voxmap's bounds
+  /// (x0, x1, y0, y1, z0, z1 mm) and the suggested entry point (mm), or why it failed (error
+  /// not empty: the other values are ignored). A suggested entry enables "Use suggested entry".
+  void setCTPreview(qint64 boneVoxels, double boneVolumeMm3, const QVector<double>& bounds,
+                    const QVector<double>& suggestedEntry, const QString& error);
+
+Q_SIGNALS:
+  /// The user asked to import and show the CT bone with these settings.
+  void previewCTRequested();
+
+protected:
+  QScopedPointer<qBMCTWidgetPrivate> d_ptr;
+
+private:
+  Q_DECLARE_PRIVATE(qBMCTWidget);
+  Q_DISABLE_COPY(qBMCTWidget);
+};
