@@ -65,6 +65,8 @@ private:
   Q_DISABLE_COPY(pqBMDockWindow);
   /// Stops and deletes the session source, its representations with it.
   void removeSession();
+  /// Why the force scale control is disabled: the session source takes no force scale.
+  QString noForceScale() const;
   qBMPanel* Panel;
   /// The view widget whose wheel steps the mouse proxy's depth (null: none).
   QPointer<QWidget> WheelView;
