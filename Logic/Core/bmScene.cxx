@@ -35,6 +35,21 @@ template <class T> T Get(const json& j, const char* key, const T& def, const std
   }
 }
 
+// A name that becomes a folder ("out/<name>"): it must stay one folder level inside it.
+void CheckName(const std::string& name, const std::string& what, size_t maxLength) {
+  if (name.empty() || name.size() > maxLength)
+    throw std::invalid_argument(what + " must have 1 to " + std::to_string(maxLength) +
+                                " characters, got " + std::to_string(name.size()));
+  if (name.front() == '.')
+    throw std::invalid_argument(what + " must not start with '.' (got '" + name +
+                                "'): it names an output folder");
+  for (char c : name)
+    if (c == '/' || c == '\\' || static_cast<unsigned char>(c) < 32 || c == 127)
+      throw std::invalid_argument(what +
+                                  " must not contain '/', '\\' or control characters (got '" +
+                                  name + "'): it names an output folder");
+}
+
 Eigen::Vector3d GetVec(const json& j, const char* key, const Eigen::Vector3d& def,
                        const std::string& where) {
   auto v = Get<std::vector<double>>(j, key, {def(0), def(1), def(2)}, where);
@@ -52,6 +67,7 @@ Scene Scene::FromJson(const json& j) {
             "scene");
   Scene s;
   s.name = Get<std::string>(j, "name", s.name, "scene");
+  CheckName(s.name, "field 'name' in scene", 128);
   if (j.contains("tool"))
     s.tool = j.at("tool");
   MakeTool(s.tool); // validates the tool now
@@ -113,8 +129,7 @@ Scene Scene::FromJson(const json& j) {
       CheckKeys(st, {"name", "description", "tool", "trial", "shell_resolution"}, where);
       SceneStep step;
       step.name = Get<std::string>(st, "name", "step " + std::to_string(i + 1), where);
-      if (step.name.empty() || step.name.size() > 64)
-        throw std::invalid_argument("field 'name' in " + where + " must have 1 to 64 characters");
+      CheckName(step.name, "field 'name' in " + where, 64);
       step.description = Get<std::string>(st, "description", "", where);
       step.tool = st.contains("tool") ? st.at("tool") : s.tool;
       step.trial = st.contains("trial") ? st.at("trial") : json::object();
@@ -141,7 +156,6 @@ Scene Scene::Step(size_t i) const {
   json j = ToJson();
   j.erase("steps");
   j.erase("planning");
-  j["name"] = name + ": " + step.name;
   j["tool"] = step.tool;
   if (!step.trial.is_object())
     throw std::invalid_argument("field 'trial' must be a JSON object");
@@ -150,6 +164,7 @@ Scene Scene::Step(size_t i) const {
   if (step.shellResolution > 0)
     j["shell_resolution"] = step.shellResolution;
   Scene s = FromJson(j);
+  s.name = name + ": " + step.name; // both checked; the step's folder is named by its number
   s.baseDir = baseDir;
   return s;
 }
@@ -185,6 +200,8 @@ void Scene::Validate() const {
     throw std::invalid_argument("field 'axis' in trial must be a unit vector");
   if (!trial.entry.allFinite())
     throw std::invalid_argument("field 'entry_mm' in trial must be finite");
+  for (int a = 0; a < 3; ++a)
+    range(trial.entry(a), -10000.0, 10000.0, "field 'entry_mm' in trial (mm)");
   if (bone.type == "block") {
     for (double v : bone.sizeMm)
       range(v, 1e-3, 1000.0, "field 'size_mm' in bone (block size)");

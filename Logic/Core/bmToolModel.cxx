@@ -46,9 +46,34 @@ void AppendLine(std::vector<ProfilePoint>& out, double r0, double z0, double r1,
       kind, len, maxSeg);
 }
 
+// Largest tool length or radius accepted (mm) and most lips: a tool parameter beyond them is
+// refused with the range in the message.
+constexpr double kMaxToolSizeMm = 1000.0;
+constexpr int kMaxToolLips = 64;
+
 void CheckPositive(double v, const char* name) {
   if (!(v > 0) || !std::isfinite(v))
     throw std::invalid_argument(std::string("tool parameter '") + name + "' must be > 0");
+  if (v > kMaxToolSizeMm)
+    throw std::invalid_argument(std::string("tool parameter '") + name + "' must be at most " +
+                                std::to_string(int(kMaxToolSizeMm)) + " mm, got " +
+                                std::to_string(v));
+}
+
+// Every length and angle finite and within [lo, hi] (the message gives the range).
+void CheckRange(double v, double lo, double hi, const char* name) {
+  if (!(v >= lo && v <= hi))
+    throw std::invalid_argument(std::string("tool parameter '") + name + "' must be in [" +
+                                std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
+                                std::to_string(v));
+}
+
+void CheckLips(int lips) {
+  if (lips < 1)
+    throw std::invalid_argument("tool parameter 'lips' must be >= 1");
+  if (lips > kMaxToolLips)
+    throw std::invalid_argument("tool parameter 'lips' must be in [1, " +
+                                std::to_string(kMaxToolLips) + "], got " + std::to_string(lips));
 }
 } // namespace
 
@@ -64,10 +89,10 @@ TwistDrill::TwistDrill(const TwistDrillParams& p) : P_(p) {
     throw std::invalid_argument("tool parameter 'helix_angle_deg' must be in [0, 60)");
   if (!(P_.chiselAngleDeg > 90 && P_.chiselAngleDeg < 180))
     throw std::invalid_argument("tool parameter 'chisel_angle_deg' must be in (90, 180)");
+  CheckRange(P_.webHalfWidth, 0.0, kMaxToolSizeMm, "web_half_width");
   if (!(P_.webHalfWidth >= 0 && ChiselCornerRadius() < P_.radius))
     throw std::invalid_argument("tool parameter 'web_half_width' must be >= 0 and leave a lip");
-  if (P_.lips < 1)
-    throw std::invalid_argument("tool parameter 'lips' must be >= 1");
+  CheckLips(P_.lips);
   if (P_.fluteLength <= TipHeight(P_.radius))
     throw std::invalid_argument("tool parameter 'flute_length' must exceed the tip height");
 }
@@ -193,8 +218,13 @@ ArcLipTool::ArcLipTool(const ArcLipParams& p) : P_(p) {
   CheckPositive(P_.shaftLength, "shaft_length");
   if (P_.kind != "reamer" && P_.kind != "burr")
     throw std::invalid_argument("arc-lip tool kind must be 'reamer' or 'burr'");
-  if (P_.lips < 1)
-    throw std::invalid_argument("tool parameter 'lips' must be >= 1");
+  CheckLips(P_.lips);
+  CheckRange(P_.alphaDeg, 0.0, 89.0, "alpha_deg");
+  CheckRange(P_.rakeDeg, -60.0, 60.0, "rake_deg");
+  CheckRange(P_.arcCentreOffset, 0.0, kMaxToolSizeMm, "arc_centre_offset");
+  CheckRange(P_.nippleRadius, 0.0, kMaxToolSizeMm, "nipple_radius");
+  CheckRange(P_.nippleLength, 0.0, kMaxToolSizeMm, "nipple_length");
+  CheckRange(P_.headThickness, 0.0, kMaxToolSizeMm, "head_thickness");
   if (P_.arcCentreOffset < 0)
     throw std::invalid_argument("tool parameter 'arc_centre_offset' must be >= 0");
   if (std::abs(P_.outerRadius - P_.arcCentreOffset) > P_.arcRadius)

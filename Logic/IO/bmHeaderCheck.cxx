@@ -295,7 +295,9 @@ std::vector<std::string> HeaderLines(const fs::path& file, uint64_t& headerBytes
 void CheckMemory(const fs::path& file, const VolumeHeader& h, const HeaderLimits& limits) {
   const uint64_t voxels = h.dims[0] * h.dims[1] * h.dims[2]; // each <= 10^9: product < 2^90?
   const long double exact = (long double)h.dims[0] * h.dims[1] * h.dims[2];
-  const uint64_t bytes = exact > 1e18L ? uint64_t(1e18) : voxels * sizeof(float);
+  const uint64_t bytes = exact * h.components > 1e18L
+                             ? uint64_t(1e18)
+                             : voxels * sizeof(float) * uint64_t(h.components);
   CheckMemoryBudget(bytes, limits.maxMemoryBytes,
                     "the CT " + Q(file) + " (" + std::to_string(h.dims[0]) + " x " +
                         std::to_string(h.dims[1]) + " x " + std::to_string(h.dims[2]) + " voxels)");
@@ -322,7 +324,25 @@ VolumeHeader CheckNrrd(const fs::path& file, const HeaderLimits& limits) {
   if (!f.count("dimension") || !f.count("sizes") || !f.count("type"))
     throw std::runtime_error(Q(file) + ": the NRRD header lacks dimension, sizes or type");
   const std::string dim = f["dimension"];
-  if (dim != "3") {
+  std::string sizes = f["sizes"];
+  if (dim == "4" && limits.maxComponents > 1) {
+    // A vector image (a saved voxmap): its first axis holds the values of one voxel.
+    std::vector<std::string> words;
+    const std::vector<double> n = Numbers(sizes, &words);
+    if (words.empty() && n.size() == 4 && n[0] >= 1 && n[0] <= limits.maxComponents &&
+        n[0] == std::floor(n[0])) {
+      h.components = int(n[0]);
+      std::istringstream rest(sizes);
+      std::string first;
+      rest >> first;
+      std::getline(rest, sizes);
+    } else {
+      throw std::runtime_error(Q(file) + ": a 4-D image must hold 1 to " +
+                               std::to_string(limits.maxComponents) +
+                               " values per voxel along its first axis, not sizes '" + sizes + "'");
+    }
+  }
+  if (dim != "3" && h.components == 1) {
     uint64_t d4[4] = {1, 1, 1, 1};
     if (dim == "4") {
       uint64_t dims[3];
@@ -334,19 +354,25 @@ VolumeHeader CheckNrrd(const fs::path& file, const HeaderLimits& limits) {
         Q(file) + " is a " + dim + "-D image; a CT volume must be 3-D (one value per voxel)" +
         (d4[3] > 1 ? " (its 4th axis has " + std::to_string(d4[3]) + " samples)" : std::string()));
   }
-  Sizes(file, "sizes", f["sizes"], 3, h.dims);
+  Sizes(file, "sizes", sizes, 3, h.dims);
   h.componentBytes = NrrdTypeBytes(Lower(f["type"]), h.integerType);
   if (!h.componentBytes)
     throw std::runtime_error(Q(file) + ": unsupported NRRD type '" + f["type"] + "'");
   CheckMemory(file, h, limits);
   if (f.count("spacings")) {
-    CheckSpacing(file, Numbers(f["spacings"]));
+    std::vector<double> spacings = Numbers(f["spacings"]);
+    if (h.components > 1 && !spacings.empty())
+      spacings.erase(spacings.begin()); // the value axis has none ("nan")
+    CheckSpacing(file, spacings);
   } else if (f.count("space directions")) {
+    std::string directions = f["space directions"];
+    if (h.components > 1 && Lower(directions).rfind("none", 0) == 0)
+      directions = directions.substr(4); // the value axis is not a space direction
     std::vector<std::string> words;
-    std::vector<double> d = Numbers(f["space directions"], &words);
+    std::vector<double> d = Numbers(directions, &words);
     if (!words.empty() || d.size() != 9)
       throw std::runtime_error(Q(file) + ": 'space directions' must give three 3-vectors, not '" +
-                               f["space directions"] + "'");
+                               directions + "'");
     CheckFinite(file, "space direction", d, 9);
     for (int a = 0; a < 3; ++a) {
       double len = std::sqrt(d[3 * a] * d[3 * a] + d[3 * a + 1] * d[3 * a + 1] +
@@ -369,7 +395,8 @@ VolumeHeader CheckNrrd(const fs::path& file, const HeaderLimits& limits) {
                          : f.count("datafile") ? f["datafile"]
                                                : "";
   h.dataFile = dataName.empty() ? file : DataFileBeside(file, dataName, limits);
-  const uint64_t need = h.dims[0] * h.dims[1] * h.dims[2] * uint64_t(h.componentBytes);
+  const uint64_t need =
+      h.dims[0] * h.dims[1] * h.dims[2] * uint64_t(h.componentBytes) * uint64_t(h.components);
   long long byteSkip = 0;
   if (f.count("byte skip"))
     byteSkip = std::atoll(f["byte skip"].c_str());
@@ -417,9 +444,13 @@ VolumeHeader CheckMeta(const fs::path& file, const HeaderLimits& limits) {
     throw std::runtime_error(Q(file) + ": unsupported ElementType '" + type + "'");
   const int channels =
       f.count("elementnumberofchannels") ? std::atoi(f["elementnumberofchannels"].c_str()) : 1;
-  if (channels != 1)
-    throw std::runtime_error(Q(file) + " has " + std::to_string(channels) +
-                             " components per voxel; a CT has one");
+  if (channels < 1 || channels > limits.maxComponents)
+    throw std::runtime_error(
+        Q(file) + " has " + std::to_string(channels) + " components per voxel; " +
+        (limits.maxComponents == 1
+             ? std::string("a CT has one")
+             : "at most " + std::to_string(limits.maxComponents) + " are accepted"));
+  h.components = channels;
   CheckMemory(file, h, limits);
   if (f.count("elementspacing"))
     CheckSpacing(file, Numbers(f["elementspacing"]));
@@ -445,7 +476,8 @@ VolumeHeader CheckMeta(const fs::path& file, const HeaderLimits& limits) {
   const bool local = Lower(dataName) == "local";
   h.dataFile = local ? file : DataFileBeside(file, dataName, limits);
   const bool compressed = Lower(f.count("compresseddata") ? f["compresseddata"] : "") == "true";
-  const uint64_t need = h.dims[0] * h.dims[1] * h.dims[2] * uint64_t(h.componentBytes);
+  const uint64_t need =
+      h.dims[0] * h.dims[1] * h.dims[2] * uint64_t(h.componentBytes) * uint64_t(h.components);
   long long skip = f.count("headersize") ? std::atoll(f["headersize"].c_str()) : 0;
   const uint64_t offset = local ? headerBytes : uint64_t(std::max(0LL, skip));
   if (!compressed && skip >= 0) {
@@ -550,7 +582,8 @@ VolumeHeader CheckNifti(const fs::path& file, const HeaderLimits& limits) {
     throw std::runtime_error(Q(file) + ": NIfTI vox_offset " + std::to_string(voxOffset) +
                              " is not a valid data offset");
   h.dataFile = file;
-  const uint64_t need = h.dims[0] * h.dims[1] * h.dims[2] * uint64_t(h.componentBytes);
+  const uint64_t need =
+      h.dims[0] * h.dims[1] * h.dims[2] * uint64_t(h.componentBytes) * uint64_t(h.components);
   const bool gz = Lower(file.extension().string()) == ".gz";
   if (gz) {
     const uint64_t have = GzipBytes(file, 0, uint64_t(voxOffset) + need);

@@ -6,7 +6,8 @@
 //  - the input, or a data file it names, is not a regular file (FIFO, device, socket, folder);
 //  - the header does not start as its format must (e.g. a NRRD file named .mha), is longer than
 //    kMaxHeaderLines lines or kMaxHeaderBytes bytes, or a size field does not parse;
-//  - the image is not 3-D (a 4-D image with a 4th size above 1, a 2-D image) or has a zero size;
+//  - the image is not 3-D (a 4-D image with a 4th size above 1, a 2-D image) or has a zero size,
+//    or holds more values per voxel than HeaderLimits::maxComponents;
 //  - the voxels as float need more bytes than the memory limit (CheckMemoryBudget);
 //  - a spacing is not finite and > 0, an origin or direction value is not finite, a direction
 //    axis has zero length, a NIfTI rescale slope/intercept is not finite;
@@ -29,6 +30,9 @@ constexpr uint64_t kMaxHeaderBytes = uint64_t(1) << 20;
 struct HeaderLimits {
   uint64_t maxMemoryBytes = 0;         ///< as ReadOptions::maxMemoryBytes (0 = default limit)
   bool allowDataOutsideFolder = false; ///< accept detached data files anywhere
+  /// Values per voxel accepted (NRRD: a 4-D image whose first axis holds them; MetaImage:
+  /// ElementNumberOfChannels). 1 for a CT; a saved voxmap has 2 (bone fraction, material).
+  int maxComponents = 1;
 };
 
 /// What the header check found (used as evidence for the intensity decision).
@@ -36,6 +40,7 @@ struct VolumeHeader {
   std::string format;             ///< "NRRD", "MetaImage" or "NIfTI"
   uint64_t dims[3] = {0, 0, 0};   ///< voxels along each axis
   int componentBytes = 0;         ///< bytes per stored value
+  int components = 1;             ///< stored values per voxel
   bool integerType = true;        ///< stored values are integers
   bool hasRescale = false;        ///< NIfTI scl_slope/scl_inter present (non-identity)
   std::filesystem::path dataFile; ///< where the voxels are (the header file when attached)

@@ -1,6 +1,7 @@
 #include "bmVoxmapFile.h"
 
 #include "bmAtomicFile.h"
+#include "bmHeaderCheck.h"
 
 #include <itkImageFileReader.h>
 #include <itkImageFileWriter.h>
@@ -16,6 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <sstream>
 
 namespace fs = std::filesystem;
 
@@ -24,6 +26,10 @@ namespace bm {
 namespace {
 
 using FileImage = itk::VectorImage<float, 3>;
+
+// Largest material scale accepted in a saved voxmap (1 = cortical bone), as a scene's block
+// material (bmScene.cxx): NaN, infinite, huge or negative values would reach the forces.
+constexpr float kMaxMaterialScale = 10.0f;
 
 std::string LowerExt(const std::string& path) {
   std::string e = fs::path(path).extension().string();
@@ -123,10 +129,19 @@ Voxmap LoadVoxmap(const std::string& path, const Progress& progress) {
   auto reader = itk::ImageFileReader<FileImage>::New();
   reader->SetFileName(path);
   std::string e = LowerExt(path);
-  if (e == ".nrrd" || e == ".nhdr")
+  // The header is checked before ITK reads anything (a NRRD named .mha made ITK's MetaImage
+  // reader overflow a buffer; a detached data file could name any file or a device).
+  HeaderLimits limits;
+  limits.maxComponents = 2;
+  if (e == ".nrrd" || e == ".nhdr") {
+    CheckVolumeHeader(path, "NRRD", limits);
     reader->SetImageIO(itk::NrrdImageIO::New());
-  else if (e == ".mha" || e == ".mhd")
+  } else if (e == ".mha" || e == ".mhd") {
+    CheckVolumeHeader(path, "MetaImage", limits);
     reader->SetImageIO(itk::MetaImageIO::New());
+  } else {
+    throw std::runtime_error("voxmap file '" + path + "': a voxmap is .nrrd, .nhdr, .mha or .mhd");
+  }
   RunFilter(reader, progress.Range(0, 0.8), "loading the voxmap");
   FileImage::Pointer img = reader->GetOutput();
   const unsigned nc = img->GetNumberOfComponentsPerPixel();
@@ -172,8 +187,16 @@ Voxmap LoadVoxmap(const std::string& path, const Progress& progress) {
         if (!std::isfinite(f))
           throw std::runtime_error("'" + path + "' holds a non-finite bone fraction");
         fill[x] = Voxmap::Fill(std::llround(std::clamp(f, -1.0, 1.0) * Voxmap::kFull));
-        if (nc == 2 && buf[nc * v + 1] != 1.0f)
-          vm.SetMaterial(x, buf[nc * v + 1]);
+        const float material = nc == 2 ? buf[nc * v + 1] : 1.0f;
+        if (!(material >= 0.0f && material <= kMaxMaterialScale)) {
+          std::ostringstream m;
+          m << "'" << path << "' holds material scale " << material << " at voxel (" << v % size[0]
+            << ", " << (v / size[0]) % size[1] << ", " << v / (size[0] * size[1])
+            << "); a material scale must be in [0, " << kMaxMaterialScale << "]";
+          throw std::runtime_error(m.str());
+        }
+        if (material != 1.0f)
+          vm.SetMaterial(x, material);
       }
   vm.RebuildOccupancy();
   progress(1.0, "loading the voxmap");

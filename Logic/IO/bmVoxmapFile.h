@@ -30,9 +30,12 @@ namespace bm {
 void SaveVoxmap(const Voxmap& voxmap, const std::string& path, const Progress& progress = {},
                 const std::vector<std::pair<std::string, std::string>>& fields = {});
 
-/// Load a voxmap saved by SaveVoxmap (or a compatible image). Throws std::runtime_error on a
-/// missing or unreadable file, an oblique (non-identity direction) or anisotropic image, or more
-/// than 2 components.
+/// Load a voxmap saved by SaveVoxmap (or a compatible image). The header is checked first
+/// (bmHeaderCheck.h, with 2 values per voxel allowed). Throws std::runtime_error naming the file
+/// on a missing or unreadable file, another extension than .nrrd/.nhdr/.mha/.mhd, a header the
+/// check refuses, an oblique (non-identity direction) or anisotropic image, more than 2
+/// components, a non-finite bone fraction, or a material scale outside [0, 10] (NaN, infinite,
+/// negative) naming the voxel.
 Voxmap LoadVoxmap(const std::string& path, const Progress& progress = {});
 
 } // namespace bm

@@ -100,4 +100,51 @@ TEST(HostileJson, SceneFilesNestedTooDeepAreRefusedNamingTheFile) {
   EXPECT_EQ(bm::Scene::Load(ok).name, "ok");
 }
 
+// Every scene field that reaches the physics or names an output is checked, with the range or
+// the rule in the message.
+TEST(HostileScene, FieldsOutOfRangeAndNamesThatLeaveTheOutputFolderAreRefused) {
+  using json = nlohmann::json;
+  const json reamer = {{"type", "reamer"}};
+  const std::vector<std::pair<json, std::string>> cases = {
+      {{{"name", "../../x"}}, "field 'name' in scene must not start with '.'"},
+      {{{"name", "a/../../x"}}, "field 'name' in scene must not contain '/'"},
+      {{{"name", "/etc/x"}}, "must not contain '/'"},
+      {{{"name", ".."}}, "field 'name' in scene must not start with '.'"},
+      {{{"name", ".hidden"}}, "must not start with '.'"},
+      {{{"name", "a\nb"}}, "control characters"},
+      {{{"name", ""}}, "field 'name' in scene must have 1 to 128 characters, got 0"},
+      {{{"name", std::string(129, 'x')}}, "must have 1 to 128 characters, got 129"},
+      {{{"steps", json::array({{{"name", "../up"}}})}},
+       "field 'name' in step 1 must not start with '.'"},
+      {{{"steps", json::array({{{"name", "a/b"}}})}},
+       "field 'name' in step 1 must not contain '/'"},
+      {{{"tool", {{"type", "reamer"}, {"lips", 10000}}}},
+       "tool parameter 'lips' must be in [1, 64], got 10000"},
+      {{{"tool", {{"type", "drill"}, {"lips", 0}}}}, "tool parameter 'lips' must be >= 1"},
+      {{{"tool", {{"type", "drill"}, {"radius_mm", 1e300}}}},
+       "tool parameter 'radius' must be at most 1000 mm"},
+      {{{"tool", {{"type", "reamer"}, {"alpha_deg", 95.0}}}},
+       "tool parameter 'alpha_deg' must be in"},
+      {{{"tool", {{"type", "reamer"}, {"nipple_length_mm", -1.0}}}},
+       "tool parameter 'nipple_length' must be in"},
+      {{{"trial", {{"entry_mm", {0, 0, 1e300}}}}}, "field 'entry_mm' in trial (mm) must be in"},
+      {{{"trial", {{"feed_mm_per_rev", -0.1}}}},
+       "field 'feed_mm_per_rev' in trial (feed) must be in"},
+      {{{"trial", {{"speed_rpm", 1e9}}}}, "field 'speed_rpm' in trial (spindle speed) must be in"},
+      {{{"voxmap_resolution", 100000}}, "field 'voxmap_resolution' (voxmap resolution) must be in"},
+      {{{"bone", {{"material", -1.0}}}}, "field 'material' in bone (material scale) must be in"},
+      {{{"bone", {{"material", 1e38}}}}, "field 'material' in bone (material scale) must be in"},
+  };
+  for (const auto& [j, expected] : cases) {
+    const std::string why = Refusal([&] { bm::Scene::FromJson(j); });
+    EXPECT_TRUE(Has(why, expected)) << j.dump() << ": " << why;
+  }
+  // A plan's step scene is named "<scene>: <step>" (not a folder: steps are numbered).
+  const bm::Scene plan =
+      bm::Scene::FromJson({{"name", std::string(128, 'p')},
+                           {"steps", json::array({{{"name", std::string(64, 's')}}})}});
+  EXPECT_EQ(plan.Step(0).name, std::string(128, 'p') + ": " + std::string(64, 's'));
+  EXPECT_EQ(bm::Scene::FromJson({{"name", "glenoid reaming 2"}}).name, "glenoid reaming 2");
+}
+
 } // namespace

@@ -6,6 +6,7 @@
 
 #include "bmCTReader.h"
 #include "bmImport.h"
+#include "bmVoxmapFile.h"
 
 #include <gtest/gtest.h>
 
@@ -542,4 +543,76 @@ TEST(HostileInput, OutputEqualToTheInputIsRefused) {
   EXPECT_THROW(bm::ImportToFile((d / "dicom").string(), (d / "dicom" / "v.nrrd").string()),
                std::runtime_error);
   EXPECT_FALSE(fs::exists(d / "dicom" / "v.nrrd"));
+}
+
+namespace {
+
+/// A saved voxmap's MetaImage: 4 x 4 x 4 voxels of (bone fraction 1, `material`), `at` voxel
+/// index given `bad` instead.
+std::string VoxmapMha(float material, int at = -1, float bad = 1.0f,
+                      std::map<std::string, std::string> over = {}) {
+  std::string data;
+  for (int i = 0; i < 64; ++i) {
+    const float v[2] = {1.0f, i == at ? bad : material};
+    data.append(reinterpret_cast<const char*>(v), sizeof v);
+  }
+  over.emplace("ElementType", "MET_FLOAT");
+  over.emplace("ElementNumberOfChannels", "2");
+  return Mha(over, data);
+}
+
+} // namespace
+
+TEST(HostileInput, SavedVoxmapCorpus) {
+  ScratchDir d("hostile-voxmap");
+  // Controls: what SaveVoxmap writes, in both formats, and the test's own 2-value MetaImage.
+  bm::Voxmap vm({4, 4, 4}, 0.5, {0, 0, 0});
+  for (int64_t i = 0; i < vm.StorageSize(); ++i)
+    vm.SetFill(i, bm::Voxmap::kFull);
+  vm.SetMaterial(vm.Index(1, 2, 3), 0.4f);
+  for (const char* name : {"saved.nrrd", "saved.mha"}) {
+    bm::SaveVoxmap(vm, (d / name).string());
+    bm::Voxmap back({1, 1, 1}, 1.0, {0, 0, 0});
+    ASSERT_NO_THROW(back = bm::LoadVoxmap((d / name).string())) << name;
+    EXPECT_FLOAT_EQ(back.Material(back.Index(1, 2, 3)), 0.4f) << name;
+  }
+  WriteFile(d / "control.mha", VoxmapMha(0.5f));
+  ASSERT_NO_THROW(bm::LoadVoxmap((d / "control.mha").string()));
+  const std::string savedNrrd = [&] {
+    std::ifstream in(d / "saved.nrrd", std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }();
+  const float inf = std::numeric_limits<float>::infinity();
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"nan-material.mha", "holds material scale nan at voxel (1, 2, 0)"},
+      {"inf-material.mha", "holds material scale inf at voxel (1, 2, 0)"},
+      {"huge-material.mha", "holds material scale 1e+38 at voxel (1, 2, 0)"},
+      {"negative-material.mha", "holds material scale -1 at voxel (1, 2, 0); a material scale "
+                                "must be in [0, 10]"},
+      {"nrrd-named.mha", "is a NRRD file, not a MetaImage"},
+      {"passwd.mha", "absolute path"},
+      {"three.mha", "3 components per voxel; at most 2"},
+      {"nan-spacing.mha", "non-finite voxel spacing"},
+      {"cut.mha", "truncated"},
+      {"voxmap.vtk", "a voxmap is .nrrd, .nhdr, .mha or .mhd"},
+  };
+  WriteFile(d / "nan-material.mha", VoxmapMha(1.0f, 9, kNaN));
+  WriteFile(d / "inf-material.mha", VoxmapMha(1.0f, 9, inf));
+  WriteFile(d / "huge-material.mha", VoxmapMha(1.0f, 9, 1e38f));
+  WriteFile(d / "negative-material.mha", VoxmapMha(1.0f, 9, -1.0f));
+  WriteFile(d / "nrrd-named.mha", savedNrrd);
+  WriteFile(d / "passwd.mha", VoxmapMha(1.0f, -1, 1.0f, {{"ElementDataFile", "/etc/passwd"}}));
+  WriteFile(d / "three.mha", VoxmapMha(1.0f, -1, 1.0f, {{"ElementNumberOfChannels", "3"}}));
+  WriteFile(d / "nan-spacing.mha", VoxmapMha(1.0f, -1, 1.0f, {{"ElementSpacing", "nan 1 1"}}));
+  WriteFile(d / "cut.mha", VoxmapMha(1.0f).substr(0, 400));
+  WriteFile(d / "voxmap.vtk", "# vtk DataFile Version 3.0\n");
+  for (const auto& [name, needle] : cases) {
+    try {
+      bm::LoadVoxmap((d / name).string());
+      ADD_FAILURE() << name << ": accepted; expected a refusal naming '" << needle << "'";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos)
+          << name << ": message: " << e.what();
+    }
+  }
 }
