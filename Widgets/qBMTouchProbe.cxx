@@ -1,14 +1,14 @@
 // qBMTouchProbe.cxx - see qBMTouchProbe.h.
 #include "qBMTouchProbe.h"
 
-#include "vtkBMSessionSource.h"
+#include "bmTouchProbe.h"
 
 #include <QMetaObject>
 
 #include <exception>
 
 qBMTouchProbe::qBMTouchProbe(QObject* parent)
-    : QObject(parent), Probe([]() { return vtkBMSessionSource::ProbeTouch(); }) {}
+    : QObject(parent), Probe([]() { return bm::ProbeTouch(kTimeoutS).message; }) {}
 
 qBMTouchProbe::~qBMTouchProbe() {
   if (this->Worker.joinable())

@@ -3,8 +3,10 @@
 // start() runs the probe function on a worker thread and returns at once; the answer ("" when
 // the Touch is ready, else why not) arrives as finished(), delivered queued to the GUI thread.
 // The destructor waits for the worker (a probe is bounded by the probe function's own timeout),
-// so no probe outlives the panel that asked. The default probe is
-// vtkBMSessionSource::ProbeTouch().
+// so no probe outlives the panel that asked. The default probe is bm::ProbeTouch()
+// (Logic/Session/bmTouchProbe.h): the library checked and the device opened in a child process
+// with force output never enabled, at most kTimeoutS; a library that crashes or hangs ends only
+// the child, and the answer names the step.
 #pragma once
 
 #include <QObject>
@@ -20,6 +22,8 @@ class qBMTouchProbe : public QObject {
 public:
   /// What a probe runs: returns "" when a Touch can be used, else why not.
   using ProbeFunction = std::function<std::string()>;
+  /// How long the default probe may take, s.
+  static constexpr double kTimeoutS = 5.0;
   explicit qBMTouchProbe(QObject* parent = nullptr);
   /// Joins the worker if a probe is still running.
   ~qBMTouchProbe() override;

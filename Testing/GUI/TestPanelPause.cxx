@@ -28,6 +28,8 @@
 #include <QWheelEvent>
 
 #include <cstdio>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace {
@@ -61,6 +63,28 @@ int main(int argc, char* argv[]) {
   Expect(session->touchStatus().contains("/nonexistent/libHD.so"),
          "the probe names the missing library");
   Expect(model && !model->item(2)->isEnabled(), "the Touch entry is disabled");
+  // A probe that says ready enables the entry; one that throws is an answer too, not a crash.
+  qBMTouchProbe* probe = session->touchProbe();
+  probe->setProbeFunction([]() { return std::string(); });
+  {
+    QSignalSpy answered(probe, &qBMTouchProbe::finished);
+    probe->start();
+    Expect(probe->isRunning(), "the probe runs off the GUI thread (start() returned)");
+    Expect(answered.wait(10000) && answered.at(0).at(0).toString().isEmpty(), "ready answers \"\"");
+  }
+  auto* touchLabel = session->findChild<QLabel*>("TouchStatusLabel");
+  Expect(model && model->item(2)->isEnabled() && touchLabel &&
+             touchLabel->text() == "Touch: ready.",
+         "a ready Touch enables its entry");
+  {
+    qBMTouchProbe failing;
+    failing.setProbeFunction([]() -> std::string { throw std::runtime_error("no driver"); });
+    QSignalSpy answered(&failing, &qBMTouchProbe::finished);
+    failing.start();
+    Expect(answered.wait(10000) &&
+               answered.at(0).at(0).toString() == "touch probe failed: no driver",
+           "a probe that throws answers why");
+  }
   panel.show();
   app.processEvents();
   auto* pause = session->findChild<QPushButton*>("PauseButton");
