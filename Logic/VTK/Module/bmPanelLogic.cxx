@@ -125,8 +125,8 @@ ExpectedCost::ExpectedCost() {
 
 ExpectedCost::ExpectedCost(BenchmarkTable table) : Table_(std::move(table)) {}
 
-std::string ExpectedCost::Line(const std::string& sceneName, int voxmap, int shell,
-                               int method) const {
+std::string ExpectedCost::Line(const std::string& sceneName, int voxmap, int shell, int method,
+                               double periodMs) const {
   if (!this->Table_)
     return "No measured costs: " + this->Error_;
   Scene scene;
@@ -154,7 +154,11 @@ std::string ExpectedCost::Line(const std::string& sceneName, int voxmap, int she
          ", nearest measured: " + std::to_string(cell->shell) + " / " +
          std::to_string(cell->voxmap) + "): frame " + Format("%.3g", cell->medianMs) +
          " ms median, " + Format("%.3g", cell->p99Ms) + " ms p99; force error " +
-         Format("%.2g", cell->forceError * 100.0) + " %";
+         Format("%.2g", cell->forceError * 100.0) + " %" +
+         (cell->p99Ms > periodMs
+              ? "; over the " + Format("%g", periodMs) +
+                    " ms period: expect overrun pauses, choose coarser resolutions"
+              : "");
 }
 
 } // namespace bm::PanelLogic

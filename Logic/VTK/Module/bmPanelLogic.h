@@ -65,7 +65,10 @@ public:
   /// `scene`: a built-in name or a scene file; `voxmap`, `shell`: cells along the longest side,
   /// 0 = the scene's (a voxmap set alone scales the scene's shell alike, as the session does);
   /// `method`: a vtkBMSessionSource::MethodTypes value (0 the scene's, 1 Lazar, 2 Zheng).
-  std::string Line(const std::string& scene, int voxmap, int shell, int method) const;
+  /// When the cell's p99 frame time exceeds `periodMs` (the haptic period, ms; default 1, i.e.
+  /// 1 kHz) the line ends with a warning that the session will pause on overruns.
+  std::string Line(const std::string& scene, int voxmap, int shell, int method,
+                   double periodMs = 1.0) const;
 
 private:
   std::optional<BenchmarkTable> Table_;

@@ -73,6 +73,11 @@ TEST(PanelLogic, ExpectedCostIsTheNearestMeasuredCell) {
             "median, 0.45 ms p99; force error 0.24 %");
   EXPECT_EQ(cost.Line("drilling", 300, 300, vtkBMSessionSource::LAZAR).substr(0, 60),
             "Expected (lazar, shell 300 / voxmap 300, nearest measured: 2");
+  // A p99 over the period warns before Start.
+  EXPECT_EQ(cost.Line("drilling", 64, 113, vtkBMSessionSource::ZHENG, 0.25),
+            "Expected (zheng, shell 113 / voxmap 64, nearest measured: 128 / 128): frame 0.27 ms "
+            "median, 0.45 ms p99; force error 0.24 %; over the 0.25 ms period: expect overrun "
+            "pauses, choose coarser resolutions");
   EXPECT_NE(cost.Line("no-such-scene.json", 0, 0, 0).find("Expected cost unknown"),
             std::string::npos);
 }
