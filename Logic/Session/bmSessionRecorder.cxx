@@ -33,6 +33,7 @@ nlohmann::json SessionOptionsToJson(const SessionOptions& o, const DeviceLimits&
           {"max_iterations", p.maxIterations},
           {"dead_band_voxels", p.deadBandVoxels},
           {"kim_cut_depth_voxels", p.kimCutDepthVoxels},
+          {"lateral_average_revolutions", p.lateralAverageRevolutions},
           {"device_limits",
            {{"max_force_N", l.maxForceN},
             {"max_stiffness_N_per_mm", l.maxStiffnessNPerMm},
@@ -41,32 +42,79 @@ nlohmann::json SessionOptionsToJson(const SessionOptions& o, const DeviceLimits&
             {"rate_hz", l.rateHz}}}};
 }
 
+namespace {
+// The value of field `key` of `j` (or `def` when absent), checked to be a number in [lo, hi]
+// (lo excluded when openLo): a recording's header is user input that reaches the physics.
+double Field(const nlohmann::json& j, const char* key, double def, double lo, double hi,
+             const std::string& where, bool openLo = false) {
+  if (!j.contains(key))
+    return def;
+  const nlohmann::json& v = j.at(key);
+  if (!v.is_number())
+    throw std::runtime_error(where + " field '" + key + "' must be a number");
+  const double x = v.get<double>();
+  if (!(openLo ? x > lo : x >= lo) || !(x <= hi)) {
+    std::ostringstream m;
+    m << where << " field '" << key << "' must be in " << (openLo ? "(" : "[") << lo << ", " << hi
+      << "], got " << x;
+    throw std::runtime_error(m.str());
+  }
+  return x;
+}
+
+std::string Text(const nlohmann::json& j, const char* key, const std::string& def,
+                 const std::string& where) {
+  if (!j.contains(key))
+    return def;
+  if (!j.at(key).is_string())
+    throw std::runtime_error(where + " field '" + key + "' must be a string");
+  return j.at(key).get<std::string>();
+}
+} // namespace
+
 SessionOptions SessionOptionsFromJson(const nlohmann::json& j, DeviceLimits& l) {
+  const std::string where = "the recording's session";
+  if (!j.is_object())
+    throw std::runtime_error(where + " must be a JSON object");
   SessionOptions o;
-  o.rateHz = j.value("rate_hz", o.rateHz);
-  o.speedRpm = j.value("speed_rpm", o.speedRpm);
+  o.rateHz = Field(j, "rate_hz", o.rateHz, 1, 1e7, where);
+  o.speedRpm = Field(j, "speed_rpm", o.speedRpm, -1, 100000, where);
   ProxyOptions& p = o.proxy;
-  p.method = ContactMethodFromString(j.value("method", std::string("cutting")));
-  p.rendering = RenderingFromString(j.value("rendering", std::string("coupled")));
-  p.coupling.stiffnessNPerMm = j.value("coupling_stiffness_N_per_mm", p.coupling.stiffnessNPerMm);
-  p.coupling.dampingNsPerMm = j.value("coupling_damping_Ns_per_mm", p.coupling.dampingNsPerMm);
+  try {
+    p.method = ContactMethodFromString(Text(j, "method", "cutting", where));
+    p.rendering = RenderingFromString(Text(j, "rendering", "coupled", where));
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(where + ": " + e.what());
+  }
+  p.coupling.stiffnessNPerMm =
+      Field(j, "coupling_stiffness_N_per_mm", p.coupling.stiffnessNPerMm, -1, 1000, where);
+  p.coupling.dampingNsPerMm =
+      Field(j, "coupling_damping_Ns_per_mm", p.coupling.dampingNsPerMm, -1, 100, where);
   // Recordings from before force scaling were unscaled.
-  p.coupling.forceScale = j.value("force_scale", 1.0);
-  p.maxFeedMmPerRev = j.value("max_feed_mm_per_rev", 1e30); // older recordings: no feed bound
-  o.catchUpSpeedMmPerS = j.value("catch_up_speed_mm_per_s", o.catchUpSpeedMmPerS);
-  p.contactStiffnessPerArea = j.value("contact_stiffness_N_per_mm3", p.contactStiffnessPerArea);
-  p.sdfResolution = j.value("sdf_resolution", p.sdfResolution);
-  p.maxStepVoxels = j.value("max_step_voxels", p.maxStepVoxels);
-  p.maxIterations = j.value("max_iterations", p.maxIterations);
-  p.deadBandVoxels = j.value("dead_band_voxels", p.deadBandVoxels);
-  p.kimCutDepthVoxels = j.value("kim_cut_depth_voxels", p.kimCutDepthVoxels);
+  p.coupling.forceScale = Field(j, "force_scale", 1.0, 1e-3, kMaxForceScale, where);
+  // Older recordings: no feed bound.
+  p.maxFeedMmPerRev = Field(j, "max_feed_mm_per_rev", 1e30, 0, 1e30, where, true);
+  o.catchUpSpeedMmPerS = Field(j, "catch_up_speed_mm_per_s", o.catchUpSpeedMmPerS, 0, 10000, where);
+  p.contactStiffnessPerArea =
+      Field(j, "contact_stiffness_N_per_mm3", p.contactStiffnessPerArea, 0, 1e7, where);
+  p.sdfResolution = int(Field(j, "sdf_resolution", p.sdfResolution, 8, 512, where));
+  p.maxStepVoxels = Field(j, "max_step_voxels", p.maxStepVoxels, 0, 100, where, true);
+  p.maxIterations = int(Field(j, "max_iterations", p.maxIterations, 1, 1000, where));
+  p.deadBandVoxels = Field(j, "dead_band_voxels", p.deadBandVoxels, 0, 100, where);
+  p.kimCutDepthVoxels = Field(j, "kim_cut_depth_voxels", p.kimCutDepthVoxels, 0, 100, where);
+  // Older recordings: the lateral force acted frame by frame.
+  p.lateralAverageRevolutions = Field(j, "lateral_average_revolutions", 0.0, 0, 1000, where);
   if (j.contains("device_limits")) {
     const auto& d = j.at("device_limits");
-    l.maxForceN = d.value("max_force_N", l.maxForceN);
-    l.maxStiffnessNPerMm = d.value("max_stiffness_N_per_mm", l.maxStiffnessNPerMm);
-    l.maxDampingNsPerMm = d.value("max_damping_Ns_per_mm", l.maxDampingNsPerMm);
-    l.workspaceRadiusMm = d.value("workspace_radius_mm", l.workspaceRadiusMm);
-    l.rateHz = d.value("rate_hz", l.rateHz);
+    const std::string dw = "the recording's device_limits";
+    if (!d.is_object())
+      throw std::runtime_error(dw + " must be a JSON object");
+    l.maxForceN = Field(d, "max_force_N", l.maxForceN, 0, 100, dw, true);
+    l.maxStiffnessNPerMm =
+        Field(d, "max_stiffness_N_per_mm", l.maxStiffnessNPerMm, 0, 100, dw, true);
+    l.maxDampingNsPerMm = Field(d, "max_damping_Ns_per_mm", l.maxDampingNsPerMm, 0, 100, dw);
+    l.workspaceRadiusMm = Field(d, "workspace_radius_mm", l.workspaceRadiusMm, 0, 10000, dw, true);
+    l.rateHz = Field(d, "rate_hz", l.rateHz, 1, 1e7, dw);
   }
   return o;
 }
@@ -208,7 +256,37 @@ void WriteRecording(const std::string& path, const Recording& r) {
     WriteRecordingCsv(path, r);
 }
 
-Recording ReadRecording(const std::string& path) {
+namespace {
+// One line (without its '\n') of at most kMaxRecordingLineBytes; false at the end of the file.
+bool ReadLine(std::istream& in, std::string& line, const std::string& path, int64_t lineNo) {
+  line.clear();
+  std::streambuf* buf = in.rdbuf();
+  for (;;) {
+    const int c = buf->sbumpc();
+    if (c == std::char_traits<char>::eof())
+      return !line.empty();
+    if (c == '\n')
+      return true;
+    if (line.size() >= kMaxRecordingLineBytes)
+      throw std::runtime_error(path + ":" + std::to_string(lineNo) + ": line longer than " +
+                               std::to_string(kMaxRecordingLineBytes) + " bytes");
+    line += char(c);
+  }
+}
+} // namespace
+
+Recording ReadRecording(const std::string& path, int64_t maxFrames) {
+  if (maxFrames < 1 || maxFrames > kMaxRecordingFrames)
+    throw std::invalid_argument("ReadRecording: frame cap " + std::to_string(maxFrames) +
+                                " is outside [1, " + std::to_string(kMaxRecordingFrames) + "]");
+  {
+    std::error_code ec;
+    const auto st = std::filesystem::status(path, ec);
+    if (!ec && std::filesystem::exists(st) && !std::filesystem::is_regular_file(st))
+      throw std::runtime_error("recording '" + path +
+                               "' is not a regular file (a folder, FIFO or "
+                               "device); refused");
+  }
   Recording rec;
   const size_t ncols = FrameRecord::Columns().size();
   if (IsHdf5Path(path)) {
@@ -231,6 +309,13 @@ Recording ReadRecording(const std::string& path) {
         H5Dclose(ds);
         throw std::runtime_error("'" + path + "': /frames has the wrong shape");
       }
+      if (dims[0] > hsize_t(maxFrames)) {
+        H5Dclose(ds);
+        throw std::runtime_error("'" + path + "' declares " + std::to_string(dims[0]) +
+                                 " frames; at most " + std::to_string(maxFrames) +
+                                 " are read (one hour at 1 kHz is " +
+                                 std::to_string(kMaxRecordingFrames) + ")");
+      }
       std::vector<double> data(size_t(dims[0] * dims[1]));
       const herr_t st =
           data.empty() ? 0
@@ -251,12 +336,12 @@ Recording ReadRecording(const std::string& path) {
     throw std::runtime_error("cannot read '" + path + "': this build has no HDF5 (BM_WITH_HDF5)");
 #endif
   }
-  std::ifstream in(path);
+  std::ifstream in(path, std::ios::binary);
   if (!in)
     throw std::runtime_error("cannot read recording '" + path + "'");
   std::string line;
-  int lineNo = 0;
-  while (std::getline(in, line)) {
+  int64_t lineNo = 0;
+  while (ReadLine(in, line, path, lineNo + 1)) {
     ++lineNo;
     if (line.rfind("# bmsession ", 0) == 0) {
       rec.meta =
@@ -278,6 +363,11 @@ Recording ReadRecording(const std::string& path) {
     }
     if (row.size() != ncols)
       throw std::runtime_error(path + ":" + std::to_string(lineNo) + ": wrong column count");
+    if (int64_t(rec.frames.size()) >= maxFrames)
+      throw std::runtime_error("'" + path + "' holds more than " + std::to_string(maxFrames) +
+                               " frames; at most " + std::to_string(maxFrames) +
+                               " are read (one hour at 1 kHz is " +
+                               std::to_string(kMaxRecordingFrames) + ")");
     rec.frames.push_back(FrameRecord::FromRow(row));
   }
   if (rec.meta.is_null())

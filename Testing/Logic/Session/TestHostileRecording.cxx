@@ -1,5 +1,6 @@
 // The hostile-input corpus for recordings (Docs/Reliability.md, "Recordings"): a header nested
-// too deep is refused with the limit in the message, in the CSV and the HDF5 form.
+// too deep is refused with the limit in the message, in the CSV and the HDF5 form; session fields
+// out of range, too many frames, an endless line, a FIFO; recordings that cannot be replayed.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -8,7 +9,10 @@
 #include <fstream>
 
 #include "bmJson.h"
+#include "bmReplay.h"
 #include "bmSessionRecorder.h"
+
+#include <sys/stat.h>
 
 namespace {
 
@@ -63,6 +67,77 @@ TEST(HostileRecording, AHeaderNestedTooDeepIsRefused) {
     why = Refusal([&] { bm::ReadRecording(h5); });
     EXPECT_TRUE(Has(why, "the header of recording '" + h5 + "' is nested deeper than 64")) << why;
   }
+}
+
+TEST(HostileRecording, SessionFieldsOutOfRangeAreRefusedWithTheRange) {
+  const std::vector<std::pair<nlohmann::json, std::string>> cases = {
+      {{{"sdf_resolution", 4096}},
+       "the recording's session field 'sdf_resolution' must be in [8, 512], got 4096"},
+      {{{"max_iterations", 1e9}}, "field 'max_iterations' must be in [1, 1000]"},
+      {{{"rate_hz", 0}}, "field 'rate_hz' must be in [1, 1e+07], got 0"},
+      {{{"force_scale", -2}}, "field 'force_scale' must be in [0.001, 1000], got -2"},
+      {{{"max_step_voxels", 0}}, "field 'max_step_voxels' must be in (0, 100], got 0"},
+      {{{"speed_rpm", "fast"}}, "field 'speed_rpm' must be a number"},
+      {{{"method", "magic"}}, "the recording's session: contact method must be cutting or kim"},
+      {{{"device_limits", {{"max_force_N", 1e6}}}},
+       "the recording's device_limits field 'max_force_N' must be in (0, 100], got 1e+06"},
+      {{{"device_limits", 3}}, "the recording's device_limits must be a JSON object"},
+      {nlohmann::json::array(), "the recording's session must be a JSON object"},
+  };
+  for (const auto& [j, expected] : cases) {
+    bm::DeviceLimits limits;
+    const std::string why = Refusal([&] { bm::SessionOptionsFromJson(j, limits); });
+    EXPECT_TRUE(Has(why, expected)) << j.dump() << ": " << why;
+  }
+  // What a session writes reads back.
+  bm::DeviceLimits limits;
+  const nlohmann::json written = bm::SessionOptionsToJson(bm::SessionOptions{}, limits);
+  EXPECT_NO_THROW(bm::SessionOptionsFromJson(written, limits));
+}
+
+TEST(HostileRecording, FilesThatAreTooLongNotFilesOrNotReplayableAreRefused) {
+  ScratchDir dir;
+  bm::Recording r;
+  r.meta = {{"scene", nlohmann::json::object()}};
+  for (int i = 0; i < 3; ++i) {
+    bm::FrameRecord f;
+    f.frame = i;
+    r.frames.push_back(f);
+  }
+  const std::string csv = (dir.path / "three.csv").string();
+  bm::WriteRecording(csv, r);
+  EXPECT_EQ(bm::ReadRecording(csv).frames.size(), 3u);
+  std::string why = Refusal([&] { bm::ReadRecording(csv, 2); });
+  EXPECT_TRUE(Has(why, "'" + csv + "' holds more than 2 frames")) << why;
+  EXPECT_THROW(bm::ReadRecording(csv, 0), std::invalid_argument);
+  if (bm::HasHdf5()) {
+    const std::string h5 = (dir.path / "three.h5").string();
+    bm::WriteRecording(h5, r);
+    why = Refusal([&] { bm::ReadRecording(h5, 2); });
+    EXPECT_TRUE(Has(why, "'" + h5 + "' declares 3 frames; at most 2 are read")) << why;
+  }
+  // A line without end: refused at the limit, not read whole.
+  const std::string endless = (dir.path / "endless.csv").string();
+  {
+    std::ofstream out(endless);
+    out << "# bmsession {}\n" << std::string(bm::kMaxRecordingLineBytes + 10, '1');
+  }
+  why = Refusal([&] { bm::ReadRecording(endless); });
+  EXPECT_TRUE(Has(why, endless + ":2: line longer than 16777216 bytes")) << why;
+  const std::string fifo = (dir.path / "fifo.csv").string();
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  why = Refusal([&] { bm::ReadRecording(fifo); });
+  EXPECT_TRUE(Has(why, "is not a regular file")) << why;
+  why = Refusal([&] { bm::ReadRecording(dir.path.string()); });
+  EXPECT_TRUE(Has(why, "is not a regular file")) << why;
+  // Replay refuses what it cannot reproduce: no frames, a non-finite recorded force.
+  bm::Recording empty = r;
+  empty.frames.clear();
+  EXPECT_TRUE(Has(Refusal([&] { bm::CheckReplayable(empty); }), "the recording has no frames"));
+  bm::Recording nanThrust = r;
+  nanThrust.frames[1].thrustN = std::nan("");
+  EXPECT_TRUE(Has(Refusal([&] { bm::CheckReplayable(nanThrust); }),
+                  "frame 1 of the recording has a non-finite thrust"));
 }
 
 } // namespace
