@@ -1,10 +1,16 @@
-// bmsim - the BoneMachining command line. Subcommands register themselves (bmsimCommand.h).
+// bmsim - the BoneMachining command line. Subcommands register themselves (bmsimCommand.h); CLI11
+// parses their options and writes every --help (Docs/CommandLine.md). Exit status: 0 success,
+// 1 an error while running, 2 bad command-line use (the message names the option).
+#include "bmsimArgs.h"
 #include "bmsimCommand.h"
 
 #include "bmResources.h"
 
+#include <CLI/CLI.hpp>
+
 #include <exception>
 #include <iostream>
+#include <memory>
 
 #ifdef BM_WITH_OPENCL
 #include "bmOpenCLBackend.h"
@@ -17,40 +23,49 @@ std::map<std::string, Command>& Registry() {
 }
 } // namespace bm::cli
 
-static void PrintUsage(std::ostream& os) {
-  os << "usage: bmsim COMMAND [options]\n\ncommands:\n";
-  for (const auto& [name, cmd] : bm::cli::Registry())
-    os << "  " << name << "\t" << cmd.help << "\n";
-  os << "\n'bmsim COMMAND --help' describes a command's options; 'bmsim --version' prints the\n"
-        "version and the resource folder in use.\n";
-}
-
 int main(int argc, char** argv) {
 #ifdef BM_WITH_OPENCL
   bm::RegisterOpenCLBackend();
 #endif
-  if (argc < 2) {
-    PrintUsage(std::cerr);
-    return 2;
+  CLI::App app{"bmsim - the BoneMachining command line: bone machining and glenoid reaming "
+               "simulation",
+               "bmsim"};
+  app.set_version_flag("--version", std::string("bmsim (BoneMachining) ") + BM_VERSION +
+                                        "\nresources: " + bm::ResourceDir().string());
+  app.require_subcommand(1, 1);
+  app.footer("'bmsim COMMAND --help' describes a command's options. Exit status: 0 success, 1 "
+             "error, 2 bad command-line use.");
+  std::map<CLI::App*, std::unique_ptr<bm::cli::ParsedArgs>> options;
+  for (const auto& [name, cmd] : bm::cli::Registry()) {
+    CLI::App* sub = app.add_subcommand(name, cmd.help);
+    auto args = std::make_unique<bm::cli::ParsedArgs>(*sub);
+    cmd.declare(*args);
+    options[sub] = std::move(args);
   }
-  std::string name = argv[1];
-  if (name == "--help" || name == "-h" || name == "help") {
-    PrintUsage(std::cout);
-    return 0;
-  }
-  if (name == "--version") {
-    std::cout << "bmsim (BoneMachining) " << BM_VERSION << "\nresources: " << bm::ResourceDir().string()
-              << "\n";
-    return 0;
-  }
-  auto it = bm::cli::Registry().find(name);
-  if (it == bm::cli::Registry().end()) {
-    std::cerr << "bmsim: unknown command '" << name << "'\n";
-    PrintUsage(std::cerr);
+  std::string name;
+  if (argc > 1 && argv[1][0] != '-' && !bm::cli::Registry().count(argv[1])) {
+    std::cerr << "bmsim: unknown command '" << argv[1] << "'\n" << app.help();
     return 2;
   }
   try {
-    return it->second.fn(bm::cli::Args(argv + 2, argv + argc));
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    for (const CLI::App* s : app.get_subcommands())
+      name = " " + s->get_name();
+    std::cerr << "bmsim" << name << ": " << e.what() << "\nRun 'bmsim" << name
+              << " --help' for the options.\n";
+    return 2;
+  }
+  CLI::App* sub = app.get_subcommands().at(0);
+  name = sub->get_name();
+  try {
+    return bm::cli::Registry().at(name).fn(*options.at(sub));
   } catch (const bm::cli::UsageError& e) {
     std::cerr << "bmsim " << name << ": " << e.what() << "\n";
     return 2;

@@ -1,58 +1,112 @@
+// bmsimArgs.cxx - see bmsimArgs.h.
 #include "bmsimArgs.h"
 
-#include <cctype>
+#include <CLI/CLI.hpp>
+
 #include <cmath>
 #include <sstream>
 
 namespace bm::cli {
 
-ParsedArgs::ParsedArgs(const Args& args, const std::set<std::string>& valued,
-                       const std::set<std::string>& flags,
-                       const std::map<std::string, std::string>& shortNames,
-                       const std::string& usage) {
-  auto fail = [&](const std::string& what) {
-    throw UsageError(usage.empty() ? what : what + "\n" + usage);
-  };
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    std::string name, value;
-    bool hasInline = false;
-    if (a.rfind("--", 0) == 0) {
-      name = a.substr(2);
-      const auto eq = name.find('=');
-      hasInline = eq != std::string::npos;
-      if (hasInline) {
-        value = name.substr(eq + 1);
-        name = name.substr(0, eq);
-      }
-    } else if (a.size() >= 2 && a[0] == '-' && std::isalpha(static_cast<unsigned char>(a[1]))) {
-      const auto it = shortNames.find(a.substr(1));
-      if (it == shortNames.end())
-        fail("unknown option " + a);
-      name = it->second;
-    } else {
-      Positional_.push_back(a);
-      continue;
-    }
-    if (flags.count(name)) {
-      if (hasInline)
-        fail("option --" + name + " takes no value");
-      Flags_.insert(name);
-    } else if (valued.count(name)) {
-      if (!hasInline) {
-        if (i + 1 >= args.size())
-          fail(a + " needs a value");
-        value = args[++i];
-      }
-      Values_[name] = value;
-    } else {
-      fail("unknown option --" + name);
-    }
-  }
+namespace {
+
+/// "o,out" -> {"-o,--out", "out"}; "out" -> {"--out", "out"}.
+std::pair<std::string, std::string> CliNames(const std::string& names) {
+  const auto comma = names.find(',');
+  if (comma == std::string::npos)
+    return {"--" + names, names};
+  const std::string s = names.substr(0, comma), l = names.substr(comma + 1);
+  return {"-" + s + ",--" + l, l};
+}
+
+std::string Num(double x) {
+  std::ostringstream os;
+  os << x;
+  return os.str();
+}
+
+/// A number in [lo, hi] (an integer when `integer`): the message names the range and the value.
+CLI::Validator InRange(double lo, double hi, bool integer) {
+  const std::string range = "in [" + Num(lo) + ", " + Num(hi) + "]";
+  return CLI::Validator(
+      [=](std::string& v) -> std::string {
+        size_t pos = 0;
+        double x = 0;
+        try {
+          x = integer ? double(std::stol(v, &pos)) : std::stod(v, &pos);
+        } catch (const std::exception&) {
+          pos = 0;
+        }
+        if (pos == 0 || pos != v.size() || !std::isfinite(x))
+          return std::string(integer ? "needs an integer" : "needs a number") + " " + range +
+                 ", got '" + v + "'";
+        if (x < lo || x > hi)
+          return "must be " + range + ", got " + v;
+        return std::string();
+      },
+      range);
+}
+
+} // namespace
+
+ParsedArgs::ParsedArgs(CLI::App& app) : App_(app) {}
+
+CLI::Option* ParsedArgs::Add(const std::string& names, const std::string& help, bool flag) {
+  const auto [cli, name] = CliNames(names);
+  CLI::Option* o = flag ? App_.add_flag(cli, help) : App_.add_option(cli, Values_[name], help);
+  Options_[name] = o;
+  return o;
+}
+
+ParsedArgs& ParsedArgs::Value(const std::string& names, const std::string& type,
+                              const std::string& help) {
+  Add(names, help, false)->type_name(type);
+  return *this;
+}
+
+ParsedArgs& ParsedArgs::Int(const std::string& names, long lo, long hi, const std::string& help) {
+  Add(names, help, false)->type_name("INT")->check(InRange(double(lo), double(hi), true));
+  return *this;
+}
+
+ParsedArgs& ParsedArgs::Real(const std::string& names, double lo, double hi,
+                             const std::string& type, const std::string& help) {
+  CLI::Option* o = Add(names, help, false)->type_name(type);
+  if (std::isfinite(lo) || std::isfinite(hi))
+    o->check(InRange(lo, hi, false));
+  return *this;
+}
+
+ParsedArgs& ParsedArgs::Choice(const std::string& names, const std::vector<std::string>& choices,
+                               const std::string& help) {
+  Add(names, help, false)->type_name("WORD")->check(CLI::IsMember(choices));
+  return *this;
+}
+
+ParsedArgs& ParsedArgs::Flag(const std::string& names, const std::string& help) {
+  Add(names, help, true);
+  return *this;
+}
+
+ParsedArgs& ParsedArgs::Words(const std::string& name, const std::string& help) {
+  App_.add_option(name, Positional_, help)->expected(0, -1);
+  return *this;
+}
+
+ParsedArgs& ParsedArgs::Footer(const std::string& text) {
+  App_.footer(text + "\n");
+  return *this;
+}
+
+bool ParsedArgs::Has(const std::string& name) const {
+  const auto it = Options_.find(name);
+  return it != Options_.end() && it->second->count() > 0;
 }
 
 std::optional<std::string> ParsedArgs::Get(const std::string& name) const {
-  auto it = Values_.find(name);
+  if (!Has(name))
+    return std::nullopt;
+  const auto it = Values_.find(name);
   if (it == Values_.end())
     return std::nullopt;
   return it->second;
@@ -94,11 +148,8 @@ std::optional<double> ParsedArgs::GetDouble(const std::string& name, double lo, 
   }
   if (pos == 0 || pos != v->size() || !std::isfinite(x))
     throw UsageError("--" + name + " needs a number, got '" + *v + "'");
-  if (x < lo || x > hi) {
-    std::ostringstream os;
-    os << "--" << name << " must be in [" << lo << ", " << hi << "], got " << *v;
-    throw UsageError(os.str());
-  }
+  if (x < lo || x > hi)
+    throw UsageError("--" + name + " must be in [" + Num(lo) + ", " + Num(hi) + "], got " + *v);
   return x;
 }
 

@@ -1,36 +1,56 @@
-// bmsimArgs.h - options of a bmsim subcommand: positional words and "--name value" / "--flag".
+// bmsimArgs.h - the options of a bmsim subcommand, declared to CLI11 (which parses them, refuses
+// unknown options, missing values and values out of range naming the option and the range, and
+// writes --help) and read by name once parsed.
 //
-// Unknown options, missing values and malformed numbers raise bm::cli::UsageError naming the
-// option, so every command refuses bad input before it writes anything.
+// Declaring: names are "out" (--out) or "o,out" (-o and --out). A number option's range shows in
+// --help and is checked by the parser; GetInt/GetDouble check a (narrower) range again where a
+// command's mode needs one.
 #pragma once
 
 #include <map>
 #include <optional>
-#include <set>
 #include <string>
 #include <vector>
 
 #include "bmsimCommand.h"
 
+namespace CLI {
+class App;
+class Option;
+} // namespace CLI
+
 namespace bm::cli {
 
 class ParsedArgs {
 public:
-  /// valued: options that take a value; flags: options that do not (both without "--");
-  /// shortNames: one-letter spellings, e.g. {"o", "out"} makes "-o FILE" mean "--out FILE"
-  /// (default none); usage: text appended, after a newline, to every error the parsing raises
-  /// (default none). A word of a dash and a letter that is no short name is an unknown option;
-  /// other words (a negative number too) are positional.
-  ParsedArgs(const Args& args, const std::set<std::string>& valued,
-             const std::set<std::string>& flags = {},
-             const std::map<std::string, std::string>& shortNames = {},
-             const std::string& usage = "");
+  /// Options declared on `app` (a subcommand of bmsim), which must outlive this object.
+  explicit ParsedArgs(CLI::App& app);
+
+  ///@{
+  /// Declarations, before parsing. type: the value's name in --help (e.g. "DIR", "HU").
+  ParsedArgs& Value(const std::string& names, const std::string& type, const std::string& help);
+  /// An integer in [lo, hi].
+  ParsedArgs& Int(const std::string& names, long lo, long hi, const std::string& help);
+  /// A finite number in [lo, hi].
+  ParsedArgs& Real(const std::string& names, double lo, double hi, const std::string& type,
+                   const std::string& help);
+  /// One of `choices`.
+  ParsedArgs& Choice(const std::string& names, const std::vector<std::string>& choices,
+                     const std::string& help);
+  /// A flag (no value).
+  ParsedArgs& Flag(const std::string& names, const std::string& help);
+  /// The positional words (any number; the command checks how many it needs).
+  ParsedArgs& Words(const std::string& name, const std::string& help);
+  /// Text after the options in --help.
+  ParsedArgs& Footer(const std::string& text);
+  ///@}
 
   const std::vector<std::string>& Positional() const { return Positional_; }
-  bool Has(const std::string& name) const { return Values_.count(name) || Flags_.count(name); }
+  /// Whether the option (long name, without "--") was given.
+  bool Has(const std::string& name) const;
   std::optional<std::string> Get(const std::string& name) const;
   std::string Get(const std::string& name, const std::string& def) const;
-  /// Integer option within [lo, hi].
+  /// Integer option within [lo, hi]; throws UsageError naming the option and the range.
   std::optional<long> GetInt(const std::string& name, long lo, long hi) const;
   /// Finite number option within [lo, hi] (-HUGE_VAL, HUGE_VAL: any).
   std::optional<double> GetDouble(const std::string& name, double lo, double hi) const;
@@ -38,9 +58,12 @@ public:
   std::optional<std::vector<double>> GetDoubles(const std::string& name, size_t count) const;
 
 private:
+  CLI::Option* Add(const std::string& names, const std::string& help, bool flag);
+
+  CLI::App& App_;
   std::vector<std::string> Positional_;
   std::map<std::string, std::string> Values_;
-  std::set<std::string> Flags_;
+  std::map<std::string, CLI::Option*> Options_;
 };
 
 } // namespace bm::cli

@@ -38,74 +38,6 @@
 
 namespace {
 
-const char* kUsage = R"(usage: bmsim bench [options]
-  Sweeps the drilling scene with the lips fully engaged (block pre-cut to the tool's envelope):
-  method x backend x point-shell resolution x voxmap resolution. Per cell: frame time median,
-  p99 and sd over the timed frames after warm-up, peak memory of the cell's process, thrust and
-  torque error against the edge quadrature. Each cell runs in its own child process.
-  --out DIR              output folder (default out/bench): bench.csv, table1.md (ours),
-                         table2.md (Zheng's), speed_vs_accuracy.png
-  --quick                small subset, fewer frames (< 1 min): shells 128,256, voxmap 128,
-                         200 frames after 20 warm-up frames
-  --methods LIST         lazar,zheng (default both)
-  --backends LIST        cpu,opencl (default both)
-  --shells LIST          point-shell resolutions (default 128,256,512,1024,2048)
-  --voxmaps LIST         voxmap resolutions (default 128,256,512,1024)
-  --frames N             timed frames per cell (default 1000)
-  --warmup N             untimed frames first (default 100)
-  --threads N            CPU backend threads (default 2)
-  --device D             OpenCL device (bmsim devices)
-  --cell-limit S         stop a cell after S seconds (default 600)
-  --replot CSV,...       run nothing: merge saved bench.csv files (a later file's cell replaces
-                         an earlier one's) and write the tables and the chart from them
-
-  --view                 instead: the live view of the cut bone (bm::BoneSurface, as the BM
-                         Session source refreshes it) while the glenoid scene is reamed, per
-                         voxmap of --voxmaps (default 192,512): a haptic thread runs the scene's
-                         scripted feed through the engine (one frame per period, frames back to
-                         back, --threads engine threads, default 1), once without and once with
-                         the view refreshing on this thread every --interval ms (default 33,
-                         ParaView's live-source poll; 0 = back to back), --repeats times
-                         (default 1). Prints the refresh time median and p99 (ms) over the
-                         refreshes while bone was being cut, the refreshes per second that
-                         would fit (1000 / median, 1000 / p99), the bricks re-extracted (of
-                         them patched in place and without surface) and left pending, the
-                         first (whole-surface) extraction, and the haptic frame time p50/p99
-                         with and without the view. Writes view.csv to --out (default
-                         out/bench-view).
-  --scene NAME|FILE      --view: the scene (default glenoid; in builds without CT import, the
-                         glenoid phantom's analytic bone is sampled straight into the voxmap)
-  --shells LIST          --view: the tool's point-shell resolutions to run each voxmap with
-                         (default: the scene's shell scaled with the voxmap, as a session at
-                         that voxmap runs: glenoid 340 at 192, 906 at 512, grids 2:1)
-  --interval MS          --view: refresh period, ms (default 33)
-  --repeats N            --view: runs per voxmap and mode (default 1)
-  --real-time            --view: the haptic thread at the scene's frame rate (1 kHz, sleeping
-                         between frames) instead of back to back
-  --frames N             --view: stop after N haptic frames (default: the scene's whole trial)
-  --budget MS            --view: the surface's extraction time budget per refresh, ms (default
-                         8, as the BM Session source; 0 = every changed brick every refresh)
-  --brick N              --view: the surface's brick edge, voxels (default 8, the voxmap's
-                         occupancy brick, BoneSurface's default)
-
-  --session NAME|FILE    instead: the haptic session's frame time on a scene (glenoid: the built-in
-                         scene at its default resolutions) in a hand-like trial: the scripted
-                         hand (a steady push of --push N, default 3, rising over 0.5 s, with
-                         --tremor N of lateral tremor, default 0.1) on the scene's trial axis
-                         from its clearance,
-                         --seconds S of session time (default 20) at 1 kHz (--back-to-back: no
-                         sleeping between frames), --threads engine threads (default: the
-                         scene's). Runs alternate, --repeats times each (default 2): the
-                         incremental path (contact candidates that follow the shell's changes)
-                         and the full pass (every contact query scans the shell). Prints per run
-                         frame p50 / p99 / max (ms), frames over the 1 ms period, the pauses the
-                         default overrun rule (more than 5 of 100 frames) would have made, and a
-                         checksum of forces and path that is the same for both when exact
-  --serial K             --view: one thread, no contention: K haptic frames, then a refresh, in
-                         turn (default 0: the haptic thread and the view run side by side). The
-                         view's own cost, with the same bricks in every run: for A/B of builds
-)";
-
 std::vector<int> Resolutions(const bm::cli::ParsedArgs& p, const std::string& name,
                              std::vector<int> def) {
   const auto v = p.Get(name);
@@ -536,19 +468,78 @@ int SessionBench(const bm::cli::ParsedArgs& p) {
   return 0;
 }
 
-int BenchCommand(const bm::cli::Args& args) {
+void BenchOptions(bm::cli::ParsedArgs& p) {
+  p.Value("out", "DIR",
+          "output folder (default out/bench; --view: out/bench-view): bench.csv, table1.md "
+          "(ours), table2.md (Zheng's), speed_vs_accuracy.png")
+      .Flag("quick", "small subset, fewer frames (< 1 min): shells 128,256, voxmap 128, 200 "
+                     "frames after 20 warm-up frames")
+      .Value("methods", "LIST", "lazar,zheng (default both)")
+      .Value("backends", "LIST", "cpu,opencl (default both)")
+      .Value("shells", "LIST",
+             "point-shell resolutions, each in [8, 4096] (default 128,256,512,1024,2048; --view: "
+             "the scene's shell scaled with each voxmap)")
+      .Value("voxmaps", "LIST",
+             "voxmap resolutions, each in [8, 4096] (default 128,256,512,1024; --view: 192,512)")
+      .Int("frames", 1, 100000000,
+           "timed frames per cell, at most 1000000 (default 1000); --view: stop after N haptic "
+           "frames (default: the scene's whole trial)")
+      .Int("warmup", 0, 1000000, "untimed frames first (default 100)")
+      .Int("threads", 1, 64,
+           "CPU backend threads (default 2; --view: engine threads, default 1; --session: "
+           "default the scene's)")
+      .Value("cl-device", "D", "the OpenCL device, its number or part of its name (bmsim devices)")
+      .Real("cell-limit", 1, 86400, "S", "stop a cell after S seconds (default 600)")
+      .Value("replot", "CSV,...",
+             "run nothing: merge saved bench.csv files (a later file's cell replaces an earlier "
+             "one's) and write the tables and the chart from them")
+      .Flag("view", "instead: the live view of the cut bone while a scene is reamed (below)")
+      .Value("scene", "NAME|FILE",
+             "--view: the scene (default glenoid; in builds without CT import, the glenoid "
+             "phantom's analytic bone is sampled straight into the voxmap)")
+      .Real("interval", 0, 10000, "MS", "--view: refresh period, ms (default 33; 0 = back to back)")
+      .Int("repeats", 1, 100,
+           "--view: runs per voxmap and mode (default 1); --session: runs of "
+           "each path (default 2)")
+      .Flag("real-time", "--view: the haptic thread at the scene's frame rate (1 kHz, sleeping "
+                         "between frames) instead of back to back")
+      .Real("budget", 0, 10000, "MS",
+            "--view: the surface's extraction time budget per refresh, ms (default 8, as the BM "
+            "Session source; 0 = every changed brick every refresh)")
+      .Int("brick", 2, 256, "--view: the surface's brick edge, voxels (default 8)")
+      .Int("serial", 0, 1000000,
+           "--view: one thread, no contention: K haptic frames, then a refresh, in turn (default "
+           "0: the haptic thread and the view run side by side)")
+      .Value("session", "NAME|FILE",
+             "instead: the haptic session's frame time on a scene in a hand-like trial (below)")
+      .Real("seconds", 0.01, 3600, "S", "--session: seconds of session time (default 20)")
+      .Real("push", 0.01, bm::DeviceLimits().maxForceN, "N",
+            "--session: the hand's steady push, N (default 3), rising over 0.5 s")
+      .Real("tremor", 0, bm::DeviceLimits().maxForceN, "N",
+            "--session: lateral tremor, N (default 0.1)")
+      .Flag("back-to-back", "--session: no sleeping between frames")
+      .Footer(
+          "Default: sweeps the drilling scene with the lips fully engaged (block pre-cut to the "
+          "tool's envelope): method x backend x point-shell resolution x voxmap resolution. Per "
+          "cell: frame time median, p99 and sd over the timed frames after warm-up, peak memory "
+          "of the cell's process, thrust and torque error against the edge quadrature. Each cell "
+          "runs in its own child process.\n"
+          "--view: a haptic thread runs the scene's scripted feed through the engine, once "
+          "without and once with the view (bm::BoneSurface, as the BM Session source refreshes "
+          "it) refreshing every --interval ms; prints the refresh time median and p99, the "
+          "bricks re-extracted and pending, the first extraction and the haptic frame time with "
+          "and without the view; writes view.csv.\n"
+          "--session: the scripted hand on the scene's trial axis from its clearance, at 1 kHz; "
+          "runs alternate between the incremental path (contact candidates that follow the "
+          "shell's changes) and the full pass; prints frame p50 / p99 / max (ms), frames over "
+          "the period, the pauses the overrun rule (more than 5 of 100 frames) would have made, "
+          "and a checksum of forces and path that is the same for both when exact.");
+}
+
+int BenchCommand(const bm::cli::ParsedArgs& p) {
   using bm::cli::UsageError;
-  bm::cli::ParsedArgs p(
-      args, {"out",     "methods", "backends",   "shells",  "voxmaps", "frames",   "warmup",
-             "threads", "device",  "cell-limit", "replot",  "scene",   "interval", "budget",
-             "brick",   "repeats", "serial",     "session", "seconds", "push",     "tremor"},
-      {"quick", "help", "view", "real-time", "back-to-back"});
-  if (p.Has("help")) {
-    std::cout << kUsage;
-    return 0;
-  }
   if (!p.Positional().empty())
-    throw UsageError(std::string("takes no positional arguments\n") + kUsage);
+    throw UsageError("takes no positional arguments");
   if (p.Has("view"))
     return ViewBench(p);
   if (p.Has("session"))
@@ -587,7 +578,7 @@ int BenchCommand(const bm::cli::Args& args) {
     o.threads = int(*v);
   if (auto v = p.GetDouble("cell-limit", 1, 86400))
     o.cellLimitS = *v;
-  o.device = p.Get("device", "");
+  o.device = p.Get("cl-device", "");
   if (o.methods.empty() || o.backends.empty())
     throw UsageError("--methods and --backends need an entry");
   const std::string out = p.Get("out", "out/bench");
@@ -689,4 +680,4 @@ int BenchCommand(const bm::cli::Args& args) {
 
 BM_REGISTER_COMMAND(
     bench, "frame time against force error over the resolution grid (bench.csv, tables, chart)",
-    BenchCommand);
+    BenchOptions, BenchCommand);

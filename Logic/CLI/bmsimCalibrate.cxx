@@ -21,26 +21,6 @@
 #include "bmToolModel.h"
 
 namespace {
-const char* kUsage =
-    "usage: bmsim calibrate DATA.csv [options]\n"
-    "  DATA.csv              measured thrust/torque per condition (columns: "
-    "Logic/Core/bmCalibrationData.h)\n"
-    "  --basis LIST          our (Lazar) model's basis, comma-separated (default "
-    "1000/n_per_rpm)\n"
-    "                        terms: 1, 1-sin(gamma_n), chip_thickness_mm, V_m_per_min,\n"
-    "                        1/V_min_per_m, 1000/n_per_rpm\n"
-    "  --zheng-basis LIST    Zheng et al.'s lip basis (default 1,1/V_min_per_m); Zheng's chisel\n"
-    "                        is the built-in one (k_c 1000 N/mm^2, k_f 0.5), as in the paper\n"
-    "  --bone-factors MODE   fit: one material factor per bone label, the first bone's = 1\n"
-    "                        (default when the data name several bones); none: all 1\n"
-    "  --chisel MODE         our model's chisel edge: shared (default): the lips' basis and\n"
-    "                        coefficients, fitted with them; scaled: the built-in chisel times\n"
-    "                        a fitted scale; fixed: the built-in chisel\n"
-    "  --bones LIST          fit only rows of these bone labels (comma-separated)\n"
-    "  --name NAME           the coefficient set's name (default: the data file's name)\n"
-    "  --out DIR             write coefficients.json (ours), zheng.json, folds.csv,\n"
-    "                        predictions.csv and chart.svg there (created; files replaced)\n";
-
 std::vector<bm::BasisTerm> ParseBasis(const std::string& list, const char* option) {
   std::vector<bm::BasisTerm> out;
   std::stringstream ss(list);
@@ -84,16 +64,32 @@ struct MethodRun {
 
 namespace bm::cli {
 
-static int CalibrateCommand(const Args& args) {
-  const ParsedArgs p(args,
-                     {"basis", "zheng-basis", "bone-factors", "chisel", "bones", "name", "out"},
-                     {"help"}, {{"o", "out"}, {"h", "help"}}, kUsage);
-  if (p.Has("help")) {
-    std::cout << kUsage;
-    return 0;
-  }
+static void CalibrateOptions(ParsedArgs& p) {
+  p.Words("DATA.csv", "measured thrust/torque per condition (columns: "
+                      "Logic/Core/bmCalibrationData.h)")
+      .Value("basis", "LIST",
+             "our (Lazar) model's basis, comma-separated (default 1000/n_per_rpm); terms: 1, "
+             "1-sin(gamma_n), chip_thickness_mm, V_m_per_min, 1/V_min_per_m, 1000/n_per_rpm")
+      .Value("zheng-basis", "LIST",
+             "Zheng et al.'s lip basis (default 1,1/V_min_per_m); Zheng's chisel is the built-in "
+             "one (k_c 1000 N/mm^2, k_f 0.5), as in the paper")
+      .Choice("bone-factors", {"auto", "fit", "none"},
+              "fit: one material factor per bone label, the first bone's = 1 (default when the "
+              "data name several bones); none: all 1")
+      .Choice("chisel", {"shared", "scaled", "fixed"},
+              "our model's chisel edge: shared (default): the lips' basis and coefficients, "
+              "fitted with them; scaled: the built-in chisel times a fitted scale; fixed: the "
+              "built-in chisel")
+      .Value("bones", "LIST", "fit only rows of these bone labels (comma-separated)")
+      .Value("name", "NAME", "the coefficient set's name (default: the data file's name)")
+      .Value("o,out", "DIR",
+             "write coefficients.json (ours), zheng.json, folds.csv, predictions.csv and "
+             "chart.svg there (created; files replaced)");
+}
+
+static int CalibrateCommand(const ParsedArgs& p) {
   if (p.Positional().size() != 1)
-    throw UsageError("name one data file (DATA.csv)\n" + std::string(kUsage));
+    throw UsageError("name one data file (DATA.csv)");
   const std::filesystem::path data = p.Positional()[0];
   const auto ours = ParseBasis(p.Get("basis", "1000/n_per_rpm"), "--basis");
   const auto zheng = ParseBasis(p.Get("zheng-basis", "1,1/V_min_per_m"), "--zheng-basis");
@@ -334,6 +330,6 @@ static int CalibrateCommand(const Args& args) {
 }
 
 BM_REGISTER_COMMAND(calibrate, "fit cutting coefficients to measured forces (DATA.csv)",
-                    CalibrateCommand);
+                    CalibrateOptions, CalibrateCommand);
 
 } // namespace bm::cli

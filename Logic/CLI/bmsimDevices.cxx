@@ -1,4 +1,4 @@
-// bmsim devices - the OpenCL devices `--backend opencl --device D` can choose from.
+// bmsim devices - the OpenCL devices `--backend opencl --cl-device D` can choose from.
 #include <iostream>
 
 #include "bmOpenCLDevice.h"
@@ -7,20 +7,14 @@
 
 namespace {
 
-const char* kUsage = R"(usage: bmsim devices
-  Lists the OpenCL devices (number, type, name, platform, version, compute units, memory) and
-  whether the OpenCL backend can use each (it needs double precision, cl_khr_fp64).
-  --device D takes the number or a part of the name; without it a usable GPU is preferred.
-)";
+void DevicesOptions(bm::cli::ParsedArgs& p) {
+  p.Footer("Lists the OpenCL devices (number, type, name, platform, version, compute units, "
+           "memory) and whether the OpenCL backend can use each (it needs double precision, "
+           "cl_khr_fp64). --cl-device D (bmsim run, bench) takes the number or a part of the name; "
+           "without it a usable GPU is preferred.");
+}
 
-int DevicesCommand(const bm::cli::Args& args) {
-  bm::cli::ParsedArgs p(args, {}, {"help"});
-  if (p.Has("help")) {
-    std::cout << kUsage;
-    return 0;
-  }
-  if (!p.Positional().empty())
-    throw bm::cli::UsageError(std::string("takes no arguments\n") + kUsage);
+int DevicesCommand(const bm::cli::ParsedArgs&) {
   const auto devices = bm::ListOpenCLDevices();
   if (devices.empty()) {
     std::cout << "no OpenCL device found (no OpenCL platform: install an ICD such as "
@@ -49,4 +43,5 @@ int DevicesCommand(const bm::cli::Args& args) {
 
 } // namespace
 
-BM_REGISTER_COMMAND(devices, "list the OpenCL devices the opencl backend can use", DevicesCommand);
+BM_REGISTER_COMMAND(devices, "list the OpenCL devices the opencl backend can use", DevicesOptions,
+                    DevicesCommand);

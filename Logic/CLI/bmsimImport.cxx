@@ -18,32 +18,6 @@
 
 namespace {
 
-const char* kUsage =
-    "usage: bmsim import INPUT --out VOXMAP.nrrd|.mha [options]\n"
-    "  INPUT                 DICOM folder, .nrrd/.nhdr/.mha/.mhd/.nii/.nii.gz file or .inv3 "
-    "project\n"
-    "  --out FILE            voxmap to write (.nrrd or .mha; written only when everything "
-    "succeeded)\n"
-    "  --resolution N        cells along the ROI's longest axis (default 256)\n"
-    "  --threshold HU        bone threshold in Hounsfield units (default 200)\n"
-    "  --seed X,Y,Z          world point (mm) on the bone to keep (default: the largest bone)\n"
-    "  --exclude X,Y,Z[;X,Y,Z...]  world points (mm) on bones to drop: split from the kept bone\n"
-    "                        across the joint space (a point off all bone is a warning)\n"
-    "  --roi X0,Y0,Z0,X1,Y1,Z1  region of interest, world mm (default: the bone's bounding box;\n"
-    "                        an inverted box is an error)\n"
-    "  --box CX,CY,CZ,HX,HY,HZ[,RX,RY,RZ]  oriented box region: centre, half sizes (mm),\n"
-    "                        rotation about x, y, z (degrees)\n"
-    "  --series ID           series to read when the folder holds several: the id listed\n"
-    "                        (SeriesInstanceUID, or noUID-... for a series without one)\n"
-    "  --raw-threshold V     values are not HU: use them as stored, bone = values >= V in the\n"
-    "                        file's units (material scale uniform, not calibrated)\n"
-    "  --hu-mapping A,B      values are not HU: HU = A x value + B (then --threshold is in HU)\n"
-    "  --allow-outside-data  accept a header's data file outside the header's folder\n"
-    "  --max-memory MB       memory the import may use (default 75 % of physical memory)\n"
-    "  --keep-all            keep every bone component, not only the largest\n"
-    "  --no-fill-holes       do not fill cavities inside the bone\n"
-    "  --quiet               no progress bar\n";
-
 std::atomic<bool> gInterrupted{false};
 
 } // namespace
@@ -75,23 +49,42 @@ ProgressFn TerminalProgress(bool quiet) {
   };
 }
 
-static int ImportCommand(const Args& args) {
-  const ParsedArgs p(args,
-                     {"out", "resolution", "threshold", "seed", "exclude", "roi", "box", "series",
-                      "max-memory", "raw-threshold", "hu-mapping"},
-                     {"help", "keep-all", "no-fill-holes", "quiet", "allow-outside-data"},
-                     {{"o", "out"}, {"h", "help"}, {"q", "quiet"}}, kUsage);
-  if (p.Has("help")) {
-    std::cout << kUsage;
-    return 0;
-  }
+static void ImportCommandOptions(ParsedArgs& p) {
+  p.Words("INPUT", "DICOM folder, .nrrd/.nhdr/.mha/.mhd/.nii/.nii.gz file or .inv3 project")
+      .Value("o,out", "FILE",
+             "voxmap to write (.nrrd or .mha; written only when everything succeeded; required)")
+      .Int("resolution", 8, 8192, "cells along the ROI's longest axis (default 256)")
+      .Real("threshold", -1000, 4000, "HU", "bone threshold in Hounsfield units (default 200)")
+      .Value("seed", "X,Y,Z", "world point (mm) on the bone to keep (default: the largest bone)")
+      .Value("exclude", "X,Y,Z[;X,Y,Z...]",
+             "world points (mm) on bones to drop: split from the kept bone across the joint "
+             "space (a point off all bone is a warning)")
+      .Value("roi", "X0,Y0,Z0,X1,Y1,Z1",
+             "region of interest, world mm (default: the bone's bounding box; an inverted box "
+             "is an error)")
+      .Value("box", "CX,CY,CZ,HX,HY,HZ[,RX,RY,RZ]",
+             "oriented box region: centre, half sizes (mm), rotation about x, y, z (degrees)")
+      .Value("series", "ID",
+             "series to read when the folder holds several: the id listed (SeriesInstanceUID, "
+             "or noUID-... for a series without one)")
+      .Real("raw-threshold", -1e9, 1e9, "V",
+            "values are not HU: use them as stored, bone = values >= V in the file's units "
+            "(material scale uniform, not calibrated)")
+      .Value("hu-mapping", "A,B",
+             "values are not HU: HU = A x value + B (then --threshold is in HU)")
+      .Flag("allow-outside-data", "accept a header's data file outside the header's folder")
+      .Real("max-memory", 1, 1e9, "MB",
+            "memory the import may use (default 75 % of physical memory)")
+      .Flag("keep-all", "keep every bone component, not only the largest")
+      .Flag("no-fill-holes", "do not fill cavities inside the bone")
+      .Flag("q,quiet", "no progress bar");
+}
+
+static int ImportCommand(const ParsedArgs& p) {
   bm::ImportOptions opt;
-  if (const auto n = p.GetDouble("resolution", -HUGE_VAL, HUGE_VAL)) {
-    if (*n != double(int(*n)) || *n < 8 || *n > 8192)
-      throw UsageError("--resolution must be an integer 8 .. 8192");
+  if (const auto n = p.GetInt("resolution", 8, 8192))
     opt.resolution = int(*n);
-  }
-  if (const auto t = p.GetDouble("threshold", -HUGE_VAL, HUGE_VAL))
+  if (const auto t = p.GetDouble("threshold", -1000, 4000))
     opt.segmentation.thresholdHU = float(*t);
   if (const auto s = p.GetDoubles("seed", 3))
     opt.segmentation.seedMm = std::array<double, 3>{(*s)[0], (*s)[1], (*s)[2]};
@@ -103,7 +96,7 @@ static int ImportCommand(const Args& args) {
     opt.segmentation.box = bm::OrientedBoxFromText(*b, "--box");
   if (const auto uid = p.Get("series"))
     opt.read.seriesUID = *uid;
-  if (const auto v = p.GetDouble("raw-threshold", -HUGE_VAL, HUGE_VAL)) {
+  if (const auto v = p.GetDouble("raw-threshold", -1e9, 1e9)) {
     if (p.Has("threshold"))
       throw UsageError("--raw-threshold replaces --threshold (it is the threshold in the file's "
                        "units): give one of them");
@@ -117,23 +110,20 @@ static int ImportCommand(const Args& args) {
     opt.read.intensity.huMapping = std::array<double, 2>{(*m)[0], (*m)[1]};
   }
   opt.read.allowDataOutsideFolder = p.Has("allow-outside-data");
-  if (const auto mb = p.GetDouble("max-memory", -HUGE_VAL, HUGE_VAL)) {
-    if (!(*mb > 0))
-      throw UsageError("--max-memory must be a positive number of MB");
+  if (const auto mb = p.GetDouble("max-memory", 1, 1e9))
     opt.read.maxMemoryBytes = uint64_t(*mb * 1048576.0);
-  }
   opt.segmentation.keepAllComponents = p.Has("keep-all");
   opt.segmentation.fillHoles = !p.Has("no-fill-holes");
   const bool quiet = p.Has("quiet");
   const auto& pos = p.Positional();
   if (pos.size() > 1)
-    throw UsageError("more than one INPUT ('" + pos[0] + "', '" + pos[1] + "')\n" + kUsage);
+    throw UsageError("more than one INPUT ('" + pos[0] + "', '" + pos[1] + "')");
   if (pos.empty())
-    throw UsageError(std::string("no INPUT given\n") + kUsage);
+    throw UsageError("no INPUT given");
   const std::string& input = pos[0];
   const std::string output = p.Get("out", "");
   if (output.empty())
-    throw UsageError(std::string("--out VOXMAP.nrrd is required\n") + kUsage);
+    throw UsageError("--out VOXMAP.nrrd is required");
   std::signal(SIGINT, [](int) { gInterrupted = true; });
   bm::ImportResult r;
   try {
@@ -149,7 +139,7 @@ static int ImportCommand(const Args& args) {
 
 BM_REGISTER_COMMAND(import,
                     "CT (DICOM folder or volume file) -> segmented bone voxmap (.nrrd/.mha)",
-                    ImportCommand);
+                    ImportCommandOptions, ImportCommand);
 
 } // namespace bm::cli
 #endif

@@ -13,38 +13,42 @@
 #include <iomanip>
 #include <iostream>
 
-namespace {
-const char* kUsage =
-    "usage: bmsim phantom glenoid|block --out DIR [options]\n"
-    "  glenoid               glenoid (40 x 29 mm face, 35 mm radius of curvature, 1.75 mm "
-    "cortical\n"
-    "                        shell at 1500 HU over 300 HU cancellous bone, 3.2 mm pilot hole)\n"
-    "  block                 6 x 6 x 4 mm cortical block (1600 HU) in air, top face at z = 0\n"
-    "  scapula               scapula with glenoid and humeral head (bmsim phantom scapula --help)\n"
-    "  --out DIR             folder to create (must not exist or be empty; written atomically)\n"
-    "  --compress SYNTAX     rle, jpeg-lossless, jpeg-ls or jpeg2000 (default: uncompressed)\n"
-    "  --noise HU            Gaussian noise sigma (default 10)\n"
-    "  --quiet               no progress bar\n";
-}
-
 namespace bm::cli {
 
 ProgressFn TerminalProgress(bool quiet); // bmsimImport.cxx
 #ifdef BM_PLANNING_WITH_IO
-int ScapulaPhantomCommand(const Args& args); // bmsimPlan.cxx
+int ScapulaPhantomCommand(const ParsedArgs& p); // bmsimPlan.cxx
 #endif
 
-static int PhantomCommand(const Args& args) {
+static void PhantomOptions(ParsedArgs& p) {
+  p.Words("NAME",
+          "glenoid: a glenoid (40 x 29 mm face, 35 mm radius of curvature, 1.75 mm cortical shell "
+          "at 1500 HU over 300 HU cancellous bone, 3.2 mm pilot hole); block: a 6 x 6 x 4 mm "
+          "cortical block (1600 HU) in air, top face at z = 0; scapula: a scapula with its "
+          "glenoid and a humeral head 4 mm across the joint, 1.5 mm cortical shells, 0.75 mm "
+          "pixels, 1 mm slices, and DIR/truth.json (the analytic truth)")
+      .Value("o,out", "DIR", "folder to create (must not exist or be empty; written atomically)")
+      .Choice("compress", {"rle", "jpeg-lossless", "jpeg-ls", "jpeg2000"},
+              "DICOM transfer syntax (default: uncompressed)")
+      .Real("noise", 0, 1000, "HU", "Gaussian noise sigma (default 10)")
+      .Real("version", -45, 45, "DEG",
+            "scapula: glenoid version, negative = retroversion (default -12)")
+      .Real("inclination", -45, 45, "DEG",
+            "scapula: glenoid inclination, positive = superior (default 8)")
+      .Flag("b2", "scapula: posterior wear (biconcave Walch B2 face)")
+      .Flag("left", "scapula: a left shoulder (default right)")
+      .Flag("q,quiet", "no progress bar");
+}
+
+static int PhantomCommand(const ParsedArgs& p) {
+  const auto& words = p.Positional();
 #ifdef BM_PLANNING_WITH_IO
-  if (std::find(args.begin(), args.end(), "scapula") != args.end())
-    return ScapulaPhantomCommand(args);
+  if (std::find(words.begin(), words.end(), "scapula") != words.end())
+    return ScapulaPhantomCommand(p);
 #endif
-  const ParsedArgs p(args, {"out", "compress", "noise"}, {"help", "quiet"},
-                     {{"o", "out"}, {"h", "help"}, {"q", "quiet"}}, kUsage);
-  if (p.Has("help")) {
-    std::cout << kUsage;
-    return 0;
-  }
+  for (const char* o : {"version", "inclination", "b2", "left"})
+    if (p.Has(o))
+      throw UsageError(std::string("--") + o + " applies to the scapula phantom only");
   bm::PhantomCTOptions ct;
   bm::DicomWriteOptions dicom;
   if (const auto syntax = p.Get("compress")) {
@@ -53,21 +57,18 @@ static int PhantomCommand(const Args& args) {
         dicom.transferSyntax != "jpeg-ls" && dicom.transferSyntax != "jpeg2000")
       throw UsageError("--compress must be rle, jpeg-lossless, jpeg-ls or jpeg2000");
   }
-  if (const auto noise = p.GetDouble("noise", -HUGE_VAL, HUGE_VAL)) {
-    if (*noise < 0)
-      throw UsageError("--noise must be >= 0");
+  if (const auto noise = p.GetDouble("noise", 0, 1000))
     ct.noiseHU = *noise;
-  }
   const bool quiet = p.Has("quiet");
-  const auto& pos = p.Positional();
+  const auto& pos = words;
   if (pos.size() > 1)
-    throw UsageError("more than one phantom name\n" + std::string(kUsage));
+    throw UsageError("more than one phantom name");
   const std::string name = pos.empty() ? "" : pos[0];
   if (name != "glenoid" && name != "block")
-    throw UsageError("name the phantom: glenoid or block\n" + std::string(kUsage));
+    throw UsageError("name the phantom: glenoid, block or scapula");
   const std::string out = p.Get("out", "");
   if (out.empty())
-    throw UsageError("--out DIR is required\n" + std::string(kUsage));
+    throw UsageError("--out DIR is required");
   bm::PhantomInfo info =
       bm::WritePhantomSeries(name, out, ct, dicom, bm::Progress(TerminalProgress(quiet)));
   if (!quiet && isatty(2))
@@ -88,8 +89,8 @@ static int PhantomCommand(const Args& args) {
   return 0;
 }
 
-BM_REGISTER_COMMAND(phantom, "write a synthetic CT (glenoid or block) as a DICOM series",
-                    PhantomCommand);
+BM_REGISTER_COMMAND(phantom, "write a synthetic CT (glenoid, block or scapula) as a DICOM series",
+                    PhantomOptions, PhantomCommand);
 
 } // namespace bm::cli
 #endif

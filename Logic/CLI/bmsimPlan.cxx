@@ -31,45 +31,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const char* kPlanUsage =
-    "usage: bmsim plan CT|phantom --out DIR [options]\n"
-    "  CT                     DICOM folder, volume file or .inv3 project holding the shoulder\n"
-    "  phantom                the scapula phantom (its DICOM series is written to DIR/ct first)\n"
-    "  --out DIR              folder to create (must not exist or be empty); receives plan.json\n"
-    "                         (both steps), step1-guide-pin.json, step2-ream.json (single-step\n"
-    "                         scenes for bmsim run), plan_report.md/.html/.json\n"
-    "  --landmarks FILE       landmarks replacing detected ones: a plan.json (its edited\n"
-    "                         planning.landmarks) or a JSON object of glenoid_centre_mm,\n"
-    "                         face_normal, trigonum_mm, inferior_angle_mm (world mm, LPS)\n"
-    "  --target-version DEG   target version of the reaming axis (default 0)\n"
-    "  --target-inclination DEG  target inclination (default 0)\n"
-    "  --reamer-diameter MM   reamer size checked against the glenoid (default 36.5)\n"
-    "  --ream-depth MM        reaming depth below the glenoid centre (default 2)\n"
-    "  --pin-radius MM        guide-pin hole radius (default 3.2; above the nipple's 3)\n"
-    "  --pin-depth MM         guide-pin depth (default: ream depth + nipple 6 + 2 mm)\n"
-    "  --resolution N         voxmap cells along the bone's longest side for detection "
-    "(default 256)\n"
-    "  --threshold HU         bone threshold (default 200)\n"
-    "  --phantom-version DEG  phantom: its glenoid version (default -12)\n"
-    "  --phantom-inclination DEG  phantom: its inclination (default 8)\n"
-    "  --b2                   phantom: posterior wear (a biconcave Walch B2 face)\n"
-    "  --quiet                no progress bar\n"
-    "  exit status 3: no glenoid found; the report says why and lists the landmarks to place\n";
-
-const char* kScapulaUsage =
-    "usage: bmsim phantom scapula --out DIR [options]\n"
-    "  a scapula (blade, glenoid of set version and inclination) and a humeral head 4 mm across\n"
-    "  the joint, 1.5 mm cortical shells at 1500 HU over 300 HU cancellous bone; 0.75 mm pixels,\n"
-    "  1 mm slices; writes the DICOM series and DIR/truth.json (the analytic truth)\n"
-    "  --out DIR              folder to create (must not exist or be empty)\n"
-    "  --version DEG          glenoid version, negative = retroversion (default -12)\n"
-    "  --inclination DEG      glenoid inclination, positive = superior (default 8)\n"
-    "  --b2                   posterior wear (biconcave Walch B2 face)\n"
-    "  --left                 a left shoulder (default right)\n"
-    "  --compress SYNTAX      rle, jpeg-lossless, jpeg-ls or jpeg2000 (default: uncompressed)\n"
-    "  --noise HU             Gaussian noise sigma (default 10)\n"
-    "  --quiet                no progress bar\n";
-
 void RequireEmptyOut(const std::string& out) {
   if (out.empty())
     throw bm::cli::UsageError("--out DIR is required");
@@ -89,16 +50,9 @@ namespace bm::cli {
 
 ProgressFn TerminalProgress(bool quiet); // bmsimImport.cxx
 
-int ScapulaPhantomCommand(const Args& args) {
-  const ParsedArgs p(args, {"out", "compress", "noise", "version", "inclination"},
-                     {"help", "quiet", "b2", "left"}, {{"o", "out"}, {"h", "help"}, {"q", "quiet"}},
-                     kScapulaUsage);
-  if (p.Has("help")) {
-    std::cout << kScapulaUsage;
-    return 0;
-  }
+int ScapulaPhantomCommand(const ParsedArgs& p) {
   if (p.Positional().size() != 1 || p.Positional()[0] != "scapula")
-    throw UsageError("name one phantom: scapula\n" + std::string(kScapulaUsage));
+    throw UsageError("name one phantom: scapula");
   ScapulaPhantomParams sp = p.Has("b2") ? ScapulaPhantomParams::B2() : ScapulaPhantomParams{};
   sp.versionDeg = p.GetDouble("version", -45, 45).value_or(sp.versionDeg);
   sp.inclinationDeg = p.GetDouble("inclination", -45, 45).value_or(sp.inclinationDeg);
@@ -138,19 +92,40 @@ int ScapulaPhantomCommand(const Args& args) {
   return 0;
 }
 
-static int PlanCommand(const Args& args) {
-  const ParsedArgs p(args,
-                     {"out", "landmarks", "target-version", "target-inclination", "reamer-diameter",
-                      "ream-depth", "pin-radius", "pin-depth", "resolution", "threshold",
-                      "phantom-version", "phantom-inclination"},
-                     {"help", "quiet", "b2"}, {{"o", "out"}, {"h", "help"}, {"q", "quiet"}},
-                     kPlanUsage);
-  if (p.Has("help")) {
-    std::cout << kPlanUsage;
-    return 0;
-  }
+static void PlanCommandOptions(ParsedArgs& p) {
+  p.Words("CT|phantom", "DICOM folder, volume file or .inv3 project holding the shoulder, or "
+                        "'phantom': the scapula phantom (its DICOM series is written to DIR/ct "
+                        "first)")
+      .Value("o,out", "DIR",
+             "folder to create (must not exist or be empty; required); receives plan.json (both "
+             "steps), step1-guide-pin.json, step2-ream.json (single-step scenes for bmsim run), "
+             "plan_report.md/.html/.json")
+      .Value("landmarks", "FILE",
+             "landmarks replacing detected ones: a plan.json (its edited planning.landmarks) or "
+             "a JSON object of glenoid_centre_mm, face_normal, trigonum_mm, inferior_angle_mm "
+             "(world mm, LPS)")
+      .Real("target-version", -44.9, 44.9, "DEG", "target version of the reaming axis (default 0)")
+      .Real("target-inclination", -44.9, 44.9, "DEG", "target inclination (default 0)")
+      .Real("reamer-diameter", 10, 60, "MM",
+            "reamer size checked against the glenoid (default 36.5)")
+      .Real("ream-depth", 0.01, 10, "MM", "reaming depth below the glenoid centre (default 2)")
+      .Real("pin-radius", 0.01, 5, "MM",
+            "guide-pin hole radius (default 3.2; above the nipple's 3)")
+      .Real("pin-depth", 0.01, 40, "MM", "guide-pin depth (default: ream depth + nipple 6 + 2 mm)")
+      .Int("resolution", 32, 1024,
+           "voxmap cells along the bone's longest side for detection (default 256)")
+      .Real("threshold", -1000, 4000, "HU", "bone threshold (default 200)")
+      .Real("phantom-version", -45, 45, "DEG", "phantom: its glenoid version (default -12)")
+      .Real("phantom-inclination", -45, 45, "DEG", "phantom: its inclination (default 8)")
+      .Flag("b2", "phantom: posterior wear (a biconcave Walch B2 face)")
+      .Flag("q,quiet", "no progress bar")
+      .Footer("Exit status 3: no glenoid found; the report says why and lists the landmarks to "
+              "place.");
+}
+
+static int PlanCommand(const ParsedArgs& p) {
   if (p.Positional().size() != 1)
-    throw UsageError("name one CT (or phantom)\n" + std::string(kPlanUsage));
+    throw UsageError("name one CT (or phantom)");
   const std::string input = p.Positional()[0];
   const bool phantom = input == "phantom";
   PlanOptions po;
@@ -282,7 +257,7 @@ static int PlanCommand(const Args& args) {
 }
 
 BM_REGISTER_COMMAND(plan, "plan glenoid reaming on a shoulder CT (or the scapula phantom)",
-                    PlanCommand);
+                    PlanCommandOptions, PlanCommand);
 
 } // namespace bm::cli
 #endif

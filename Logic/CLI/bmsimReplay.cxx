@@ -13,24 +13,20 @@
 
 namespace {
 
-const char* kUsage = R"(usage: bmsim replay FILE [options]
-  FILE               a session recording (.h5 or .csv from bmsim run --record, or session.csv)
-  --out DIR          write DIR/replay.csv and DIR/replay_summary.json (default: none)
-  --tolerance N      largest accepted force difference, N (default 1e-9)
-Exit status 0 when every frame's coupling force, thrust and torque match the recording within
-the tolerance, 1 otherwise; the outputs are written (together) only when they match. A recording
-with no frames or a non-finite pose, speed or force is refused before anything runs. Recordings
-of any scene replay: a CT or phantom scene's bone is rebuilt from the recorded scene.
-)";
+void ReplayOptions(bm::cli::ParsedArgs& p) {
+  p.Words("FILE", "a session recording (.h5 or .csv from bmsim run --record, or session.csv)")
+      .Value("out", "DIR", "write DIR/replay.csv and DIR/replay_summary.json (default: none)")
+      .Real("tolerance", 0.0, 1e6, "N", "largest accepted force difference, N (default 1e-9)")
+      .Footer("Exit status 0 when every frame's coupling force, thrust and torque match the "
+              "recording within the tolerance, 1 otherwise; the outputs are written (together) "
+              "only when they match. A recording with no frames or a non-finite pose, speed or "
+              "force is refused before anything runs. Recordings of any scene replay: a CT or "
+              "phantom scene's bone is rebuilt from the recorded scene.");
+}
 
-int ReplayCommand(const bm::cli::Args& args) {
-  bm::cli::ParsedArgs p(args, {"out", "tolerance"}, {"help"});
-  if (p.Has("help")) {
-    std::cout << kUsage;
-    return 0;
-  }
+int ReplayCommand(const bm::cli::ParsedArgs& p) {
   if (p.Positional().size() != 1)
-    throw bm::cli::UsageError(std::string("needs exactly one FILE\n") + kUsage);
+    throw bm::cli::UsageError("needs exactly one FILE");
   const double tol = p.GetDouble("tolerance", 0.0, 1e6).value_or(1e-9);
   const auto out = p.Get("out");
   if (out)
@@ -81,4 +77,4 @@ int ReplayCommand(const bm::cli::Args& args) {
 } // namespace
 
 BM_REGISTER_COMMAND(replay, "re-run a recorded session (FILE.h5|.csv) and compare its forces",
-                    ReplayCommand);
+                    ReplayOptions, ReplayCommand);

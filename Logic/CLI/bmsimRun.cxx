@@ -17,40 +17,36 @@
 
 namespace {
 
-const char* kUsage = R"(usage: bmsim run SCENE [options]
-  SCENE                    built-in scene (drilling, glenoid, ...) or a scene file (.json)
-  --out DIR                output folder (default out/<scene>); gets forces.csv, summary.json
-  --feed F                 feed per revolution, mm/rev (drilling default 0.02)
-  --speed N                spindle speed, rpm (default 1000)
-  --voxmap-resolution N    cells along the bone's longest side (default: the scene's); alone,
-                           it scales the scene's shell alike (the grids keep their ratio)
-  --shell-resolution N     cells along the tool's longest side (default: the scene's)
-  --method lazar|zheng     force model and pipeline (default lazar)
-  --threads N              CPU threads (default 2)
-  --backend cpu|opencl     compute backend (default cpu)
-  --device D               with --backend opencl: OpenCL device index or name
-  --lips averaged|instantaneous   lip model (default averaged)
-  --no-report              skip the report (report.md/.html, cut surface .vtp/.stl, PNG charts
-                           and picture; rendering starts a private Xvfb when DISPLAY is unset)
-  --device scripted|touch  run through a haptic session, on any scene (bmsimRunSession.h lists
-                           its options: --mode feed|force|trajectory|hand, --force N (device N,
-                           at most the device's maximum), --force-scale S (tool N per device N,
-                           default 20), --seed N, --duration S, --record FILE)
-)";
+void RunOptions(bm::cli::ParsedArgs& p) {
+  p.Words("SCENE", "built-in scene (drilling, glenoid, skull, ...) or a scene file (.json)")
+      .Value("out", "DIR", "output folder (default out/<scene>); gets forces.csv, summary.json")
+      .Real("feed", 1e-5, 1.0, "MM_PER_REV", "feed per revolution, mm/rev (default: the scene's)")
+      .Real("speed", 1.0, 100000.0, "RPM", "spindle speed, rpm (default: the scene's)")
+      .Int("voxmap-resolution", 8, 4096,
+           "cells along the bone's longest side (default: the scene's); alone, it scales the "
+           "scene's shell alike (the grids keep their ratio)")
+      .Int("shell-resolution", 8, 4096,
+           "cells along the tool's longest side (default: the scene's)")
+      .Choice("method", {"lazar", "zheng"}, "force model and pipeline (default: the scene's)")
+      .Int("threads", 1, 64, "CPU threads (default: the scene's)")
+      .Choice("backend", {"cpu", "opencl"}, "compute backend (default cpu)")
+      .Value("cl-device", "D",
+             "with --backend opencl: the OpenCL device, its number or part of its name (bmsim "
+             "devices)")
+      .Choice("lips", {"averaged", "instantaneous"}, "lip model (default averaged)")
+      .Flag("no-report", "skip the report (report.md/.html, cut surface .vtp/.stl, PNG charts and "
+                         "picture; rendering starts a private Xvfb when DISPLAY is unset)");
+  bm::cli::SessionRunOptions(p);
+  p.Footer("Without --device the scene runs as an offline feed trial (forces.csv, summary.json, "
+           "report). With --device scripted|touch (or --mode) it runs through a haptic session "
+           "(session.csv, summary.json; Docs/Session.md). A scene with steps (a plan from bmsim "
+           "plan) runs its steps in order on one bone.");
+}
 
-int RunCommand(const bm::cli::Args& args) {
+int RunCommand(const bm::cli::ParsedArgs& p) {
   using bm::cli::UsageError;
-  std::set<std::string> valued = {
-      "out",     "feed",   "speed", "voxmap-resolution", "shell-resolution", "method", "threads",
-      "backend", "device", "lips"};
-  valued.insert(bm::cli::kSessionRunOptions.begin(), bm::cli::kSessionRunOptions.end());
-  bm::cli::ParsedArgs p(args, valued, {"help", "no-report"});
-  if (p.Has("help")) {
-    std::cout << kUsage;
-    return 0;
-  }
   if (p.Positional().size() != 1)
-    throw UsageError(std::string("needs exactly one SCENE\n") + kUsage);
+    throw UsageError("needs exactly one SCENE");
   const std::string name = p.Positional()[0];
   bm::Scene scene;
   try {
@@ -77,7 +73,7 @@ int RunCommand(const bm::cli::Args& args) {
   }
   if (bm::cli::WantsSession(p))
     return bm::cli::RunSessionScene(scene, p, out);
-  bm::MachiningSetup setup(scene, bm::cli::SceneBone(scene), p.Get("device", ""));
+  bm::MachiningSetup setup(scene, bm::cli::SceneBone(scene), p.Get("cl-device", ""));
   bm::FeedTrial trial(setup);
   {
     bm::cli::ProgressBar bar("run " + scene.name);
@@ -111,4 +107,4 @@ int RunCommand(const bm::cli::Args& args) {
 } // namespace
 
 BM_REGISTER_COMMAND(run, "run a scene (drilling or FILE.json) and write forces.csv, summary.json",
-                    RunCommand);
+                    RunOptions, RunCommand);

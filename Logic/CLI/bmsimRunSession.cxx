@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <sstream>
 
 #include "bmAtomicFile.h"
 #include "bmsimCommand.h"
@@ -20,9 +21,36 @@
 
 namespace bm::cli {
 
-const std::set<std::string> kSessionRunOptions = {
-    "device",  "mode",      "force", "trajectory",    "duration",    "record",
-    "contact", "rendering", "rate",  "overrun-limit", "force-scale", "seed"};
+void SessionRunOptions(ParsedArgs& p) {
+  const std::string maxForce = [] {
+    std::ostringstream os;
+    os << DeviceLimits().maxForceN;
+    return os.str();
+  }();
+  p.Choice("device", {"scripted", "touch"},
+           "run through a haptic session with this device: scripted (a simulated hand or feed on "
+           "a Touch) or touch (OpenHaptics libHD.so, $BM_LIBHD overrides)")
+      .Choice("mode", {"feed", "force", "trajectory", "hand"},
+              "scripted device: prescribed feed and speed (default), a constant push, a "
+              "trajectory file, or a hand's rising push with tremor")
+      .Real("force", 0.0, DeviceLimits().maxForceN, "N",
+            "force and hand modes: the push along the feed at the device, N, at most the "
+            "Touch's " +
+                maxForce + " N (default 2.5)")
+      .Real("force-scale", 1e-3, kMaxForceScale, "S", "tool force = S x device force (default 50)")
+      .Int("seed", 0, 1000000000, "hand mode: tremor seed (default 1)")
+      .Value("trajectory", "FILE", "trajectory mode: time_s,x_mm,y_mm,z_mm[,qw,qx,qy,qz] rows")
+      .Real("duration", 0.001, 3600, "S",
+            "seconds of session time (default: feed mode the trial's depth, force and hand "
+            "modes 2 s, trajectory its length, touch 10 s)")
+      .Value("record", "FILE", "also write the record to FILE (.h5 needs HDF5, else .csv)")
+      .Choice("contact", {"cutting", "kim"}, "contact model (default cutting)")
+      .Choice("rendering", {"coupled", "direct"}, "force rendering (default coupled)")
+      .Real("rate", 10, 10000, "HZ", "haptic rate, Hz (default 1000)")
+      .Int("overrun-limit", -1, 1000000,
+           "pause after more than N overruns in 100 frames, -1 never (default: touch 5, "
+           "scripted never)");
+}
 
 Voxmap SceneBone(const bm::Scene& scene) {
   if (scene.bone.type == "block" || !CanImportSceneBones())
@@ -57,10 +85,7 @@ void CheckWritableOutput(const std::string& what, const std::string& path, bool 
 }
 
 bool WantsSession(const ParsedArgs& args) {
-  if (args.Has("mode"))
-    return true;
-  const auto d = args.Get("device");
-  return d && (*d == "scripted" || *d == "touch");
+  return args.Has("mode") || args.Has("device");
 }
 
 namespace {

@@ -19,25 +19,13 @@
 
 namespace bm::cli {
 
-/// Valued options RunSessionScene reads (bmsimRun adds them to its parser):
+/// Declares the options RunSessionScene reads (bmsim run adds them to its own):
 ///  --device scripted|touch   the haptic device (touch: OpenHaptics libHD.so, $BM_LIBHD overrides)
-///  --mode feed|force|trajectory|hand  scripted device: prescribed feed and speed (default),
-///                            prescribed applied force, a trajectory file, or a hand's push
-///                            (ScriptMode::Hand: a rising push plus lateral tremor)
-///  --force N                 force and hand modes: the push along the feed at the device, N, in
-///                            [0, the device's maximum] (default 2.5, a firm Touch push)
-///  --force-scale S           tool force = S x device force (default kDefaultSessionForceScale)
-///  --seed N                  hand mode: tremor seed (default 1)
-///  --trajectory FILE         trajectory mode: time_s,x_mm,y_mm,z_mm[,qw,qx,qy,qz] rows
-///  --duration S              seconds of session time (default: feed mode the trial's depth,
-///                            force and hand modes 2 s, trajectory its length, touch 10 s)
-///  --record FILE             also write the record to FILE (.h5 needs HDF5, else .csv)
-///  --contact cutting|kim     contact model (default cutting, ours)
-///  --rendering coupled|direct  (default coupled)
-///  --rate HZ                 haptic rate (default 1000)
-///  --overrun-limit N         pause after more than N overruns in 100 frames (default: touch 5,
-///                            scripted never: a robot run reports its overruns instead)
-extern const std::set<std::string> kSessionRunOptions;
+///  --mode feed|force|trajectory|hand, --force N, --force-scale S, --seed N, --trajectory FILE,
+///  --duration S, --record FILE, --contact cutting|kim, --rendering coupled|direct, --rate HZ,
+///  --overrun-limit N (each described in its --help line; the session is built by
+///  bm::BuildSession, bmSessionBuilder.h).
+void SessionRunOptions(ParsedArgs& p);
 
 /// Whether `bmsim run` should hand these arguments to RunSessionScene.
 bool WantsSession(const ParsedArgs& args);

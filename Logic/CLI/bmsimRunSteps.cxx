@@ -83,7 +83,7 @@ int RunSceneSteps(const bm::Scene& scene, const ParsedArgs& args, const std::str
   for (size_t i = 0; i < scene.steps.size(); ++i) {
     const bm::Scene step = scene.Step(i);
     const std::string folder = StepFolder(i, scene.steps[i].name);
-    bm::MachiningSetup setup(step, bone, args.Get("device", ""));
+    bm::MachiningSetup setup(step, bone, args.Get("cl-device", ""));
     bm::FeedTrial trial(setup);
     {
       ProgressBar bar(folder);
