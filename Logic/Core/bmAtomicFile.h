@@ -24,7 +24,18 @@ void WriteFileAtomic(const std::string& path, const std::function<void(std::ostr
 void WriteFilesAtomic(const std::vector<std::pair<std::string, std::string>>& files);
 
 /// A unique hidden temporary path beside `path` (same directory, so rename is atomic), with the
-/// same extension: "dir/.name.tmp-PID-N.ext".
+/// same extension: "dir/.name.tmp-PID-N.ext". The first call for a folder in this process also
+/// removes that folder's stale temporaries (RemoveStaleTemporaries).
 std::string TemporarySibling(const std::string& path);
+
+/// Whether `name` (a file name, no folder) is a temporary of TemporarySibling's pattern
+/// (".name.tmp-PID-N[.ext]"); its PID is stored in `pid`.
+bool IsTemporaryName(const std::string& name, long& pid);
+
+/// Removes the temporaries (files or folders of TemporarySibling's pattern) in `folder` that a
+/// killed run left: those whose process no longer runs, or whose PID now belongs to a process
+/// started after the temporary was last written (the PID was reused). Temporaries of running
+/// writers are kept. Returns how many were removed; a folder that cannot be listed removes none.
+int RemoveStaleTemporaries(const std::string& folder);
 
 } // namespace bm
