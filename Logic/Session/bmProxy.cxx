@@ -39,6 +39,9 @@ Proxy::Proxy(MachiningSetup& setup, const DeviceLimits& limits, double frameS,
     throw std::invalid_argument("proxy: frame period must be > 0");
   if (!(o.maxFeedMmPerRev > 0))
     throw std::invalid_argument("proxy: the largest feed must be > 0 mm/rev");
+  if (!(o.lateralAverageRevolutions >= 0 && o.lateralAverageRevolutions <= 100))
+    throw std::invalid_argument(
+        "proxy: the lateral force's averaging must be in [0, 100] revolutions");
   Sdf_ = std::make_unique<ToolDistanceField>(setup.Tool(), o.sdfResolution);
   Shell_ = std::make_unique<BoneSurfaceShell>(setup.Bone());
   Contact_ = std::make_unique<KimParkContact>(*Sdf_, *Shell_, o.contactStiffnessPerArea);
@@ -190,11 +193,18 @@ void Proxy::CuttingStep(const Eigen::Vector3d& xd, const Eigen::Vector3d& vd,
       feed > 0 ? Eigen::Vector3d(R * Eigen::Vector3d(r.forceTool(0), r.forceTool(1), 0))
                : Eigen::Vector3d::Zero();
   f.lateralForceN = lateral;
+  // The lateral force acts averaged over the spindle's revolution: frame by frame it is mostly the
+  // voxel grid's aliasing of a partly engaged face (tens of N either way for a reamer a tenth of a
+  // voxel off centre), and acting at once it made the massless proxy whirl about the axis inside
+  // the guide pin's hole, ~1 mm per frame (Docs/Interaction.md).
+  const double tau = O_.lateralAverageRevolutions * 60.0 / n;
+  LateralMean_ += (tau > 0 ? T_ / (tau + T_) : 1.0) * (lateral - LateralMean_);
   if (r.removedVoxels > 0)
     SyncShell(R, P_, p);
-  // Across the axis: rigid contact with the axis held, the lateral cutting force acting too.
+  // Across the axis: rigid contact with the axis held, the averaged lateral cutting force acting
+  // too.
   ContactResult c;
-  p = Relax(p, xd, vd, R, O_.deadBandVoxels * h, &a, lateral, c);
+  p = Relax(p, xd, vd, R, O_.deadBandVoxels * h, &a, LateralMean_, c);
   f.contactPoints = c.points;
   P_ = p;
 }
@@ -204,6 +214,7 @@ ProxyFrame Proxy::Step(const Eigen::Vector3d& xd, const Eigen::Matrix3d& R, doub
   if (!Started_) {
     P_ = Xd_ = xd;
     Fraction_ = 0;
+    LateralMean_.setZero();
     Started_ = true;
   }
   if (ForgetMotion_) {

@@ -75,6 +75,10 @@ struct ProxyOptions {
   /// candidate points, at the same orientation and with the shell unchanged, read only those
   /// candidates (KimParkContact::SetCandidateRadius; exact, only faster); 0 = scan every query.
   double candidateRadiusVoxels = 2.0;
+  /// Cutting: across the axis the engine's lateral cutting force acts on the proxy averaged over
+  /// this many spindle revolutions (an exponential mean with time constant revolutions x 60 / n;
+  /// default 1; 0 = each frame's own force). Docs/Interaction.md, "Across the axis while cutting".
+  double lateralAverageRevolutions = 1.0;
 };
 
 /// One frame's result.
@@ -147,8 +151,9 @@ private:
   FeedBalance Balance_;
   bool Started_ = false, ForgetMotion_ = false;
   Eigen::Vector3d P_ = Eigen::Vector3d::Zero(), Xd_ = Eigen::Vector3d::Zero();
-  double Fraction_ = 0;     // engaged fraction from the last engine frame
-  double SpindleAngle_ = 0; // rad
+  double Fraction_ = 0; // engaged fraction from the last engine frame
+  Eigen::Vector3d LateralMean_ = Eigen::Vector3d::Zero(); // revolution-averaged lateral force, N
+  double SpindleAngle_ = 0;                               // rad
 };
 
 } // namespace bm

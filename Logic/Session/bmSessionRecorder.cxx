@@ -103,7 +103,7 @@ SessionOptions SessionOptionsFromJson(const nlohmann::json& j, DeviceLimits& l) 
   p.deadBandVoxels = Field(j, "dead_band_voxels", p.deadBandVoxels, 0, 100, where);
   p.kimCutDepthVoxels = Field(j, "kim_cut_depth_voxels", p.kimCutDepthVoxels, 0, 100, where);
   // Older recordings: the lateral force acted frame by frame.
-  p.lateralAverageRevolutions = Field(j, "lateral_average_revolutions", 0.0, 0, 1000, where);
+  p.lateralAverageRevolutions = Field(j, "lateral_average_revolutions", 0.0, 0, 100, where);
   if (j.contains("device_limits")) {
     const auto& d = j.at("device_limits");
     const std::string dw = "the recording's device_limits";

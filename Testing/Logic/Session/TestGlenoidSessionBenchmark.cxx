@@ -15,10 +15,7 @@
 // Docs/RealTime.md. Scanning every query (radius 0) and the candidates (radius 2, the default)
 // give identical checksums.
 //
-// The bone (world mm, the face centre at the origin, the reaming axis +z out of the bone) is
-// bm::PhantomIsBone's glenoid (bmPhantom.h) in its local frame without the CT import (no ITK
-// here): (u/20)^2 + (v/14.5)^2 <= 1, -H <= w <= 35 - sqrt(35^2 - r^2), minus the pilot hole r <=
-// 4.0 mm, w >= -10 mm; the vault is cut at H = 12 mm (the reamer goes 2 mm deep).
+// The bone: bmTestGlenoid.h's analytic glenoid.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -32,54 +29,18 @@
 
 #include "bmHapticSession.h"
 #include "bmScriptedDevice.h"
+#include "bmTestGlenoid.h"
 
 namespace {
-
-constexpr double kA = 20, kB = 14.5, kRc = 35, kH = 12, kRp = 4.0, kDp = 10;
-
-bool GlenoidBone(double u, double v, double w) {
-  const double r2 = u * u + v * v;
-  if ((u / kA) * (u / kA) + (v / kB) * (v / kB) > 1 || w < -kH)
-    return false;
-  if (w > kRc - std::sqrt(kRc * kRc - r2))
-    return false;
-  return !(r2 <= kRp * kRp && w >= -kDp);
-}
-
-bm::Voxmap GlenoidVoxmap(double spacing) {
-  const double rim = kRc - std::sqrt(kRc * kRc - kA * kA);
-  const std::array<double, 3> lo{-kA - spacing, -kB - spacing, -kH - spacing};
-  const std::array<double, 3> hi{kA + spacing, kB + spacing, rim + spacing};
-  std::array<int, 3> dims{};
-  for (int a = 0; a < 3; ++a)
-    dims[size_t(a)] = int(std::ceil((hi[size_t(a)] - lo[size_t(a)]) / spacing)) + 1;
-  bm::Voxmap v(dims, spacing, lo);
-  for (int k = 0; k < dims[2]; ++k)
-    for (int j = 0; j < dims[1]; ++j)
-      for (int i = 0; i < dims[0]; ++i) {
-        const auto w = v.GridToWorld({double(i), double(j), double(k)});
-        if (GlenoidBone(w[0], w[1], w[2]))
-          v.SetFill(v.Index(i, j, k), bm::Voxmap::kFull);
-      }
-  v.RebuildOccupancy();
-  return v;
-}
 
 TEST(SessionBenchmark, GlenoidReamerFrameTime) {
   const char* env = std::getenv("BM_SESSION_BENCH_FRAMES");
   if (!env || std::atoi(env) <= 0)
     GTEST_SKIP() << "set BM_SESSION_BENCH_FRAMES=N to run N frames of the glenoid reamer session";
   const int frames = std::atoi(env);
-  nlohmann::json j = bm::Scene::Builtin("drilling").ToJson();
-  j["tool"] = {{"type", "reamer"}};
-  j["voxmap_resolution"] = 192;
-  j["shell_resolution"] = 340;
-  j["threads"] = 2;
-  j["trial"]["feed_mm_per_rev"] = 0.1;
-  j["trial"]["speed_rpm"] = 500;
-  j.erase("force_model");
-  const bm::Scene scene = bm::Scene::FromJson(j);
-  bm::MachiningSetup setup(scene, GlenoidVoxmap(41.25 / 192));
+  const bm::Scene scene = bmtest::AnalyticGlenoidScene(192, 340);
+  bm::MachiningSetup setup(scene,
+                           bmtest::AnalyticGlenoidVoxmap(bmtest::AnalyticGlenoidSpacing(192)));
 
   bm::ScriptedDeviceOptions d;
   d.mode = bm::ScriptMode::Feed;
