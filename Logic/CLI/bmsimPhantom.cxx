@@ -12,6 +12,8 @@
 #include <cstdio>
 #include <iomanip>
 #include <iostream>
+#include <string>
+#include <vector>
 
 namespace bm::cli {
 
@@ -24,13 +26,19 @@ static void PhantomOptions(ParsedArgs& p) {
   p.Words("NAME",
           "glenoid: a glenoid (40 x 29 mm face, 35 mm radius of curvature, 1.75 mm cortical shell "
           "at 1500 HU over 300 HU cancellous bone, 3.2 mm pilot hole); block: a 6 x 6 x 4 mm "
-          "cortical block (1600 HU) in air, top face at z = 0; scapula: a scapula with its "
+          "cortical block (1600 HU) in air, top face at z = 0; shoulder: a humeral head (22 mm "
+          "sphere) 3.5 mm across the joint from a glenoid plate, 1.5 mm cortical shells, blurred "
+          "by the scanner's point spread so that the bones touch at the bone threshold (for bone "
+          "separation: bmsim import --seed/--exclude); scapula: a scapula with its "
           "glenoid and a humeral head 4 mm across the joint, 1.5 mm cortical shells, 0.75 mm "
           "pixels, 1 mm slices, and DIR/truth.json (the analytic truth)")
       .Value("o,out", "DIR", "folder to create (must not exist or be empty; written atomically)")
       .Choice("compress", {"rle", "jpeg-lossless", "jpeg-ls", "jpeg2000"},
               "DICOM transfer syntax (default: uncompressed)")
       .Real("noise", 0, 1000, "HU", "Gaussian noise sigma (default 10)")
+      .Real("blur", 0, 10, "MM",
+            "scanner point spread, Gaussian sigma, mm (default: shoulder 1.5, glenoid and block "
+            "none)")
       .Real("version", -45, 45, "DEG",
             "scapula: glenoid version, negative = retroversion (default -12)")
       .Real("inclination", -45, 45, "DEG",
@@ -59,13 +67,17 @@ static int PhantomCommand(const ParsedArgs& p) {
   }
   if (const auto noise = p.GetDouble("noise", 0, 1000))
     ct.noiseHU = *noise;
+  if (const auto blur = p.GetDouble("blur", 0, 10))
+    ct.blurSigmaMm = *blur;
   const bool quiet = p.Has("quiet");
   const auto& pos = words;
   if (pos.size() > 1)
     throw UsageError("more than one phantom name");
   const std::string name = pos.empty() ? "" : pos[0];
-  if (name != "glenoid" && name != "block")
-    throw UsageError("name the phantom: glenoid, block or scapula");
+  const std::vector<std::string> names = bm::PhantomNames();
+  if (std::find(names.begin(), names.end(), name) == names.end())
+    throw UsageError("name the phantom: glenoid, block, shoulder or scapula" +
+                     (name.empty() ? std::string() : ", not '" + name + "'"));
   const std::string out = p.Get("out", "");
   if (out.empty())
     throw UsageError("--out DIR is required");
@@ -80,7 +92,10 @@ static int PhantomCommand(const ParsedArgs& p) {
             << " (DICOM series, CT)\n"
             << "wrote:       " << out << "\n"
             << "centre:      (" << c[0] << ", " << c[1] << ", " << c[2] << ") mm"
-            << (name == "glenoid" ? " (glenoid face centre)" : " (top face centre)") << "\n"
+            << (name == "glenoid"    ? " (glenoid face centre)"
+                : name == "shoulder" ? " (the glenoid plate's face centre)"
+                                     : " (top face centre)")
+            << "\n"
             << "axis out:    (" << n[0] << ", " << n[1] << ", " << n[2]
             << ") (tools feed along minus this)\n"
             << "bone bounds: [" << b.lo[0] << ", " << b.hi[0] << "] x [" << b.lo[1] << ", "
@@ -89,7 +104,8 @@ static int PhantomCommand(const ParsedArgs& p) {
   return 0;
 }
 
-BM_REGISTER_COMMAND(phantom, "write a synthetic CT (glenoid, block or scapula) as a DICOM series",
+BM_REGISTER_COMMAND(phantom,
+                    "write a synthetic CT (glenoid, block, shoulder or scapula) as a DICOM series",
                     PhantomOptions, PhantomCommand);
 
 } // namespace bm::cli
