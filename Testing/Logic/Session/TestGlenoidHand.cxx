@@ -107,4 +107,14 @@ TEST(GlenoidHand, FrameByFrameLateralForceWhirls) {
   EXPECT_GT(Rank(r.lateralForceN, 0.5), 0.25);
 }
 
+// Opt-in figures at the scene's own resolutions (voxmap 192, shell 340), printed, not asserted:
+//   BM_GLENOID_HAND_BENCH=1500 BMSessionTests --gtest_filter='GlenoidHand.Bench*'
+TEST(GlenoidHand, BenchAtSceneResolution) {
+  const char* env = std::getenv("BM_GLENOID_HAND_BENCH");
+  if (!env || std::atoi(env) <= 0)
+    GTEST_SKIP() << "set BM_GLENOID_HAND_BENCH=N to run N frames at voxmap 192, shell 340";
+  const HandRun r = RunHand(192, 340, std::atoi(env), 1.0);
+  EXPECT_GT(r.removedMm3, 0.0);
+}
+
 } // namespace
