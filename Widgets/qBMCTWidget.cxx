@@ -3,7 +3,12 @@
 
 #include "ui_qBMCTWidget.h"
 
+#include "bmPanelLogic.h"
+
 #include <QFileDialog>
+
+#include <string>
+#include <vector>
 
 class qBMCTWidgetPrivate : public Ui_qBMCTWidget {
   Q_DECLARE_PUBLIC(qBMCTWidget);
@@ -20,6 +25,9 @@ public:
   }
   QVector<QDoubleSpinBox*> entryBoxes() const {
     return {this->EntryXSpinBox, this->EntryYSpinBox, this->EntryZSpinBox};
+  }
+  QVector<QDoubleSpinBox*> seedBoxes() const {
+    return {this->SeedXSpinBox, this->SeedYSpinBox, this->SeedZSpinBox};
   }
   static QVector<double> values(const QVector<QDoubleSpinBox*>& boxes) {
     QVector<double> v;
@@ -44,7 +52,7 @@ void qBMCTWidgetPrivate::init() {
   this->ThresholdSpinBox->setDecimals(0);
   this->ThresholdSpinBox->setSingleStep(50.0);
   this->ThresholdSpinBox->setValue(200.0);
-  for (QDoubleSpinBox* box : this->roiBoxes() + this->entryBoxes()) {
+  for (QDoubleSpinBox* box : this->roiBoxes() + this->entryBoxes() + this->seedBoxes()) {
     box->setRange(-10000.0, 10000.0);
     box->setDecimals(2);
   }
@@ -148,6 +156,56 @@ void qBMCTWidget::setEntry(const QVector<double>& entry) {
 void qBMCTWidget::setUseCTBone(bool use) {
   Q_D(qBMCTWidget);
   d->UseCTCheckBox->setChecked(use);
+}
+
+bool qBMCTWidget::useSeed() const {
+  Q_D(const qBMCTWidget);
+  return d->UseSeedCheckBox->isChecked();
+}
+
+QVector<double> qBMCTWidget::seed() const {
+  Q_D(const qBMCTWidget);
+  return d->values(d->seedBoxes());
+}
+
+QString qBMCTWidget::excludePointsText() const {
+  Q_D(const qBMCTWidget);
+  return d->ExcludePointsLineEdit->text();
+}
+
+bool qBMCTWidget::excludePoints(QVector<double>& xyz, QString& error) const {
+  std::vector<double> points;
+  error = QString::fromStdString(
+      bm::PanelLogic::ParsePoints(this->excludePointsText().toStdString(), points));
+  xyz = QVector<double>(points.begin(), points.end());
+  return error.isEmpty();
+}
+
+void qBMCTWidget::setUseSeed(bool use) {
+  Q_D(qBMCTWidget);
+  d->UseSeedCheckBox->setChecked(use);
+}
+
+void qBMCTWidget::setSeed(const QVector<double>& point) {
+  Q_D(qBMCTWidget);
+  d->setValues(d->seedBoxes(), point);
+  d->UseSeedCheckBox->setChecked(true);
+}
+
+void qBMCTWidget::setExcludePointsText(const QString& text) {
+  Q_D(qBMCTWidget);
+  d->ExcludePointsLineEdit->setText(text);
+}
+
+void qBMCTWidget::addExcludePoint(double x, double y, double z) {
+  Q_D(qBMCTWidget);
+  QString text = d->ExcludePointsLineEdit->text().trimmed();
+  if (!text.isEmpty() && !text.endsWith(';'))
+    text += "; ";
+  else if (!text.isEmpty())
+    text += ' ';
+  d->ExcludePointsLineEdit->setText(
+      text + QString("%1 %2 %3").arg(x, 0, 'f', 2).arg(y, 0, 'f', 2).arg(z, 0, 'f', 2));
 }
 
 void qBMCTWidget::setCTPreview(qint64 boneVoxels, double boneVolumeMm3,

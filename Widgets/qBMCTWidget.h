@@ -38,6 +38,15 @@ public:
   QVector<double> entry() const;
   /// Whether a session machines the CT bone (at entry() along axis()). Default false.
   bool useCTBone() const;
+  /// Whether the bone at seed() is kept (else the largest bone). Default false.
+  bool useSeed() const;
+  /// The include seed, world mm. Default 0, 0, 0.
+  QVector<double> seed() const;
+  /// The exclude points as typed ("x y z; x y z", world mm). Default "".
+  QString excludePointsText() const;
+  /// The exclude points, x y z per point (world mm), read by bm::PanelLogic::ParsePoints; for
+  /// malformed text false, `xyz` empty and `error` naming the point.
+  bool excludePoints(QVector<double>& xyz, QString& error) const;
 
 public Q_SLOTS:
   void setCTFileName(const QString& path);
@@ -47,6 +56,12 @@ public Q_SLOTS:
   void setAxis(const QVector<double>& axis);
   void setEntry(const QVector<double>& entry);
   void setUseCTBone(bool use);
+  void setUseSeed(bool use);
+  /// Sets the include seed (world mm) and keeps the bone there (useSeed() true).
+  void setSeed(const QVector<double>& point);
+  void setExcludePointsText(const QString& text);
+  /// Appends one exclude point (world mm) to the list.
+  void addExcludePoint(double x, double y, double z);
   /// Show the CT preview's result: voxels holding bone, bone volume (mm^3), the voxmap's bounds
   /// (x0, x1, y0, y1, z0, z1 mm) and the suggested entry point (mm), or why it failed (error
   /// not empty: the other values are ignored). A suggested entry enables "Use suggested entry".

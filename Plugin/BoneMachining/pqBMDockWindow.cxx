@@ -28,6 +28,8 @@
 #include "vtkSMViewProxy.h"
 
 #include <QApplication>
+#include <QCursor>
+#include <QShortcut>
 #include <QWheelEvent>
 #include <QScrollArea>
 #include <QTimer>
@@ -59,6 +61,22 @@ pqBMDockWindow::pqBMDockWindow(QWidget* parent)
                    &pqBMDockWindow::setVolumeRendering);
   QObject::connect(this->Panel->ctWidget(), &qBMCTWidget::previewCTRequested, this,
                    &pqBMDockWindow::previewCT);
+  // Picking in the 3D view (the surface point under the mouse): Ctrl+Shift+E adds an exclude
+  // point, Ctrl+Shift+I sets the include seed of the CT bone.
+  auto* exclude = new QShortcut(QKeySequence(tr("Ctrl+Shift+E")), this);
+  auto* seed = new QShortcut(QKeySequence(tr("Ctrl+Shift+I")), this);
+  exclude->setContext(Qt::ApplicationShortcut); // the mouse is over the view, not the dock
+  seed->setContext(Qt::ApplicationShortcut);
+  QObject::connect(exclude, &QShortcut::activated, this, [this]() {
+    double p[3];
+    if (this->pickPoint(p))
+      this->Panel->ctWidget()->addExcludePoint(p[0], p[1], p[2]);
+  });
+  QObject::connect(seed, &QShortcut::activated, this, [this]() {
+    double p[3];
+    if (this->pickPoint(p))
+      this->Panel->ctWidget()->setSeed({p[0], p[1], p[2]});
+  });
   // The force scale reaches the session only where the session source takes one.
   vtkSMSessionProxyManager* pxm =
       vtkSMProxyManager::GetProxyManager()->GetActiveSessionProxyManager();
@@ -100,6 +118,22 @@ bool pqBMDockWindow::eventFilter(QObject* watched, QEvent* event) {
     return true;
   }
   return Superclass::eventFilter(watched, event);
+}
+
+bool pqBMDockWindow::pickPoint(double world[3]) const {
+  pqView* view = pqActiveObjects::instance().activeView();
+  auto* renderView = view ? vtkSMRenderViewProxy::SafeDownCast(view->getViewProxy()) : nullptr;
+  QWidget* widget = view ? view->widget() : nullptr;
+  if (!renderView || !widget)
+    return false;
+  const QPoint local = widget->mapFromGlobal(QCursor::pos());
+  if (!widget->rect().contains(local))
+    return false; // the mouse is not over the view
+  // Display coordinates: pixels from the bottom left.
+  const double ratio = widget->devicePixelRatioF();
+  const int display[2] = {int(local.x() * ratio), int((widget->height() - 1 - local.y()) * ratio)};
+  double normal[3];
+  return renderView->ConvertDisplayToPointOnSurface(display, world, normal);
 }
 
 void pqBMDockWindow::addTool(int toolType, int resolution) {
@@ -335,6 +369,12 @@ void pqBMDockWindow::previewCT() {
   qBMCTWidget* ct = this->Panel->ctWidget();
   if (!server)
     return;
+  QVector<double> exclude;
+  QString excludeError;
+  if (!ct->excludePoints(exclude, excludeError)) {
+    ct->setCTPreview(0, 0, {}, {}, tr("exclude points: %1").arg(excludeError));
+    return;
+  }
   if (!this->CTBone) {
     this->CTBone = pqApplicationCore::instance()->getObjectBuilder()->createSource(
         "sources", "BMCTBoneSource", server);
@@ -349,6 +389,9 @@ void pqBMDockWindow::previewCT() {
   vtkSMPropertyHelper(proxy, "ROI").Set(ct->roi().constData(), 6);
   vtkSMPropertyHelper(proxy, "Resolution").Set(ct->ctResolution());
   vtkSMPropertyHelper(proxy, "Axis").Set(ct->axis().constData(), 3);
+  vtkSMPropertyHelper(proxy, "UseSeed").Set(ct->useSeed() ? 1 : 0);
+  vtkSMPropertyHelper(proxy, "Seed").Set(ct->seed().constData(), 3);
+  vtkSMPropertyHelper(proxy, "ExcludePoints").Set(exclude.constData(), exclude.size());
   proxy->UpdateVTKObjects();
   this->CTBone->updatePipeline();
   this->CTBone->setModifiedState(pqProxy::UNMODIFIED);

@@ -57,8 +57,10 @@ private Q_SLOTS:
   /// the bone's surface (which would hide it), or the surface again.
   void setVolumeRendering(bool on);
   /// Creates (once) or updates a "BM CT Bone" source (vtkBMCTBoneSource) with the panel's CT
-  /// settings, shows its bone as a slice coloured by BoneFraction and reports the preview (bone
-  /// voxels, volume, bounds, suggested entry, or the import error) in the panel.
+  /// settings (the include seed and exclude points too; malformed exclude points are refused
+  /// naming the point; Ctrl+Shift+E / Ctrl+Shift+I over the 3D view pick them on the shown bone),
+  /// shows its bone as a slice coloured by BoneFraction and reports the preview (bone voxels,
+  /// volume, bounds, suggested entry, or the import error) in the panel.
   void previewCT();
 
 private:
@@ -67,6 +69,9 @@ private:
   void removeSession();
   /// Why the force scale control is disabled: the session source takes no force scale.
   QString noForceScale() const;
+  /// The world point (mm) of the surface under the mouse in the active render view; false when
+  /// the mouse is not over the view or over no surface.
+  bool pickPoint(double world[3]) const;
   qBMPanel* Panel;
   /// The view widget whose wheel steps the mouse proxy's depth (null: none).
   QPointer<QWidget> WheelView;

@@ -2,10 +2,12 @@
 // Resume, and is checked, while the session is paused, whether the user paused it or the session
 // paused itself, and Pause otherwise); Start shows a busy indicator while a session is built; the
 // Touch is probed off the GUI thread and its entry enabled only when ready; the wheel over the
-// depth control steps the depth; the force scale shows its default; Save gives the bone file a
+// depth control steps the depth; the force scale shows its default; the CT section lists picked
+// exclude points and refuses a malformed list; Save gives the bone file a
 // voxmap extension; tool parameters have human labels with units and a tooltip each, and Add
 // tool refuses invalid parameters.
 #include "bmHapticSession.h"
+#include "qBMCTWidget.h"
 #include "qBMPanel.h"
 #include "qBMSessionWidget.h"
 #include "qBMToolWidget.h"
@@ -149,6 +151,23 @@ int main(int argc, char* argv[]) {
   Expect(saved.count() == 1 && saved.at(0).at(0).toString() == "/tmp/cut.nrrd" &&
              session->boneFile() == "/tmp/cut.nrrd",
          "Save adds .nrrd");
+  // The CT section's exclude points and include seed, as the 3D view's picks give them.
+  qBMCTWidget* ct = panel.ctWidget();
+  ct->addExcludePoint(1, 2, 3);
+  ct->addExcludePoint(4, 5.5, -6);
+  QVector<double> exclude;
+  QString excludeError;
+  Expect(ct->excludePointsText() == "1.00 2.00 3.00; 4.00 5.50 -6.00" &&
+             ct->excludePoints(exclude, excludeError) &&
+             exclude == QVector<double>({1, 2, 3, 4, 5.5, -6}),
+         "picked exclude points are listed and read back");
+  ct->setExcludePointsText("1 2");
+  Expect(!ct->excludePoints(exclude, excludeError) && exclude.isEmpty() &&
+             excludeError.contains("point 1"),
+         "a malformed list is refused naming the point");
+  Expect(!ct->useSeed(), "no include seed by default");
+  ct->setSeed({7, 8, 9});
+  Expect(ct->useSeed() && ct->seed() == QVector<double>({7, 8, 9}), "a picked seed is kept");
   // Tool parameters: a label with its unit and a tooltip each.
   qBMToolWidget* tool = panel.toolWidget();
   tool->setToolType(1); // the reamer

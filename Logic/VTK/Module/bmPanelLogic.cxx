@@ -13,6 +13,7 @@
 #include <exception>
 #include <filesystem>
 #include <map>
+#include <sstream>
 #include <utility>
 
 namespace bm::PanelLogic {
@@ -72,6 +73,31 @@ std::string WithVoxmapExtension(const std::string& path, const std::string& defa
   if (path.empty() || std::filesystem::path(path).has_extension())
     return path;
   return path + "." + defaultSuffix;
+}
+
+std::string ParsePoints(const std::string& text, std::vector<double>& xyz) {
+  xyz.clear();
+  std::vector<double> points;
+  std::istringstream list(text);
+  std::string point;
+  for (int index = 1; std::getline(list, point, ';'); ++index) {
+    std::string blanks = point;
+    std::replace(blanks.begin(), blanks.end(), ',', ' ');
+    if (blanks.find_first_not_of(" \t\r\n") == std::string::npos) {
+      if (text.find_first_not_of(" \t\r\n;") == std::string::npos)
+        continue; // no points at all
+      return "point " + std::to_string(index) + " is empty: give three numbers x y z (mm)";
+    }
+    std::istringstream numbers(blanks);
+    double v[3];
+    std::string extra;
+    if (!(numbers >> v[0] >> v[1] >> v[2]) || (numbers >> extra) || !std::isfinite(v[0]) ||
+        !std::isfinite(v[1]) || !std::isfinite(v[2]))
+      return "point " + std::to_string(index) + " ('" + point + "'): give three numbers x y z (mm)";
+    points.insert(points.end(), v, v + 3);
+  }
+  xyz = std::move(points);
+  return "";
 }
 
 std::string StateText(SessionState state, const std::string& pauseReason) {

@@ -12,6 +12,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace bm {
 
@@ -32,6 +33,13 @@ std::string ParameterToolTip(const std::string& key);
 /// other than .nrrd and .mha, naming them), and so is "". A dot in a folder name is not an
 /// extension.
 std::string WithVoxmapExtension(const std::string& path, const std::string& defaultSuffix = "nrrd");
+
+/// Reads a list of points (world mm) as typed in the panel: points separated by ';', each three
+/// numbers separated by spaces or commas, e.g. "10 0 -5; 12.5, 3, -5". Empty text (or only
+/// blanks) is no points. Returns "" and fills `xyz` (x y z per point) or, for malformed text,
+/// leaves it empty and returns why, naming the point: "point 2 ('4 5'): give three numbers x y
+/// z (mm)".
+std::string ParsePoints(const std::string& text, std::vector<double>& xyz);
 
 /// The session state in words: "" (Idle), "running", "paused: <reason>" ("paused" when the
 /// reason is empty), "stopped". `reason` is bm::ToString(PauseReason), e.g. "overrun".

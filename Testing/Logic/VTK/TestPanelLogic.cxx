@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <vector>
 
 namespace PL = bm::PanelLogic;
 
@@ -80,4 +81,20 @@ TEST(PanelLogic, ExpectedCostIsTheNearestMeasuredCell) {
             "pauses, choose coarser resolutions");
   EXPECT_NE(cost.Line("no-such-scene.json", 0, 0, 0).find("Expected cost unknown"),
             std::string::npos);
+}
+
+TEST(PanelLogic, PointListsAreReadOrRefusedNamingThePoint) {
+  std::vector<double> xyz;
+  EXPECT_EQ(PL::ParsePoints("10 0 -5; 12.5, 3, -5", xyz), "");
+  EXPECT_EQ(xyz, (std::vector<double>{10, 0, -5, 12.5, 3, -5}));
+  EXPECT_EQ(PL::ParsePoints("  ", xyz), "");
+  EXPECT_TRUE(xyz.empty());
+  EXPECT_EQ(PL::ParsePoints("1 2 3;", xyz), "");
+  EXPECT_EQ(xyz.size(), 3u);
+  EXPECT_EQ(PL::ParsePoints("1 2 3; 4 5", xyz), "point 2 (' 4 5'): give three numbers x y z (mm)");
+  EXPECT_TRUE(xyz.empty());
+  EXPECT_EQ(PL::ParsePoints("1 2 3 4", xyz), "point 1 ('1 2 3 4'): give three numbers x y z (mm)");
+  EXPECT_EQ(PL::ParsePoints("1 2 x", xyz), "point 1 ('1 2 x'): give three numbers x y z (mm)");
+  EXPECT_EQ(PL::ParsePoints("1 2 3;; 4 5 6", xyz),
+            "point 2 is empty: give three numbers x y z (mm)");
 }
