@@ -5,6 +5,10 @@
 
 #include "bmImport.h"
 #include "bmVoxmapFile.h"
+#ifdef BM_WITH_VTK
+#include "bmVTKImageVolume.h"
+#include "vtkImageData.h"
+#endif
 
 #include <unistd.h>
 
@@ -12,6 +16,7 @@
 #include <csignal>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <algorithm>
 #include <memory>
@@ -50,7 +55,8 @@ ProgressFn TerminalProgress(bool quiet) {
 }
 
 static void ImportCommandOptions(ParsedArgs& p) {
-  p.Words("INPUT", "DICOM folder, .nrrd/.nhdr/.mha/.mhd/.nii/.nii.gz file or .inv3 project")
+  p.Words("INPUT", "DICOM folder, .nrrd/.nhdr/.mha/.mhd/.nii/.nii.gz file, .vti/.vtk VTK image "
+                   "(read by VTK) or .inv3 project")
       .Value("o,out", "FILE",
              "voxmap to write (.nrrd or .mha; written only when everything succeeded; required)")
       .Int("resolution", 8, 8192, "cells along the ROI's longest axis (default 256)")
@@ -79,6 +85,39 @@ static void ImportCommandOptions(ParsedArgs& p) {
       .Flag("no-fill-holes", "do not fill cavities inside the bone")
       .Flag("q,quiet", "no progress bar");
 }
+
+#ifdef BM_WITH_VTK
+/// A VTK image file (.vti, legacy .vtk) read by VTK's readers and imported as the BM CT Bone
+/// source imports an image (bmVTKImageVolume.h): the volume goes through a MetaImage copy beside
+/// the output (removed in every case) into the same import as any CT file.
+static bm::ImportResult ImportVTKImageFile(const std::string& input, const std::string& output,
+                                           const bm::ImportOptions& opt,
+                                           const bm::Progress& progress) {
+  namespace fs = std::filesystem;
+  bm::CheckVoxmapOutputPath(output);
+  std::error_code ec;
+  if (fs::equivalent(input, output, ec))
+    throw std::runtime_error("--out " + output + " is the input: choose another file");
+  const vtkSmartPointer<vtkImageData> image = bm::ReadVTKImageFile(input);
+  bm::VTKImageVolume volume;
+  bm::VolumeFromVTKImage(image, input, volume);
+  const fs::path copy =
+      fs::absolute(output).parent_path() / (".bmsim-import-" + std::to_string(::getpid()) + ".mha");
+  struct Remove {
+    fs::path path;
+    ~Remove() {
+      std::error_code e;
+      fs::remove(path, e);
+    }
+  } removeCopy{copy};
+  bm::SaveCTVolume(volume.view, copy.string());
+  bm::ImportResult r = bm::ImportToFile(copy.string(), output, opt, progress);
+  r.source = input;
+  r.format = fs::path(input).extension() == ".vti" ? "VTK XML image data, read by VTK"
+                                                   : "VTK legacy structured points, read by VTK";
+  return r;
+}
+#endif
 
 static int ImportCommand(const ParsedArgs& p) {
   bm::ImportOptions opt;
@@ -127,7 +166,13 @@ static int ImportCommand(const ParsedArgs& p) {
   std::signal(SIGINT, [](int) { gInterrupted = true; });
   bm::ImportResult r;
   try {
-    r = bm::ImportToFile(input, output, opt, bm::Progress(TerminalProgress(quiet)));
+    const bm::Progress progress(TerminalProgress(quiet));
+#ifdef BM_WITH_VTK
+    if (bm::IsVTKImageFile(input))
+      r = ImportVTKImageFile(input, output, opt, progress);
+    else
+#endif
+      r = bm::ImportToFile(input, output, opt, progress);
   } catch (...) {
     if (!quiet && isatty(2))
       std::fprintf(stderr, "\n");

@@ -4,6 +4,7 @@
 #ifdef BM_WITH_IO
 #include "bmCTVoxmap.h"
 #endif
+#include "bmVTKImageVolume.h"
 #include "bmVoxmap.h"
 
 #include "vtkAlgorithmOutput.h"
@@ -52,13 +53,6 @@ public:
   }
 };
 
-namespace {
-bool IsVTKImageFile(const std::string& path) {
-  const std::string ext = std::filesystem::path(path).extension().string();
-  return ext == ".vti" || ext == ".vtk" || ext == ".VTI" || ext == ".VTK";
-}
-} // namespace
-
 vtkStandardNewMacro(vtkBMCTBoneSource);
 
 vtkBMCTBoneSource::vtkBMCTBoneSource() : Internals(new vtkInternals) {
@@ -96,7 +90,7 @@ const char* vtkBMCTBoneSource::GetBoneSpecification() {
   std::string& spec = this->Internals->Specification;
   spec.clear();
   const bool viaCopy = this->GetNumberOfInputConnections(0) > 0 ||
-                       (this->FileName && IsVTKImageFile(this->FileName));
+                       (this->FileName && bm::IsVTKImageFile(this->FileName));
   if (viaCopy ? this->Internals->CTCopy.empty() : (!this->FileName || !*this->FileName))
     return spec.c_str();
   nlohmann::json j = nlohmann::json::parse(this->ImportOptionsJson());
@@ -211,55 +205,15 @@ void vtkBMCTBoneSource::Import(vtkImageData* input) {
     // A VTK image file is read by VTK's readers, then imported as an input image.
     vtkSmartPointer<vtkImageData> fromFile;
     std::string source = "the input image";
-    if (!input && IsVTKImageFile(this->FileName)) {
-      if (!std::filesystem::is_regular_file(this->FileName))
-        throw std::runtime_error(std::string("cannot read '") + this->FileName + "': no such file");
+    if (!input && bm::IsVTKImageFile(this->FileName)) {
       source = this->FileName;
-      const std::string ext = std::filesystem::path(this->FileName).extension().string();
-      if (ext == ".vti" || ext == ".VTI") {
-        vtkNew<vtkXMLImageDataReader> reader;
-        reader->SetFileName(this->FileName);
-        reader->Update();
-        fromFile = reader->GetOutput();
-      } else {
-        vtkNew<vtkDataSetReader> reader;
-        reader->SetFileName(this->FileName);
-        reader->Update();
-        fromFile = vtkImageData::SafeDownCast(reader->GetOutput());
-      }
-      if (!fromFile || fromFile->GetNumberOfPoints() == 0)
-        throw std::runtime_error(std::string("cannot read '") + this->FileName +
-                                 "' as a VTK image (structured points)");
+      fromFile = bm::ReadVTKImageFile(this->FileName);
       input = fromFile;
     }
     if (input) {
-      vtkDataArray* values = input->GetPointData()->GetScalars();
-      if (!values && input->GetPointData()->GetNumberOfArrays() > 0)
-        values = input->GetPointData()->GetArray(0);
-      if (!values)
-        throw std::runtime_error(source + " has no point scalars (the CT's values)");
-      bm::CTVolumeView view;
-      int ext[6];
-      input->GetExtent(ext);
-      const double* sp = input->GetSpacing();
-      const double* o = input->GetOrigin();
-      vtkMatrix3x3* d = input->GetDirectionMatrix();
-      for (int a = 0; a < 3; ++a) {
-        view.dims[a] = ext[2 * a + 1] - ext[2 * a] + 1;
-        view.spacing[a] = sp[a];
-        for (int c = 0; c < 3; ++c)
-          view.direction[size_t(3 * a + c)] = d->GetElement(a, c);
-      }
-      for (int a = 0; a < 3; ++a) // world of the first voxel: origin + D (ext_min * spacing)
-        view.origin[a] = o[a] + d->GetElement(a, 0) * ext[0] * sp[0] +
-                         d->GetElement(a, 1) * ext[2] * sp[1] +
-                         d->GetElement(a, 2) * ext[4] * sp[2];
-      const vtkIdType n = values->GetNumberOfTuples();
-      std::vector<float> hu(static_cast<size_t>(n));
-      for (vtkIdType i = 0; i < n; ++i)
-        hu[size_t(i)] = float(values->GetComponent(i, 0));
-      view.values = hu.data();
-      view.source = source;
+      bm::VTKImageVolume volume;
+      bm::VolumeFromVTKImage(input, source, volume);
+      const bm::CTVolumeView& view = volume.view;
       const nlohmann::json options = nlohmann::json::parse(this->ImportOptionsJson());
       in.Bone = std::make_unique<bm::Voxmap>(
           bm::MakeCTVoxmapFromVolume(view, options, this->Resolution, progress));
