@@ -4,9 +4,11 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 
 #include "bmJson.h"
 #include "bmResources.h"
@@ -27,6 +29,19 @@ void CheckKeys(const json& j, const std::set<std::string>& allowed, const std::s
 template <class T> T Get(const json& j, const char* key, const T& def, const std::string& where) {
   if (!j.contains(key) || j.at(key).is_null())
     return def;
+  if constexpr (std::is_integral_v<T>) {
+    // A number outside the integer's range (or not whole) would convert to another value, or
+    // (NaN, 1e300) be undefined: refuse it by name.
+    const json& v = j.at(key);
+    if (v.is_number()) {
+      const double x = v.get<double>();
+      if (!(x >= double(std::numeric_limits<T>::min()) &&
+            x <= double(std::numeric_limits<T>::max())) ||
+          x != std::floor(x))
+        throw std::invalid_argument("field '" + std::string(key) + "' in " + where +
+                                    " must be a whole number within the integers, got " + v.dump());
+    }
+  }
   try {
     return j.at(key).get<T>();
   } catch (const std::exception&) {

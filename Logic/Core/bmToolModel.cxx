@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
+#include <type_traits>
 
 #include <nlohmann/json.hpp>
 
@@ -369,6 +371,19 @@ void Take(const nlohmann::json& spec, const char* key, T& dst, std::vector<std::
   used.push_back(key);
   if (!spec.contains(key))
     return;
+  if constexpr (std::is_integral_v<T>) {
+    // Out of the integer's range or not whole: refused, not converted (NaN, 1e300: undefined).
+    const nlohmann::json& v = spec.at(key);
+    if (v.is_number()) {
+      const double x = v.get<double>();
+      if (!(x >= double(std::numeric_limits<T>::min()) &&
+            x <= double(std::numeric_limits<T>::max())) ||
+          x != std::floor(x))
+        throw std::invalid_argument(std::string("tool field '") + key +
+                                    "' must be a whole number within the integers, got " +
+                                    v.dump());
+    }
+  }
   try {
     dst = spec.at(key).get<T>();
   } catch (const std::exception&) {

@@ -1,5 +1,7 @@
 #include "bmFrameRecord.h"
 
+#include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 #include <Eigen/Geometry>
@@ -47,12 +49,27 @@ std::vector<double> FrameRecord::ToRow() const {
           double(flags)};
 }
 
+namespace {
+// A whole-number column (frame, counts, bit sets) read from a double: refused unless finite, whole
+// and within [lo, hi] (converting NaN or an out-of-range double to an integer is undefined).
+double WholeNumber(double x, double lo, double hi, const char* column) {
+  if (!(x >= lo && x <= hi) || x != std::floor(x)) {
+    std::ostringstream m;
+    m << "column '" << column << "' must be a whole number in [" << lo << ", " << hi << "], got "
+      << x;
+    throw std::invalid_argument(m.str());
+  }
+  return x;
+}
+constexpr double kMaxCount = 9.0e15; // exact in a double, far beyond any session
+} // namespace
+
 FrameRecord FrameRecord::FromRow(const std::vector<double>& v) {
   if (v.size() < Columns().size())
     throw std::invalid_argument("frame record row has too few columns");
   FrameRecord r;
   size_t i = 0;
-  r.frame = int64_t(v[i++]);
+  r.frame = int64_t(WholeNumber(v[i++], 0, kMaxCount, "frame"));
   r.timeS = v[i++];
   for (auto& x : r.devicePos)
     x = v[i++];
@@ -68,11 +85,11 @@ FrameRecord FrameRecord::FromRow(const std::vector<double>& v) {
   for (auto& x : r.deviceForce)
     x = v[i++];
   r.frameMs = v[i++];
-  r.removedVoxels = int64_t(v[i++]);
+  r.removedVoxels = int64_t(WholeNumber(v[i++], -kMaxCount, kMaxCount, "removed_voxels"));
   r.removedVolumeMm3 = v[i++];
   r.speedRpm = v[i++];
-  r.buttons = uint32_t(v[i++]);
-  r.flags = uint32_t(v[i++]);
+  r.buttons = uint32_t(WholeNumber(v[i++], 0, 4294967295.0, "buttons"));
+  r.flags = uint32_t(WholeNumber(v[i++], 0, 4294967295.0, "flags"));
   return r;
 }
 

@@ -38,7 +38,9 @@ struct FrameRecord {
   /// Column names, in the order of ToRow/FromRow (CSV header and HDF5 "columns" attribute).
   static const std::vector<std::string>& Columns();
   std::vector<double> ToRow() const;
-  /// Throws std::invalid_argument if the row is shorter than Columns().
+  /// Throws std::invalid_argument if the row is shorter than Columns(), or a whole-number column
+  /// (frame, removed_voxels, buttons, flags) is not finite, not whole or out of its type's range,
+  /// naming the column.
   static FrameRecord FromRow(const std::vector<double>& row);
 };
 

@@ -323,9 +323,14 @@ Recording ReadRecording(const std::string& path, int64_t maxFrames) {
       H5Dclose(ds);
       if (st < 0)
         throw std::runtime_error("'" + path + "': cannot read /frames");
-      for (size_t i = 0; i < dims[0]; ++i)
-        rec.frames.push_back(FrameRecord::FromRow(
-            std::vector<double>(data.begin() + i * ncols, data.begin() + (i + 1) * ncols)));
+      for (size_t i = 0; i < dims[0]; ++i) {
+        try {
+          rec.frames.push_back(FrameRecord::FromRow(
+              std::vector<double>(data.begin() + i * ncols, data.begin() + (i + 1) * ncols)));
+        } catch (const std::invalid_argument& e) {
+          throw std::runtime_error("'" + path + "': frame " + std::to_string(i) + ": " + e.what());
+        }
+      }
     } catch (...) {
       H5Fclose(file);
       throw;
@@ -368,7 +373,11 @@ Recording ReadRecording(const std::string& path, int64_t maxFrames) {
                                " frames; at most " + std::to_string(maxFrames) +
                                " are read (one hour at 1 kHz is " +
                                std::to_string(kMaxRecordingFrames) + ")");
-    rec.frames.push_back(FrameRecord::FromRow(row));
+    try {
+      rec.frames.push_back(FrameRecord::FromRow(row));
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(path + ":" + std::to_string(lineNo) + ": " + e.what());
+    }
   }
   if (rec.meta.is_null())
     throw std::runtime_error("'" + path + "' is not a session recording (no '# bmsession' line)");

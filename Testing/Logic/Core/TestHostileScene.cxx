@@ -134,6 +134,12 @@ TEST(HostileScene, FieldsOutOfRangeAndNamesThatLeaveTheOutputFolderAreRefused) {
       {{{"voxmap_resolution", 100000}}, "field 'voxmap_resolution' (voxmap resolution) must be in"},
       {{{"bone", {{"material", -1.0}}}}, "field 'material' in bone (material scale) must be in"},
       {{{"bone", {{"material", 1e38}}}}, "field 'material' in bone (material scale) must be in"},
+      {{{"voxmap_resolution", 1e300}},
+       "field 'voxmap_resolution' in scene must be a whole number within the integers, got 1e+300"},
+      {{{"threads", 10000000000LL}}, "field 'threads' in scene must be a whole number"},
+      {{{"shell_resolution", 256.5}}, "field 'shell_resolution' in scene must be a whole number"},
+      {{{"tool", {{"type", "reamer"}, {"lips", 1e300}}}},
+       "tool field 'lips' must be a whole number within the integers"},
   };
   for (const auto& [j, expected] : cases) {
     const std::string why = Refusal([&] { bm::Scene::FromJson(j); });

@@ -130,6 +130,27 @@ TEST(HostileRecording, FilesThatAreTooLongNotFilesOrNotReplayableAreRefused) {
   EXPECT_TRUE(Has(why, "is not a regular file")) << why;
   why = Refusal([&] { bm::ReadRecording(dir.path.string()); });
   EXPECT_TRUE(Has(why, "is not a regular file")) << why;
+  // Whole-number columns: NaN or a huge value would be undefined as an integer.
+  const std::string header = "# bmsession {}\n";
+  for (const auto& [row, expected] : std::vector<std::pair<std::string, std::string>>{
+           {"nan", "column 'frame' must be a whole number in [0, 9e+15], got nan"},
+           {"1e300", "column 'frame' must be a whole number in [0, 9e+15], got 1e+300"},
+           {"0.5", "column 'frame' must be a whole number"}}) {
+    bm::FrameRecord f;
+    std::vector<double> cells = f.ToRow();
+    std::string line = row;
+    for (size_t i = 1; i < cells.size(); ++i)
+      line += ",0";
+    const std::string bad = (dir.path / "bad-frame.csv").string();
+    std::ofstream(bad) << header << line << "\n";
+    why = Refusal([&] { bm::ReadRecording(bad); });
+    EXPECT_TRUE(Has(why, bad + ":2: " + expected)) << why;
+  }
+  bm::FrameRecord f;
+  std::vector<double> cells = f.ToRow();
+  cells.back() = -1; // flags
+  EXPECT_TRUE(Has(Refusal([&] { bm::FrameRecord::FromRow(cells); }),
+                  "column 'flags' must be a whole number in [0, 4.29497e+09], got -1"));
   // Replay refuses what it cannot reproduce: no frames, a non-finite recorded force.
   bm::Recording empty = r;
   empty.frames.clear();
