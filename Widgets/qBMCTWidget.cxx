@@ -29,6 +29,15 @@ public:
   QVector<QDoubleSpinBox*> seedBoxes() const {
     return {this->SeedXSpinBox, this->SeedYSpinBox, this->SeedZSpinBox};
   }
+  QVector<QDoubleSpinBox*> boxCentreBoxes() const {
+    return {this->BoxCentreXSpinBox, this->BoxCentreYSpinBox, this->BoxCentreZSpinBox};
+  }
+  QVector<QDoubleSpinBox*> boxHalfBoxes() const {
+    return {this->BoxHalfXSpinBox, this->BoxHalfYSpinBox, this->BoxHalfZSpinBox};
+  }
+  QVector<QDoubleSpinBox*> boxRotationBoxes() const {
+    return {this->BoxRotationXSpinBox, this->BoxRotationYSpinBox, this->BoxRotationZSpinBox};
+  }
   static QVector<double> values(const QVector<QDoubleSpinBox*>& boxes) {
     QVector<double> v;
     for (QDoubleSpinBox* box : boxes)
@@ -52,7 +61,8 @@ void qBMCTWidgetPrivate::init() {
   this->ThresholdSpinBox->setDecimals(0);
   this->ThresholdSpinBox->setSingleStep(50.0);
   this->ThresholdSpinBox->setValue(200.0);
-  for (QDoubleSpinBox* box : this->roiBoxes() + this->entryBoxes() + this->seedBoxes()) {
+  for (QDoubleSpinBox* box :
+       this->roiBoxes() + this->entryBoxes() + this->seedBoxes() + this->boxCentreBoxes()) {
     box->setRange(-10000.0, 10000.0);
     box->setDecimals(2);
   }
@@ -62,6 +72,16 @@ void qBMCTWidgetPrivate::init() {
     box->setSingleStep(0.1);
   }
   this->AxisZSpinBox->setValue(1.0);
+  for (QDoubleSpinBox* box : this->boxHalfBoxes()) {
+    box->setRange(0.01, 10000.0);
+    box->setDecimals(2);
+    box->setValue(50.0);
+  }
+  for (QDoubleSpinBox* box : this->boxRotationBoxes()) {
+    box->setRange(-360.0, 360.0);
+    box->setDecimals(1);
+    box->setSingleStep(5.0);
+  }
   this->CTResolutionSpinBox->setRange(8, 1024);
   this->CTResolutionSpinBox->setValue(96);
   this->UseSuggestedEntryButton->setEnabled(false);
@@ -166,6 +186,40 @@ bool qBMCTWidget::useSeed() const {
 QVector<double> qBMCTWidget::seed() const {
   Q_D(const qBMCTWidget);
   return d->values(d->seedBoxes());
+}
+
+bool qBMCTWidget::useBox() const {
+  Q_D(const qBMCTWidget);
+  return d->UseBoxCheckBox->isChecked();
+}
+
+QVector<double> qBMCTWidget::boxCentre() const {
+  Q_D(const qBMCTWidget);
+  return d->values(d->boxCentreBoxes());
+}
+
+QVector<double> qBMCTWidget::boxHalfSizes() const {
+  Q_D(const qBMCTWidget);
+  return d->values(d->boxHalfBoxes());
+}
+
+QVector<double> qBMCTWidget::boxRotation() const {
+  Q_D(const qBMCTWidget);
+  return d->values(d->boxRotationBoxes());
+}
+
+void qBMCTWidget::setBox(const QVector<double>& centre, const QVector<double>& halfSizes,
+                         const QVector<double>& rotationDeg) {
+  Q_D(qBMCTWidget);
+  d->setValues(d->boxCentreBoxes(), centre);
+  d->setValues(d->boxHalfBoxes(), halfSizes);
+  d->setValues(d->boxRotationBoxes(), rotationDeg);
+  d->UseBoxCheckBox->setChecked(true);
+}
+
+void qBMCTWidget::setUseBox(bool use) {
+  Q_D(qBMCTWidget);
+  d->UseBoxCheckBox->setChecked(use);
 }
 
 QString qBMCTWidget::excludePointsText() const {

@@ -44,6 +44,14 @@ public:
   QVector<double> seed() const;
   /// The exclude points as typed ("x y z; x y z", world mm). Default "".
   QString excludePointsText() const;
+  /// Whether only the bone inside the oriented box is kept. Default false.
+  bool useBox() const;
+  /// The oriented box: centre (world mm, default 0, 0, 0), half sizes along its own axes (mm,
+  /// default 50 each, range (0, 10000]) and rotation (deg about world x, then y, then z; default
+  /// 0, range [-360, 360]), as vtkBMCTBoneSource takes them.
+  QVector<double> boxCentre() const;
+  QVector<double> boxHalfSizes() const;
+  QVector<double> boxRotation() const;
   /// The exclude points, x y z per point (world mm), read by bm::PanelLogic::ParsePoints; for
   /// malformed text false, `xyz` empty and `error` naming the point.
   bool excludePoints(QVector<double>& xyz, QString& error) const;
@@ -60,6 +68,10 @@ public Q_SLOTS:
   /// Sets the include seed (world mm) and keeps the bone there (useSeed() true).
   void setSeed(const QVector<double>& point);
   void setExcludePointsText(const QString& text);
+  /// Sets the oriented box (see boxCentre()) and keeps only the bone inside it (useBox() true).
+  void setBox(const QVector<double>& centre, const QVector<double>& halfSizes,
+              const QVector<double>& rotationDeg);
+  void setUseBox(bool use);
   /// Appends one exclude point (world mm) to the list.
   void addExcludePoint(double x, double y, double z);
   /// Show the CT preview's result: voxels holding bone, bone volume (mm^3), the voxmap's bounds

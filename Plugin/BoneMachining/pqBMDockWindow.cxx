@@ -392,6 +392,10 @@ void pqBMDockWindow::previewCT() {
   vtkSMPropertyHelper(proxy, "UseSeed").Set(ct->useSeed() ? 1 : 0);
   vtkSMPropertyHelper(proxy, "Seed").Set(ct->seed().constData(), 3);
   vtkSMPropertyHelper(proxy, "ExcludePoints").Set(exclude.constData(), exclude.size());
+  vtkSMPropertyHelper(proxy, "UseBox").Set(ct->useBox() ? 1 : 0);
+  vtkSMPropertyHelper(proxy, "BoxCentre").Set(ct->boxCentre().constData(), 3);
+  vtkSMPropertyHelper(proxy, "BoxHalfSizes").Set(ct->boxHalfSizes().constData(), 3);
+  vtkSMPropertyHelper(proxy, "BoxRotation").Set(ct->boxRotation().constData(), 3);
   proxy->UpdateVTKObjects();
   this->CTBone->updatePipeline();
   this->CTBone->setModifiedState(pqProxy::UNMODIFIED);

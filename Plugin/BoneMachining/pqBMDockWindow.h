@@ -57,10 +57,10 @@ private Q_SLOTS:
   /// the bone's surface (which would hide it), or the surface again.
   void setVolumeRendering(bool on);
   /// Creates (once) or updates a "BM CT Bone" source (vtkBMCTBoneSource) with the panel's CT
-  /// settings (the include seed and exclude points too; malformed exclude points are refused
-  /// naming the point; Ctrl+Shift+E / Ctrl+Shift+I over the 3D view pick them on the shown bone),
-  /// shows its bone as a slice coloured by BoneFraction and reports the preview (bone voxels,
-  /// volume, bounds, suggested entry, or the import error) in the panel.
+  /// settings (the include seed, exclude points and oriented box too; malformed exclude points are
+  /// refused naming the point; Ctrl+Shift+E / Ctrl+Shift+I over the 3D view pick them on the shown
+  /// bone), shows its bone as a slice coloured by BoneFraction and reports the preview (bone
+  /// voxels, volume, bounds, suggested entry, or the import error) in the panel.
   void previewCT();
 
 private:

@@ -168,6 +168,13 @@ int main(int argc, char* argv[]) {
   Expect(!ct->useSeed(), "no include seed by default");
   ct->setSeed({7, 8, 9});
   Expect(ct->useSeed() && ct->seed() == QVector<double>({7, 8, 9}), "a picked seed is kept");
+  Expect(!ct->useBox() && ct->boxHalfSizes() == QVector<double>({50, 50, 50}),
+         "no oriented box by default, half sizes 50 mm");
+  ct->setBox({1, 2, 3}, {4, 5, 6}, {10, 20, 30});
+  Expect(ct->useBox() && ct->boxCentre() == QVector<double>({1, 2, 3}) &&
+             ct->boxHalfSizes() == QVector<double>({4, 5, 6}) &&
+             ct->boxRotation() == QVector<double>({10, 20, 30}),
+         "the oriented box is set and read back");
   // Tool parameters: a label with its unit and a tooltip each.
   qBMToolWidget* tool = panel.toolWidget();
   tool->setToolType(1); // the reamer
