@@ -129,8 +129,8 @@ Voxmap LoadVoxmap(const std::string& path, const Progress& progress) {
   auto reader = itk::ImageFileReader<FileImage>::New();
   reader->SetFileName(path);
   std::string e = LowerExt(path);
-  // The header is checked before ITK reads anything (a NRRD named .mha made ITK's MetaImage
-  // reader overflow a buffer; a detached data file could name any file or a device).
+  // The header is checked before ITK reads anything: ITK's MetaImage reader overflows a buffer on
+  // a NRRD named .mha, and a detached data file could name any file or a device.
   HeaderLimits limits;
   limits.maxComponents = 2;
   if (e == ".nrrd" || e == ".nhdr") {
