@@ -242,7 +242,9 @@ elseif(MODE STREQUAL "session")
   list(GET lines 0 l0)
   list(GET lines 1 l1)
   list(GET lines 2 l2)
-  string(REGEX REPLACE "^([^,]*,[^,]*,)[^,]*" "\\1inf" l2 "${l2}")
+  # Only the third field (device_x_mm): REGEX REPLACE would repeat "^..." along the line.
+  string(REGEX MATCH "^([^,]*,[^,]*,)[^,]*(.*)$" unused "${l2}")
+  set(l2 "${CMAKE_MATCH_1}inf${CMAKE_MATCH_2}")
   file(WRITE "${dir}/bad.csv" "${l0}\n${l1}\n${l2}\n")
   expect_refused("a recording with an infinite pose" "non-finite device position" "${dir}/o3"
                  replay "${dir}/bad.csv" --out "${dir}/o3")
