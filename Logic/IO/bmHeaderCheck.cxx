@@ -97,13 +97,19 @@ void CheckFinite(const fs::path& file, const std::string& what, const std::vecto
       throw std::runtime_error(Q(file) + " has a non-finite " + what + " (NaN or infinite)");
 }
 
+// Smallest voxel spacing accepted (mm): 0.1 um, far below any scanner's; a denormal spacing makes
+// the image's direction-times-spacing matrix singular for ITK.
+constexpr double kMinSpacingMm = 1e-4;
+
 void CheckSpacing(const fs::path& file, const std::vector<double>& s) {
   CheckFinite(file, "voxel spacing", s, 3);
   for (size_t a = 0; a < 3; ++a)
-    if (!(s[a] > 0) || s[a] > 1e4)
-      throw std::runtime_error(Q(file) + " has a voxel spacing of " + std::to_string(s[a]) +
-                               " mm along axis " + std::to_string(a) +
-                               ": it must be > 0 and at most 10 000 mm");
+    if (!(s[a] >= kMinSpacingMm) || s[a] > 1e4) {
+      std::ostringstream m;
+      m << Q(file) << " has a voxel spacing of " << s[a] << " mm along axis " << a
+        << ": it must be at least " << kMinSpacingMm << " mm and at most 10 000 mm";
+      throw std::runtime_error(m.str());
+    }
 }
 
 /// Resolve a detached data file named in a header, refusing paths that leave the header's folder.
@@ -377,10 +383,13 @@ VolumeHeader CheckNrrd(const fs::path& file, const HeaderLimits& limits) {
     for (int a = 0; a < 3; ++a) {
       double len = std::sqrt(d[3 * a] * d[3 * a] + d[3 * a + 1] * d[3 * a + 1] +
                              d[3 * a + 2] * d[3 * a + 2]);
-      if (!(len > 0) || len > 1e4)
-        throw std::runtime_error(Q(file) + ": space direction " + std::to_string(a) +
-                                 " has length " + std::to_string(len) +
-                                 " mm (the voxel spacing): it must be > 0 and at most 10 000");
+      if (!(len >= kMinSpacingMm) || len > 1e4) {
+        std::ostringstream m;
+        m << Q(file) << ": space direction " << a << " has length " << len
+          << " mm (the voxel spacing): it must be at least " << kMinSpacingMm
+          << " mm and at most 10 000";
+        throw std::runtime_error(m.str());
+      }
     }
   } else {
     throw std::runtime_error(Q(file) +
@@ -469,8 +478,9 @@ VolumeHeader CheckMeta(const fs::path& file, const HeaderLimits& limits) {
       for (int a = 0; a < 3; ++a)
         if (!(std::abs(m[size_t(3 * a)]) + std::abs(m[size_t(3 * a + 1)]) +
                   std::abs(m[size_t(3 * a + 2)]) >
-              0))
-          throw std::runtime_error(Q(file) + ": direction axis " + std::to_string(a) + " is zero");
+              1e-3)) // a direction cosine axis has length 1
+          throw std::runtime_error(Q(file) + ": direction axis " + std::to_string(a) +
+                                   " is zero (or nearly: its entries sum to at most 0.001)");
     }
   const std::string dataName = f["elementdatafile"];
   const bool local = Lower(dataName) == "local";
