@@ -32,7 +32,6 @@ public:
   bm::PanelLogic::ExpectedCost Cost;
   qBMTouchProbe* Probe = nullptr;
   QString TouchStatus = QStringLiteral("probing");
-  QString ForceScaleToolTip; ///< the .ui's tooltip of the force scale
   bool Running = false;
   bool Busy = false;
 };
@@ -116,7 +115,6 @@ void qBMSessionWidgetPrivate::initDevice() {
   this->ForceScaleSpinBox->setRange(bm::PanelLogic::MinForceScale(),
                                     bm::PanelLogic::MaxForceScale());
   this->ForceScaleSpinBox->setDecimals(3);
-  this->ForceScaleToolTip = this->ForceScaleSpinBox->toolTip();
   this->ForceScaleSpinBox->setValue(bm::PanelLogic::DefaultForceScale());
   this->ToolDepthSpinBox->setRange(-20.0, 20.0);
   this->ToolDepthSpinBox->setSingleStep(0.1);
@@ -292,15 +290,6 @@ void qBMSessionWidget::setUseChosenTool(bool use) {
 void qBMSessionWidget::setForceScale(double scale) {
   Q_D(qBMSessionWidget);
   d->ForceScaleSpinBox->setValue(scale);
-}
-
-void qBMSessionWidget::setForceScaleAvailable(bool available, const QString& why) {
-  Q_D(qBMSessionWidget);
-  if (!available)
-    d->ForceScaleSpinBox->setValue(bm::PanelLogic::DefaultForceScale());
-  d->ForceScaleSpinBox->setEnabled(available);
-  d->ForceScaleLabel->setEnabled(available);
-  d->ForceScaleSpinBox->setToolTip(available ? d->ForceScaleToolTip : why);
 }
 
 void qBMSessionWidget::setToolDepth(double depthMm) {

@@ -75,10 +75,6 @@ public Q_SLOTS:
   void setUseChosenTool(bool use);
   /// Sets the force scale (tool N per device N), clamped to its range.
   void setForceScale(double scale);
-  /// Whether the session takes the panel's force scale (the dock: whether the session source
-  /// has a ForceScale property). When not, the control is disabled at the default and `why`
-  /// becomes its tooltip. Default: available.
-  void setForceScaleAvailable(bool available, const QString& why = QString());
   /// Sets the mouse proxy depth, mm (clamped to [-20, 20]); emits toolDepthChanged().
   void setToolDepth(double depthMm);
   /// Moves the mouse proxy depth by `steps` single steps (0.1 mm each; positive deeper), as a

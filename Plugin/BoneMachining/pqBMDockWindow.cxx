@@ -21,8 +21,6 @@
 #include "vtkSMParaViewPipelineControllerWithRendering.h"
 #include "vtkSMPVRepresentationProxy.h"
 #include "vtkSMPropertyHelper.h"
-#include "vtkSMProxyManager.h"
-#include "vtkSMSessionProxyManager.h"
 #include "vtkSMRenderViewProxy.h"
 #include "vtkSMSourceProxy.h"
 #include "vtkSMViewProxy.h"
@@ -77,12 +75,6 @@ pqBMDockWindow::pqBMDockWindow(QWidget* parent)
     if (this->pickPoint(p))
       this->Panel->ctWidget()->setSeed({p[0], p[1], p[2]});
   });
-  // The force scale reaches the session only where the session source takes one.
-  vtkSMSessionProxyManager* pxm =
-      vtkSMProxyManager::GetProxyManager()->GetActiveSessionProxyManager();
-  vtkSMProxy* prototype = pxm ? pxm->GetPrototypeProxy("sources", "BMSessionSource") : nullptr;
-  if (prototype && !prototype->GetProperty("ForceScale"))
-    session->setForceScaleAvailable(false, this->noForceScale());
   this->Poll->setInterval(33);
   QObject::connect(this->Poll, &QTimer::timeout, this, &pqBMDockWindow::pollSession);
 }
@@ -167,12 +159,6 @@ void pqBMDockWindow::addTool(int toolType, int resolution) {
   END_UNDO_SET();
 }
 
-QString pqBMDockWindow::noForceScale() const {
-  return tr("This BM Session source has no ForceScale property: a Touch session uses the "
-            "default, %1 tool N per device N")
-      .arg(bm::PanelLogic::DefaultForceScale());
-}
-
 void pqBMDockWindow::removeSession() {
   this->Poll->stop();
   if (this->WheelView)
@@ -239,10 +225,9 @@ void pqBMDockWindow::startSession(const QString& scene, int voxmapResolution, in
   vtkSMPropertyHelper(proxy, "OverrideTrial").Set(ct->useCTBone() ? 1 : 0);
   vtkSMPropertyHelper(proxy, "Entry").Set(ct->entry().constData(), 3);
   vtkSMPropertyHelper(proxy, "Axis").Set(ct->axis().constData(), 3);
-  if (proxy->GetProperty("ForceScale"))
-    vtkSMPropertyHelper(proxy, "ForceScale").Set(panel->forceScale());
-  else
-    panel->setForceScaleAvailable(false, this->noForceScale());
+  // The panel's force scale is a Touch's; other devices keep theirs (0).
+  vtkSMPropertyHelper(proxy, "ForceScale")
+      .Set(deviceType == vtkBMSessionSource::TOUCH ? panel->forceScale() : 0.0);
   proxy->UpdateVTKObjects();
   // Building the bone takes seconds (a glenoid voxmap): say so before the GUI thread is busy.
   panel->setBusy(true, tr("Building %1's bone and tool...").arg(source->getSMName()));

@@ -36,12 +36,12 @@ private Q_SLOTS:
   /// view, if there is one.
   void addTool(int toolType, int resolution);
   /// Creates a "BM Session" source (vtkBMSessionSource) with the panel's choices (scene,
-  /// resolutions, device, force model, tool, bone file, volume), starts it (the panel shows a
-  /// busy indicator while the bone is built) and shows the cut bone and the tool in the active
-  /// view in their own colours, the camera framing the bone. The previous session, if any, is
-  /// stopped and removed with its outputs. ParaView's live-source behaviour re-executes it as it
-  /// cuts; pollSession() reads its numbers and, with the built-in server, its history into the
-  /// panel
+  /// resolutions, device, force model, tool, bone file, volume, a Touch's force scale), starts it
+  /// (the panel shows a busy indicator while the bone is built) and shows the cut bone and the tool
+  /// in the active view in their own colours, the camera framing the bone. The previous session, if
+  /// any, is stopped and removed with its outputs. ParaView's live-source behaviour re-executes it
+  /// as it cuts; pollSession() reads its numbers and, with the built-in server, its history into
+  /// the panel
   /// (~30 Hz). On the CT bone, the CT is previewed with the panel's current settings first and
   /// an import error refuses the start.
   void startSession(const QString& scene, int voxmapResolution, int shellResolution,
@@ -67,8 +67,6 @@ private:
   Q_DISABLE_COPY(pqBMDockWindow);
   /// Stops and deletes the session source, its representations with it.
   void removeSession();
-  /// Why the force scale control is disabled: the session source takes no force scale.
-  QString noForceScale() const;
   /// The world point (mm) of the surface under the mouse in the active render view; false when
   /// the mouse is not over the view or over no surface.
   bool pickPoint(double world[3]) const;

@@ -230,6 +230,7 @@ bool vtkBMSessionSource::Start() {
     request.realTime = this->RealTime;
     request.maxFrames = this->MaxFrames >= 0 ? this->MaxFrames : -1;
     request.mouseDepthMm = this->ToolDepth;
+    request.forceScale = this->ForceScale;
     bm::BuiltSession built = bm::BuildSession(scene, request);
     in.Setup = std::move(built.setup);
     in.Mouse = built.mouse;

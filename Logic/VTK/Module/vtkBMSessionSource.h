@@ -147,6 +147,13 @@ public:
   void SetToolDepth(double depthMm);
   vtkGetMacro(ToolDepth, double);
   ///@}
+  ///@{
+  /// Force scale, tool N per device N, in [1e-3, 1000] (bm::CheckForceScale); 0 (default): the
+  /// device's (bm::kDefaultSessionForceScale for a Touch, 1 for the mouse proxy). Takes effect at
+  /// the next Start(), which fails naming the range for a value outside it.
+  vtkSetMacro(ForceScale, double);
+  vtkGetMacro(ForceScale, double);
+  ///@}
 
   /// Voxmap and point-shell resolutions (cells along the longest side) of the session last
   /// started: what the scene, VoxmapResolution and ShellResolution came to. 0 before Start().
@@ -236,6 +243,7 @@ protected:
   bool RealTime = true;
   vtkIdType MaxFrames = -1;
   double ToolDepth = -2.0;
+  double ForceScale = 0;
   int State = 0;
   vtkIdType Frame = 0;
   double TimeS = 0, ThrustN = 0, TorqueNmm = 0, RemovedVolumeMm3 = 0, DepthMm = 0;
