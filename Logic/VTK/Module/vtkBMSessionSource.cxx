@@ -13,6 +13,7 @@
 #include "bmSceneOverrides.h"
 #include "bmSessionBuilder.h"
 #include "bmTouchDevice.h"
+#include "bmTouchProbe.h"
 #include "vtkBMToolSource.h"
 
 #include "vtkDataObject.h"
@@ -160,14 +161,9 @@ vtkImageData* vtkBMSessionSource::GetBoneImage() {
 }
 
 std::string vtkBMSessionSource::ProbeTouch() {
-  try {
-    bm::TouchDevice touch;
-    touch.Start();
-    touch.Stop();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return std::string();
+  // In a child process, force output never enabled: a faulting driver cannot take ParaView down.
+  const bm::TouchProbeResult r = bm::ProbeTouch(5.0);
+  return r.ready ? std::string() : r.message;
 }
 
 const char* vtkBMSessionSource::GetTouchStatus() {
