@@ -1,5 +1,6 @@
 // bmSceneOverrides.cxx - see bmSceneOverrides.h.
 #include "bmSceneOverrides.h"
+#include "bmCheckRange.h"
 
 #include <cmath>
 #include <filesystem>
@@ -9,14 +10,6 @@
 namespace bm {
 
 namespace {
-
-void CheckRange(const char* what, double v, double lo, double hi) {
-  if (std::isfinite(v) && v >= lo && v <= hi)
-    return;
-  std::ostringstream m;
-  m << what << " must be in [" << lo << ", " << hi << "], not " << v;
-  throw std::invalid_argument(m.str());
-}
 
 nlohmann::json ParseObject(const std::string& text, const char* what) {
   nlohmann::json j;

@@ -8,18 +8,11 @@
 #include "bmEdgeQuadrature.h"
 #include "bmTouchDevice.h"
 #include "bmVirtualCoupling.h"
+#include "bmCheckRange.h"
 
 namespace bm {
 
 namespace {
-
-void CheckRange(const char* what, double v, double lo, double hi) {
-  if (std::isfinite(v) && v >= lo && v <= hi)
-    return;
-  std::ostringstream m;
-  m << what << " must be in [" << lo << ", " << hi << "], not " << v;
-  throw std::invalid_argument(m.str());
-}
 
 /// Where a Touch's workspace centre sits above the entry point along the axis, mm.
 constexpr double kTouchCentreAboveEntryMm = 10.0;

@@ -11,6 +11,7 @@
 
 #include "bmJson.h"
 #include "bmScene.h"
+#include "../bmTestRefusal.h"
 
 namespace {
 
@@ -34,26 +35,11 @@ std::string NestedObjects(int depth) {
   return s;
 }
 
-std::string Refusal(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "accepted";
-}
+using bmtest::Has;
+using bmtest::Refusal;
 
-bool Has(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
-
-struct ScratchDir {
-  fs::path path = fs::temp_directory_path() / ("bm_hostile_scene_" + std::to_string(::getpid()));
-  ScratchDir() { fs::create_directories(path); }
-  ~ScratchDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
+struct ScratchDir : bmtest::ScratchDir {
+  ScratchDir() : bmtest::ScratchDir("bm_hostile_scene") {}
   std::string Write(const std::string& name, const std::string& text) const {
     std::ofstream(path / name) << text;
     return (path / name).string();

@@ -11,6 +11,7 @@
 #include "bmJson.h"
 #include "bmReplay.h"
 #include "bmSessionRecorder.h"
+#include "../bmTestRefusal.h"
 
 #include <sys/stat.h>
 
@@ -18,26 +19,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string Refusal(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "accepted";
-}
+using bmtest::Has;
+using bmtest::Refusal;
 
-bool Has(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
-
-struct ScratchDir {
-  fs::path path = fs::temp_directory_path() / ("bm_hostile_rec_" + std::to_string(::getpid()));
-  ScratchDir() { fs::create_directories(path); }
-  ~ScratchDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
+struct ScratchDir : bmtest::ScratchDir {
+  ScratchDir() : bmtest::ScratchDir("bm_hostile_rec") {}
 };
 
 TEST(HostileRecording, AHeaderNestedTooDeepIsRefused) {
