@@ -146,36 +146,49 @@ void WriteRecordingCsv(const std::string& path, const Recording& r) {
 
 #ifdef BM_SESSION_HDF5
 namespace {
+/// One HDF5 identifier, closed by its own close function when the handle goes (RAII); an
+/// identifier < 0 (a failed create or open) is held but never closed.
+class H5Handle {
+public:
+  H5Handle(hid_t id, herr_t (*close)(hid_t)) : Id_(id), Close_(close) {}
+  H5Handle(const H5Handle&) = delete;
+  H5Handle& operator=(const H5Handle&) = delete;
+  ~H5Handle() { Close(); }
+  hid_t Get() const { return Id_; }
+  bool Valid() const { return Id_ >= 0; }
+  /// Closes now; false when the close failed (for a file: its data did not reach the disk).
+  bool Close() {
+    const hid_t id = Id_;
+    Id_ = -1;
+    return id < 0 || Close_(id) >= 0;
+  }
+
+private:
+  hid_t Id_;
+  herr_t (*Close_)(hid_t);
+};
+
 void WriteStringAttribute(hid_t obj, const char* name, const std::string& value) {
-  hid_t type = H5Tcopy(H5T_C_S1);
-  H5Tset_size(type, std::max<size_t>(1, value.size()));
-  H5Tset_strpad(type, H5T_STR_NULLPAD);
-  hid_t space = H5Screate(H5S_SCALAR);
-  hid_t attr = H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
-  herr_t st = attr < 0 ? -1 : H5Awrite(attr, type, value.data());
-  if (attr >= 0)
-    H5Aclose(attr);
-  H5Sclose(space);
-  H5Tclose(type);
-  if (st < 0)
+  H5Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+  H5Tset_size(type.Get(), std::max<size_t>(1, value.size()));
+  H5Tset_strpad(type.Get(), H5T_STR_NULLPAD);
+  H5Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  H5Handle attr(H5Acreate2(obj, name, type.Get(), space.Get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+  if (!attr.Valid() || H5Awrite(attr.Get(), type.Get(), value.data()) < 0)
     throw std::runtime_error(std::string("HDF5: cannot write attribute ") + name);
 }
 
 std::string ReadStringAttribute(hid_t obj, const char* name) {
-  hid_t attr = H5Aopen(obj, name, H5P_DEFAULT);
-  if (attr < 0)
+  H5Handle attr(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose);
+  if (!attr.Valid())
     throw std::runtime_error(std::string("HDF5: no attribute ") + name);
-  hid_t type = H5Aget_type(attr);
-  const size_t n = H5Tget_size(type);
+  H5Handle type(H5Aget_type(attr.Get()), H5Tclose);
+  const size_t n = H5Tget_size(type.Get());
   std::string s(n, '\0');
-  hid_t mem = H5Tcopy(H5T_C_S1);
-  H5Tset_size(mem, n);
-  H5Tset_strpad(mem, H5T_STR_NULLPAD);
-  const herr_t st = H5Aread(attr, mem, s.data());
-  H5Tclose(mem);
-  H5Tclose(type);
-  H5Aclose(attr);
-  if (st < 0)
+  H5Handle mem(H5Tcopy(H5T_C_S1), H5Tclose);
+  H5Tset_size(mem.Get(), n);
+  H5Tset_strpad(mem.Get(), H5T_STR_NULLPAD);
+  if (H5Aread(attr.Get(), mem.Get(), s.data()) < 0)
     throw std::runtime_error(std::string("HDF5: cannot read attribute ") + name);
   while (!s.empty() && s.back() == '\0')
     s.pop_back();
@@ -196,11 +209,10 @@ void WriteRecordingHdf5(const std::string& path, const Recording& r) {
 #ifdef BM_SESSION_HDF5
   const std::string tmp = TemporarySibling(path);
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  hid_t file = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  if (file < 0)
-    throw std::runtime_error("HDF5: cannot create '" + tmp + "'");
-  bool ok = false;
   try {
+    H5Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+    if (!file.Valid())
+      throw std::runtime_error("HDF5: cannot create '" + tmp + "'");
     const auto& cols = FrameRecord::Columns();
     std::vector<double> data;
     data.reserve(r.frames.size() * cols.size());
@@ -209,31 +221,23 @@ void WriteRecordingHdf5(const std::string& path, const Recording& r) {
       data.insert(data.end(), row.begin(), row.end());
     }
     hsize_t dims[2] = {hsize_t(r.frames.size()), hsize_t(cols.size())};
-    hid_t space = H5Screate_simple(2, dims, nullptr);
-    hid_t ds =
-        H5Dcreate2(file, "frames", H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    herr_t st = ds < 0 ? -1
-                       : (data.empty() ? 0
-                                       : H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL,
-                                                  H5P_DEFAULT, data.data()));
-    std::string names;
-    for (size_t i = 0; i < cols.size(); ++i)
-      names += (i ? "," : "") + cols[i];
-    if (ds >= 0) {
-      WriteStringAttribute(ds, "columns", names);
-      H5Dclose(ds);
+    {
+      H5Handle space(H5Screate_simple(2, dims, nullptr), H5Sclose);
+      H5Handle ds(H5Dcreate2(file.Get(), "frames", H5T_IEEE_F64LE, space.Get(), H5P_DEFAULT,
+                             H5P_DEFAULT, H5P_DEFAULT),
+                  H5Dclose);
+      if (!ds.Valid() || (!data.empty() && H5Dwrite(ds.Get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL,
+                                                    H5P_DEFAULT, data.data()) < 0))
+        throw std::runtime_error("HDF5: cannot write /frames to '" + tmp + "'");
+      std::string names;
+      for (size_t i = 0; i < cols.size(); ++i)
+        names += (i ? "," : "") + cols[i];
+      WriteStringAttribute(ds.Get(), "columns", names);
     }
-    H5Sclose(space);
-    if (st < 0)
-      throw std::runtime_error("HDF5: cannot write /frames to '" + tmp + "'");
-    WriteStringAttribute(file, "meta", r.meta.dump());
-    ok = H5Fclose(file) >= 0;
-    file = -1;
-    if (!ok)
+    WriteStringAttribute(file.Get(), "meta", r.meta.dump());
+    if (!file.Close())
       throw std::runtime_error("HDF5: cannot close '" + tmp + "'");
   } catch (...) {
-    if (file >= 0)
-      H5Fclose(file);
     std::remove(tmp.c_str());
     throw;
   }
@@ -292,50 +296,38 @@ Recording ReadRecording(const std::string& path, int64_t maxFrames) {
   if (IsHdf5Path(path)) {
 #ifdef BM_SESSION_HDF5
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-    hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-    if (file < 0)
+    H5Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+    if (!file.Valid())
       throw std::runtime_error("cannot open HDF5 recording '" + path + "'");
-    try {
-      rec.meta =
-          ParseJson(ReadStringAttribute(file, "meta"), "the header of recording '" + path + "'");
-      hid_t ds = H5Dopen2(file, "frames", H5P_DEFAULT);
-      if (ds < 0)
-        throw std::runtime_error("'" + path + "' has no /frames dataset");
-      hid_t space = H5Dget_space(ds);
-      hsize_t dims[2] = {0, 0};
-      const int nd = H5Sget_simple_extent_dims(space, dims, nullptr);
-      H5Sclose(space);
-      if (nd != 2 || dims[1] != ncols) {
-        H5Dclose(ds);
-        throw std::runtime_error("'" + path + "': /frames has the wrong shape");
+    rec.meta = ParseJson(ReadStringAttribute(file.Get(), "meta"),
+                         "the header of recording '" + path + "'");
+    H5Handle ds(H5Dopen2(file.Get(), "frames", H5P_DEFAULT), H5Dclose);
+    if (!ds.Valid())
+      throw std::runtime_error("'" + path + "' has no /frames dataset");
+    hsize_t dims[2] = {0, 0};
+    const int nd = [&] {
+      H5Handle space(H5Dget_space(ds.Get()), H5Sclose);
+      return H5Sget_simple_extent_dims(space.Get(), dims, nullptr);
+    }();
+    if (nd != 2 || dims[1] != ncols)
+      throw std::runtime_error("'" + path + "': /frames has the wrong shape");
+    if (dims[0] > hsize_t(maxFrames))
+      throw std::runtime_error("'" + path + "' declares " + std::to_string(dims[0]) +
+                               " frames; at most " + std::to_string(maxFrames) +
+                               " are read (one hour at 1 kHz is " +
+                               std::to_string(kMaxRecordingFrames) + ")");
+    std::vector<double> data(size_t(dims[0] * dims[1]));
+    if (!data.empty() &&
+        H5Dread(ds.Get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0)
+      throw std::runtime_error("'" + path + "': cannot read /frames");
+    for (size_t i = 0; i < dims[0]; ++i) {
+      try {
+        rec.frames.push_back(FrameRecord::FromRow(
+            std::vector<double>(data.begin() + i * ncols, data.begin() + (i + 1) * ncols)));
+      } catch (const std::invalid_argument& e) {
+        throw std::runtime_error("'" + path + "': frame " + std::to_string(i) + ": " + e.what());
       }
-      if (dims[0] > hsize_t(maxFrames)) {
-        H5Dclose(ds);
-        throw std::runtime_error("'" + path + "' declares " + std::to_string(dims[0]) +
-                                 " frames; at most " + std::to_string(maxFrames) +
-                                 " are read (one hour at 1 kHz is " +
-                                 std::to_string(kMaxRecordingFrames) + ")");
-      }
-      std::vector<double> data(size_t(dims[0] * dims[1]));
-      const herr_t st =
-          data.empty() ? 0
-                       : H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data());
-      H5Dclose(ds);
-      if (st < 0)
-        throw std::runtime_error("'" + path + "': cannot read /frames");
-      for (size_t i = 0; i < dims[0]; ++i) {
-        try {
-          rec.frames.push_back(FrameRecord::FromRow(
-              std::vector<double>(data.begin() + i * ncols, data.begin() + (i + 1) * ncols)));
-        } catch (const std::invalid_argument& e) {
-          throw std::runtime_error("'" + path + "': frame " + std::to_string(i) + ": " + e.what());
-        }
-      }
-    } catch (...) {
-      H5Fclose(file);
-      throw;
     }
-    H5Fclose(file);
     return rec;
 #else
     throw std::runtime_error("cannot read '" + path + "': this build has no HDF5 (BM_WITH_HDF5)");
