@@ -17,6 +17,7 @@
 #include <vtkNew.h>
 #include <vtkPolyData.h>
 
+#include "bmAnalyticGlenoid.h"
 #include "bmAtomicFile.h"
 #include "bmBenchmark.h"
 #include "bmBoneSurface.h"
@@ -82,14 +83,15 @@ double ThreadCpuMs() {
 }
 
 #ifndef BM_WITH_IO
-/// The glenoid phantom's bone (bmPhantom.h's analytic geometry: face centre (-60, 20, 40) mm,
+/// The glenoid phantom's bone (bmAnalyticGlenoid.h's shape, placed as bmPhantom.h places it: face centre (-60, 20, 40) mm,
 /// outward axis -x, elliptic face 40 x 29 mm, concave face of radius 35 mm, vault 25 mm deep,
 /// pilot hole r 4.0 mm x 10 mm) sampled straight into a voxmap, for builds without BMIO (no ITK:
 /// no CT import). Box: the bone's bounds plus 0.625 mm, `resolution` voxels along its longest
 /// side; fill = 0.5 + (signed distance to the surface) / spacing, clamped (partial volume, as the
 /// CT import's resampling gives), all cortical. Units: mm.
 bm::Voxmap AnalyticGlenoid(int resolution) {
-  const double a = 20, b = 14.5, Rc = 35, H = 25, rp = 4.0, Dp = 10, margin = 0.625;
+  const double a = bm::glenoid::kA, b = bm::glenoid::kB, Rc = bm::glenoid::kRc,
+               H = bm::glenoid::kH, rp = bm::glenoid::kRp, Dp = bm::glenoid::kDp, margin = 0.625;
   const double wTop = Rc - std::sqrt(Rc * Rc - a * a);
   // World x = -60 - w, y = 20 + v, z = 40 + u.
   const std::array<double, 3> lo{-60 - wTop - margin, 20 - b - margin, 40 - a - margin};

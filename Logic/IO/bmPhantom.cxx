@@ -1,5 +1,7 @@
 #include "bmPhantom.h"
 
+#include "bmAnalyticGlenoid.h"
+
 #include <itkSmoothingRecursiveGaussianImageFilter.h>
 
 #include <algorithm>
@@ -14,8 +16,9 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// Glenoid constants (see the header).
-constexpr double gA = 20.0, gB = 14.5, gRc = 35.0, gH = 25.0, gRp = 4.0, gDp = 10.0, gTc = 1.75;
+// Glenoid constants (see the header; the shape is bmAnalyticGlenoid.h's).
+constexpr double gA = glenoid::kA, gB = glenoid::kB, gRc = glenoid::kRc, gH = glenoid::kH,
+                 gRp = glenoid::kRp, gDp = glenoid::kDp;
 constexpr std::array<double, 3> gC{-60.0, 20.0, 40.0}, gN{-1, 0, 0}, gU{0, 0, 1}, gV{0, 1, 0};
 constexpr float kCorticalHU = 1500, kCancellousHU = 300, kFluidHU = 0, kSoftHU = 40;
 // Block.
@@ -44,22 +47,11 @@ double Dot(const std::array<double, 3>& a, const std::array<double, 3>& b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-enum class Glenoid { Outside, Hole, Cortical, Cancellous };
+using Glenoid = glenoid::Region;
 
 Glenoid ClassifyGlenoid(const std::array<double, 3>& p) {
-  std::array<double, 3> d{p[0] - gC[0], p[1] - gC[1], p[2] - gC[2]};
-  double u = Dot(d, gU), v = Dot(d, gV), w = Dot(d, gN);
-  double r2 = u * u + v * v;
-  if ((u / gA) * (u / gA) + (v / gB) * (v / gB) > 1.0 || w < -gH)
-    return Glenoid::Outside;
-  if (w > gRc - std::sqrt(gRc * gRc - r2))
-    return Glenoid::Outside;
-  if (r2 <= gRp * gRp && w >= -gDp)
-    return Glenoid::Hole;
-  const double ai = gA - gTc, bi = gB - gTc, ri = gRc + gTc;
-  bool inner = (u / ai) * (u / ai) + (v / bi) * (v / bi) <= 1.0 && w >= -gH + gTc && r2 < ri * ri &&
-               w <= gRc - std::sqrt(ri * ri - r2);
-  return inner ? Glenoid::Cancellous : Glenoid::Cortical;
+  const std::array<double, 3> d{p[0] - gC[0], p[1] - gC[1], p[2] - gC[2]};
+  return glenoid::Classify(Dot(d, gU), Dot(d, gV), Dot(d, gN));
 }
 
 double GlenoidVolume() {

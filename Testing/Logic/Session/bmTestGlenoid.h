@@ -1,36 +1,31 @@
 // bmTestGlenoid.h - an analytic glenoid for the session tests and benchmarks, without the CT
 // import (no ITK in the session tests).
 //
-// The bone (world mm, the face centre at the origin, the reaming axis +z out of the bone) is
-// bm::PhantomIsBone's glenoid (bmPhantom.h) in its local frame: (u/20)^2 + (v/14.5)^2 <= 1,
-// -12 <= w <= 35 - sqrt(35^2 - r^2) (a 35 mm face radius), minus the guide pin's hole r <= 4.0 mm,
-// w >= -10 mm. The reamer goes about 2 mm deep.
+// The bone (world mm, the face centre at the origin, the reaming axis +z out of the bone) is the
+// glenoid phantom's (bmAnalyticGlenoid.h) in its local frame, its vault cut 12 mm behind the face.
+// The reamer goes about 2 mm deep.
 #pragma once
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 
+#include "bmAnalyticGlenoid.h"
 #include "bmScene.h"
 #include "bmVoxmap.h"
 
 namespace bmtest {
 
+/// The phantom's glenoid (bmAnalyticGlenoid.h) with its vault cut 12 mm behind the face.
 inline bool AnalyticGlenoidIsBone(double u, double v, double w) {
-  constexpr double kA = 20, kB = 14.5, kRc = 35, kH = 12, kRp = 4.0, kDp = 10;
-  const double r2 = u * u + v * v;
-  if ((u / kA) * (u / kA) + (v / kB) * (v / kB) > 1 || w < -kH)
-    return false;
-  if (w > kRc - std::sqrt(kRc * kRc - r2))
-    return false;
-  return !(r2 <= kRp * kRp && w >= -kDp);
+  return bm::glenoid::IsBone(u, v, w, 12.0);
 }
 
 /// The analytic glenoid at voxel spacing `spacing` (mm): whole voxels, bone where the centre is.
 inline bm::Voxmap AnalyticGlenoidVoxmap(double spacing) {
-  constexpr double kA = 20, kB = 14.5, kRc = 35, kH = 12;
+  using namespace bm::glenoid;
   const double rim = kRc - std::sqrt(kRc * kRc - kA * kA);
-  const std::array<double, 3> lo{-kA - spacing, -kB - spacing, -kH - spacing};
+  const std::array<double, 3> lo{-kA - spacing, -kB - spacing, -12.0 - spacing};
   const std::array<double, 3> hi{kA + spacing, kB + spacing, rim + spacing};
   std::array<int, 3> dims{};
   for (size_t a = 0; a < 3; ++a)
