@@ -1,6 +1,7 @@
 #include "bmBenchmark.h"
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -10,6 +11,7 @@
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 
 #include <poll.h>
 #include <sys/resource.h>
@@ -287,42 +289,81 @@ std::string BenchCsv(const std::vector<BenchCell>& cells) {
   return os.str();
 }
 
-std::vector<BenchCell> ParseBenchCsv(const std::string& text) {
-  std::vector<BenchCell> cells;
+std::vector<BenchCell> ParseBenchCsv(const std::string& text, const std::string& source) {
+  auto split = [](const std::string& line) {
+    std::vector<std::string> out;
+    std::string field;
+    std::istringstream in(line);
+    while (std::getline(in, field, ','))
+      out.push_back(field);
+    if (!line.empty() && line.back() == ',')
+      out.emplace_back();
+    return out;
+  };
   std::istringstream in(text);
   std::string line;
-  int lineNo = 0;
+  if (!std::getline(in, line) || line.empty())
+    throw std::runtime_error("the benchmark table '" + source + "' is empty");
+  const std::vector<std::string> header = split(line);
+  std::map<std::string, size_t> column;
+  for (size_t i = 0; i < header.size(); ++i)
+    column[header[i]] = i;
+  for (const char* name :
+       {"method", "backend", "shell", "voxmap", "status", "median_ms", "p99_ms", "force_error"})
+    if (!column.count(name))
+      throw std::runtime_error("the benchmark table '" + source + "' has no column '" + name + "'");
+  std::vector<BenchCell> cells;
+  int lineNo = 1;
   while (std::getline(in, line)) {
     ++lineNo;
-    if (lineNo == 1 || line.empty())
-      continue; // header
-    std::vector<std::string> f;
-    std::stringstream ls(line);
-    std::string item;
-    while (std::getline(ls, item, ','))
-      f.push_back(item);
-    if (f.size() != 23)
-      throw std::runtime_error("bench.csv line " + std::to_string(lineNo) + ": expected 23 fields");
+    if (line.empty())
+      continue;
+    const std::vector<std::string> f = split(line);
+    const std::string at = source + ":" + std::to_string(lineNo) + ": ";
+    if (f.size() < header.size())
+      throw std::runtime_error(at + std::to_string(f.size()) + " fields, the header has " +
+                               std::to_string(header.size()));
+    auto number = [&](const char* name, auto& out) {
+      const auto it = column.find(name);
+      if (it == column.end())
+        return;
+      const std::string& t = f[it->second];
+      double v = 0;
+      const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+      if (ec != std::errc() || ptr != t.data() + t.size() || !std::isfinite(v))
+        throw std::runtime_error(at + "column '" + name + "' is not a number: '" + t + "'");
+      out = static_cast<std::remove_reference_t<decltype(out)>>(v);
+    };
+    BenchCell c;
     try {
-      BenchCell c;
-      c.method = MethodFromString(f[0]);
-      c.backend = f[1];
-      c.shell = std::stoi(f[2]);
-      c.voxmap = std::stoi(f[3]);
-      c.status = f[4];
-      c.engine = f[5];
-      c.elements = std::stoll(f[6]);
-      c.frames = std::stoi(f[7]);
-      double* d[] = {&c.medianMs,       &c.p99Ms,        &c.meanMs,      &c.sdMs,
-                     &c.maxMs,          &c.thrustN,      &c.torqueNmm,   &c.refThrustN,
-                     &c.refTorqueNmm,   &c.thrustError,  &c.torqueError, &c.forceError,
-                     &c.engagedCutting, &c.peakMemoryMb, &c.setupS};
-      for (size_t i = 0; i < 15; ++i)
-        *d[i] = std::stod(f[8 + i]);
-      cells.push_back(c);
+      c.method = MethodFromString(f[column["method"]]);
     } catch (const std::exception& e) {
-      throw std::runtime_error("bench.csv line " + std::to_string(lineNo) + ": " + e.what());
+      throw std::runtime_error(at + "column 'method': " + e.what());
     }
+    c.backend = f[column["backend"]];
+    c.status = f[column["status"]];
+    if (column.count("engine"))
+      c.engine = f[column["engine"]];
+    number("shell", c.shell);
+    number("voxmap", c.voxmap);
+    number("elements", c.elements);
+    number("frames", c.frames);
+    number("median_ms", c.medianMs);
+    number("p99_ms", c.p99Ms);
+    number("mean_ms", c.meanMs);
+    number("sd_ms", c.sdMs);
+    number("max_ms", c.maxMs);
+    number("thrust_N", c.thrustN);
+    number("torque_Nmm", c.torqueNmm);
+    number("ref_thrust_N", c.refThrustN);
+    number("ref_torque_Nmm", c.refTorqueNmm);
+    number("thrust_error", c.thrustError);
+    number("torque_error", c.torqueError);
+    number("force_error", c.forceError);
+    number("engaged_cutting", c.engagedCutting);
+    number("peak_memory_MiB", c.peakMemoryMb);
+    number("setup_s", c.setupS);
+    cells.push_back(c);
   }
   return cells;
 }

@@ -73,9 +73,14 @@ BenchCell RunBenchCellIsolated(Method method, const std::string& backend, int sh
 std::vector<std::string> SplitCommaList(const std::string& s);
 
 std::string BenchCsv(const std::vector<BenchCell>& cells);
-/// Cells back from BenchCsv() text (a saved bench.csv). Throws std::runtime_error naming the
-/// line that does not parse.
-std::vector<BenchCell> ParseBenchCsv(const std::string& text);
+/// Cells back from a bench.csv's text (BenchCsv's, or any CSV whose header names at least the
+/// columns method, backend, shell, voxmap, status, median_ms, p99_ms and force_error; the other
+/// BenchCell columns are read when present, unknown ones ignored), every row in file order.
+/// `source` names the table in messages (default "bench.csv"). Throws std::runtime_error naming
+/// the problem: an empty table, a missing column, a row with fewer fields than the header, a
+/// value that is not a number or a method (with its line and column).
+std::vector<BenchCell> ParseBenchCsv(const std::string& text,
+                                     const std::string& source = "bench.csv");
 /// A markdown table per backend laid out like the paper's Tables I/II: rows point-shell
 /// resolution, columns voxmap resolution, "median (sd)" frame time in ms; then the p99 table.
 std::string BenchTable(const std::vector<BenchCell>& cells, Method method, const std::string& title,

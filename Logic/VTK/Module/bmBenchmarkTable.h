@@ -16,21 +16,22 @@
 
 namespace bm {
 
-/// One measured cell of the benchmark grid.
-struct BenchmarkCell {
-  std::string method;    ///< "lazar" or "zheng"
-  std::string backend;   ///< "cpu" or "opencl"
-  int shell = 0;         ///< point-shell resolution (cells along the tool's longest side)
-  int voxmap = 0;        ///< voxmap resolution (cells along the bone's longest side)
-  double medianMs = 0;   ///< median haptic frame time, ms
-  double p99Ms = 0;      ///< 99th percentile frame time, ms
-  double forceError = 0; ///< relative force error against the quadrature, fraction
-};
+/// One measured cell (bmBenchmark.h; declared here so that the plugin, which does not see BMCore's
+/// headers, can hold a table: users of the cells include bmBenchmark.h).
+struct BenchCell;
 
 class BenchmarkTable {
 public:
-  /// Reads a bench.csv. Throws std::runtime_error naming the file and the problem (unreadable,
-  /// a missing column, a malformed number with its line), and when no row has status "ok".
+  BenchmarkTable();
+  ~BenchmarkTable();
+  BenchmarkTable(const BenchmarkTable&);
+  BenchmarkTable(BenchmarkTable&&) noexcept;
+  BenchmarkTable& operator=(const BenchmarkTable&);
+  BenchmarkTable& operator=(BenchmarkTable&&) noexcept;
+
+  /// Reads a bench.csv through bm::ParseBenchCsv (bmBenchmark.h, the one reader of the table).
+  /// Throws std::runtime_error naming the file and the problem (unreadable, a missing column, a
+  /// malformed number with its line), and when no row has status "ok".
   static BenchmarkTable Load(const std::string& path);
   /// The table to read: $BM_BENCHMARK_CSV when set and not empty (e.g. a machine's own
   /// measurements, or a test's), else Benchmark/bench.csv in the resource folder (bmResources.h:
@@ -38,18 +39,17 @@ public:
   static std::string DefaultPath();
 
   /// The measured cells (status "ok" only), in file order.
-  const std::vector<BenchmarkCell>& Cells() const { return Cells_; }
+  const std::vector<BenchCell>& Cells() const;
 
-  /// The measured cell of `method` and `backend` nearest to (shell, voxmap): the smallest
-  /// Euclidean distance in (log2 shell, log2 voxmap) (a doubling of either counts 1), ties to
-  /// the finer cell.
-  /// Returns nullptr when the table has no cell of that method and backend or a resolution is not
-  /// positive.
-  const BenchmarkCell* Nearest(const std::string& method, const std::string& backend, int shell,
-                               int voxmap) const;
+  /// The measured cell of `method` ("lazar" or "zheng") and `backend` nearest to (shell, voxmap):
+  /// the smallest Euclidean distance in (log2 shell, log2 voxmap) (a doubling of either counts 1),
+  /// ties to the finer cell. Returns nullptr when the table has no cell of that method and backend
+  /// or a resolution is not positive.
+  const BenchCell* Nearest(const std::string& method, const std::string& backend, int shell,
+                           int voxmap) const;
 
 private:
-  std::vector<BenchmarkCell> Cells_;
+  std::vector<BenchCell> Cells_;
 };
 
 } // namespace bm

@@ -1,6 +1,7 @@
 // bmPanelLogic.cxx - see bmPanelLogic.h.
 #include "bmPanelLogic.h"
 
+#include "bmBenchmark.h"
 #include "bmHapticSession.h"
 #include "bmScene.h"
 #include "bmVirtualCoupling.h"
@@ -173,7 +174,7 @@ std::string ExpectedCost::Line(const std::string& sceneName, int voxmap, int she
   const std::string name = method == vtkBMSessionSource::LAZAR   ? "lazar"
                            : method == vtkBMSessionSource::ZHENG ? "zheng"
                                                                  : ToString(scene.method);
-  const BenchmarkCell* cell = this->Table_->Nearest(name, scene.backend, s, v);
+  const BenchCell* cell = this->Table_->Nearest(name, scene.backend, s, v);
   if (!cell)
     return "Expected cost unknown: no " + name + " / " + scene.backend + " cell was measured";
   return "Expected (" + name + ", shell " + std::to_string(s) + " / voxmap " + std::to_string(v) +

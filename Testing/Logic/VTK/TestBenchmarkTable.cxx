@@ -2,6 +2,8 @@
 // malformed tables naming the problem.
 #include "bmBenchmarkTable.h"
 
+#include "bmBenchmark.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -42,9 +44,9 @@ TEST(BenchmarkTable, InstalledTableFindsEachMeasuredCell) {
   ASSERT_FALSE(table.Cells().empty());
   EXPECT_NE(table.Nearest("lazar", "cpu", 256, 256), nullptr);
   EXPECT_NE(table.Nearest("zheng", "cpu", 256, 256), nullptr);
-  for (const bm::BenchmarkCell& c : table.Cells()) {
-    EXPECT_EQ(table.Nearest(c.method, c.backend, c.shell, c.voxmap), &c)
-        << c.method << "/" << c.backend << " " << c.shell << "/" << c.voxmap;
+  for (const bm::BenchCell& c : table.Cells()) {
+    EXPECT_EQ(table.Nearest(bm::ToString(c.method), c.backend, c.shell, c.voxmap), &c)
+        << bm::ToString(c.method) << "/" << c.backend << " " << c.shell << "/" << c.voxmap;
     EXPECT_GT(c.medianMs, 0);
     EXPECT_GE(c.p99Ms, c.medianMs);
     EXPECT_GE(c.forceError, 0);
