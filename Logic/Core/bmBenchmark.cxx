@@ -24,6 +24,7 @@
 #include "bmFeedTrial.h"
 #include "bmMachiningSetup.h"
 #include "bmToolModel.h"
+#include "bmCsv.h"
 
 #include <Eigen/Geometry>
 
@@ -290,16 +291,7 @@ std::string BenchCsv(const std::vector<BenchCell>& cells) {
 }
 
 std::vector<BenchCell> ParseBenchCsv(const std::string& text, const std::string& source) {
-  auto split = [](const std::string& line) {
-    std::vector<std::string> out;
-    std::string field;
-    std::istringstream in(line);
-    while (std::getline(in, field, ','))
-      out.push_back(field);
-    if (!line.empty() && line.back() == ',')
-      out.emplace_back();
-    return out;
-  };
+  auto split = [&](const std::string& line) { return SplitCsvRecord(line, source); };
   std::istringstream in(text);
   std::string line;
   if (!std::getline(in, line) || line.empty())

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "bmToolModel.h"
+#include "bmCsv.h"
 
 namespace bm {
 
@@ -29,42 +30,6 @@ const std::vector<std::string> kColumns{"tool",
                                         "torque_Nmm",
                                         "source",
                                         "note"};
-
-// Splits one CSV record; a quoted field may hold commas and doubled quotes.
-std::vector<std::string> SplitCsv(const std::string& line, const std::string& where) {
-  std::vector<std::string> out;
-  std::string cur;
-  bool quoted = false, wasQuoted = false;
-  for (size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quoted) {
-      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
-        cur += '"';
-        ++i;
-      } else if (c == '"') {
-        quoted = false;
-      } else {
-        cur += c;
-      }
-    } else if (c == '"' && cur.empty() && !wasQuoted) {
-      quoted = wasQuoted = true;
-    } else if (c == ',') {
-      out.push_back(cur);
-      cur.clear();
-      wasQuoted = false;
-    } else if (c != '\r') {
-      cur += c;
-    }
-  }
-  if (quoted)
-    throw std::invalid_argument(where + ": unterminated quote");
-  out.push_back(cur);
-  for (auto& f : out) { // trim blanks around unquoted numbers and words
-    const size_t a = f.find_first_not_of(" \t"), b = f.find_last_not_of(" \t");
-    f = a == std::string::npos ? "" : f.substr(a, b - a + 1);
-  }
-  return out;
-}
 
 double ParseNumber(const std::string& text, const std::string& where, double lo, double hi,
                    const char* range) {
@@ -114,7 +79,7 @@ std::vector<CalibrationRecord> ReadCalibrationCsv(const std::filesystem::path& f
     const std::string where = file.string() + ":" + std::to_string(lineNo);
     if (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#')
       continue;
-    std::vector<std::string> f = SplitCsv(line, where);
+    std::vector<std::string> f = SplitCsvRecord(line, where);
     if (header.empty()) {
       header = f;
       for (size_t i = 0; i < header.size(); ++i) {

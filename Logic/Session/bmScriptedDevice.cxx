@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 
 #include "bmVirtualCoupling.h"
+#include "bmCsv.h"
 
 namespace bm {
 
@@ -43,17 +44,7 @@ std::vector<TrajectorySample> LoadTrajectoryCsv(const std::string& path) {
     ++lineNo;
     if (line.empty() || line[0] == '#' || std::isalpha(static_cast<unsigned char>(line[0])))
       continue;
-    std::vector<double> v;
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) {
-      try {
-        v.push_back(std::stod(cell));
-      } catch (const std::exception&) {
-        throw std::runtime_error(path + ":" + std::to_string(lineNo) + ": not a number: '" + cell +
-                                 "'");
-      }
-    }
+    const std::vector<double> v = ParseCsvNumbers(line, path + ":" + std::to_string(lineNo));
     if (v.size() != 4 && v.size() != 8)
       throw std::runtime_error(path + ":" + std::to_string(lineNo) + ": needs 4 or 8 columns");
     TrajectorySample s;

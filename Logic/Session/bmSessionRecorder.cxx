@@ -9,6 +9,7 @@
 
 #include "bmAtomicFile.h"
 #include "bmJson.h"
+#include "bmCsv.h"
 
 #ifdef BM_SESSION_HDF5
 #include <hdf5.h>
@@ -348,16 +349,7 @@ Recording ReadRecording(const std::string& path, int64_t maxFrames) {
     }
     if (line.empty() || line[0] == '#' || line.rfind("frame,", 0) == 0)
       continue;
-    std::vector<double> row;
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) {
-      try {
-        row.push_back(std::stod(cell));
-      } catch (const std::exception&) {
-        throw std::runtime_error(path + ":" + std::to_string(lineNo) + ": not a number");
-      }
-    }
+    const std::vector<double> row = ParseCsvNumbers(line, path + ":" + std::to_string(lineNo));
     if (row.size() != ncols)
       throw std::runtime_error(path + ":" + std::to_string(lineNo) + ": wrong column count");
     if (int64_t(rec.frames.size()) >= maxFrames)
