@@ -14,6 +14,7 @@
 #include "bmPlanReport.h"
 #include "bmScapulaCT.h"
 #include "bmSegmentedBone.h"
+#include "bmJson.h"
 
 #include <nlohmann/json.hpp>
 
@@ -151,7 +152,7 @@ static int PlanCommand(const ParsedArgs& p) {
       throw std::runtime_error("cannot read the landmarks file " + *f);
     nlohmann::json j;
     try {
-      in >> j;
+      j = bm::ParseJson(in, "landmarks file " + *f); // at most kMaxJsonDepth levels
     } catch (const std::exception& e) {
       throw std::runtime_error("landmarks file " + *f + " is not JSON: " + e.what());
     }

@@ -25,6 +25,7 @@
 #include "bmMachiningSetup.h"
 #include "bmToolModel.h"
 #include "bmCsv.h"
+#include "bmJson.h"
 
 #include <Eigen/Geometry>
 
@@ -252,7 +253,7 @@ BenchCell RunBenchCellIsolated(Method method, const std::string& backend, int sh
     return c;
   }
   try {
-    FromJson(nlohmann::json::parse(text), c);
+    FromJson(ParseJson(text, "the benchmark cell's result"), c);
   } catch (const std::exception&) {
     c.status = WIFSIGNALED(status) ? "crashed (signal " + std::to_string(WTERMSIG(status)) + ")"
                                    : "failed: no result";

@@ -1,6 +1,7 @@
 // bmSceneOverrides.cxx - see bmSceneOverrides.h.
 #include "bmSceneOverrides.h"
 #include "bmCheckRange.h"
+#include "bmJson.h"
 
 #include <cmath>
 #include <filesystem>
@@ -14,7 +15,7 @@ namespace {
 nlohmann::json ParseObject(const std::string& text, const char* what) {
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(text);
+    j = ParseJson(text, what); // at most kMaxJsonDepth levels (bmJson.h)
   } catch (const std::exception& e) {
     throw std::invalid_argument(std::string(what) + " is not JSON: " + e.what());
   }

@@ -21,6 +21,7 @@
 #include "vtkSmartPointer.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkXMLImageDataReader.h"
+#include "bmJson.h"
 
 #include <nlohmann/json.hpp>
 
@@ -93,7 +94,7 @@ const char* vtkBMCTBoneSource::GetBoneSpecification() {
                        (this->FileName && bm::IsVTKImageFile(this->FileName));
   if (viaCopy ? this->Internals->CTCopy.empty() : (!this->FileName || !*this->FileName))
     return spec.c_str();
-  nlohmann::json j = nlohmann::json::parse(this->ImportOptionsJson());
+  nlohmann::json j = bm::ParseJson(this->ImportOptionsJson(), "the CT bone's import options");
   j["ct"] = viaCopy ? this->Internals->CTCopy : std::filesystem::absolute(this->FileName).string();
   spec = j.dump();
   return spec.c_str();
@@ -214,7 +215,8 @@ void vtkBMCTBoneSource::Import(vtkImageData* input) {
       bm::VTKImageVolume volume;
       bm::VolumeFromVTKImage(input, source, volume);
       const bm::CTVolumeView& view = volume.view;
-      const nlohmann::json options = nlohmann::json::parse(this->ImportOptionsJson());
+      const nlohmann::json options =
+          bm::ParseJson(this->ImportOptionsJson(), "the CT bone's import options");
       in.Bone = std::make_unique<bm::Voxmap>(
           bm::MakeCTVoxmapFromVolume(view, options, this->Resolution, progress));
       // The CT as a file a session can import at its own resolution (once per CT).
@@ -231,7 +233,8 @@ void vtkBMCTBoneSource::Import(vtkImageData* input) {
         in.CopyOf = copyOf;
       }
     } else {
-      const nlohmann::json spec = nlohmann::json::parse(this->GetBoneSpecification());
+      const nlohmann::json spec =
+          bm::ParseJson(this->GetBoneSpecification(), "the CT bone's specification");
       in.Bone =
           std::make_unique<bm::Voxmap>(bm::MakeCTVoxmap(spec, "", this->Resolution, progress));
     }

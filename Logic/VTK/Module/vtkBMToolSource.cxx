@@ -13,6 +13,7 @@
 #include "vtkPolyData.h"
 #include "vtkPolyDataNormals.h"
 #include "vtkUnsignedCharArray.h"
+#include "bmJson.h"
 
 #include <nlohmann/json.hpp>
 
@@ -46,7 +47,7 @@ public:
     try {
       nlohmann::json spec = nlohmann::json::object();
       if (!params.empty()) {
-        spec = nlohmann::json::parse(params);
+        spec = bm::ParseJson(params, "the tool's Parameters");
         if (spec.is_null())
           spec = nlohmann::json::object();
         if (!spec.is_object())

@@ -86,6 +86,9 @@ TEST(SceneOverrides, BadOverridesAreRefusedByName) {
   EXPECT_NE(refusal(o).find("the tool specification is not JSON"), std::string::npos);
   o.toolJson = "[1, 2]";
   EXPECT_NE(refusal(o).find("the tool specification must be a JSON object"), std::string::npos);
+  // Nested 100 000 deep: refused at the depth limit instead of overflowing the stack.
+  o.toolJson = std::string(100000, '[') + std::string(100000, ']');
+  EXPECT_NE(refusal(o).find("is nested deeper than 64"), std::string::npos) << refusal(o);
   o = {};
   o.method = "euler";
   EXPECT_NE(refusal(o).find("lazar or zheng, not 'euler'"), std::string::npos);
