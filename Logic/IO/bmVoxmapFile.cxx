@@ -1,6 +1,7 @@
 #include "bmVoxmapFile.h"
 
 #include "bmAtomicFile.h"
+#include "bmCTReader.h" // CheckMemoryBudget
 #include "bmHeaderCheck.h"
 
 #include <itkImageFileReader.h>
@@ -141,6 +142,21 @@ Voxmap LoadVoxmap(const std::string& path, const Progress& progress) {
     reader->SetImageIO(itk::MetaImageIO::New());
   } else {
     throw std::runtime_error("voxmap file '" + path + "': a voxmap is .nrrd, .nhdr, .mha or .mhd");
+  }
+  // What ITK itself will allocate, from the header it parsed, before it allocates: the header
+  // check's reading of a malformed header can differ from ITK's (a fuzzed MetaImage made ITK ask
+  // for 64 GiB).
+  try {
+    reader->UpdateOutputInformation();
+  } catch (const std::exception& ex) {
+    throw std::runtime_error("voxmap file '" + path + "': cannot read its header: " + ex.what());
+  }
+  {
+    const FileImage* info = reader->GetOutput();
+    const long double bytes = (long double)info->GetLargestPossibleRegion().GetNumberOfPixels() *
+                              std::max(1u, info->GetNumberOfComponentsPerPixel()) * sizeof(float);
+    CheckMemoryBudget(bytes > 1e18L ? uint64_t(1e18) : uint64_t(bytes), limits.maxMemoryBytes,
+                      "the voxmap file '" + path + "'");
   }
   RunFilter(reader, progress.Range(0, 0.8), "loading the voxmap");
   FileImage::Pointer img = reader->GetOutput();
