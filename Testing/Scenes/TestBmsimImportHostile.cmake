@@ -5,6 +5,7 @@
 # message naming the problem, and leave no output or temporary file. The full corpus (NIfTI,
 # DICOM, ...) runs in the BMIO unit tests (Testing/Logic/IO/TestHostileInput.cxx).
 cmake_minimum_required(VERSION 3.20)
+include(${CMAKE_CURRENT_LIST_DIR}/bmExpectRefused.cmake)
 foreach(var BMSIM WORK_DIR)
   if(NOT DEFINED ${var})
     message(FATAL_ERROR "TestBmsimImportHostile.cmake needs -D${var}=...")
@@ -28,18 +29,8 @@ function(run_import name needle)
   execute_process(COMMAND "${BMSIM}" import "${dir}/in/${name}" --out "${dir}/out/v.nrrd" --quiet
                           --resolution 16 ${ARGN}
                   RESULT_VARIABLE rc OUTPUT_VARIABLE stdout ERROR_VARIABLE stderr TIMEOUT 30)
-  if(NOT (rc EQUAL 1 OR rc EQUAL 2))
-    message(FATAL_ERROR "${name}: exit '${rc}', expected 1 or 2\n${stdout}${stderr}")
-  endif()
-  string(FIND "${stderr}" "${needle}" at)
-  if(at EQUAL -1)
-    message(FATAL_ERROR "${name}: the message does not say '${needle}':\n${stderr}")
-  endif()
   file(GLOB left "${dir}/out/*" "${dir}/out/.*")
-  if(left)
-    message(FATAL_ERROR "${name}: left ${left}")
-  endif()
-  message(STATUS "${name}: exit ${rc}: ${stderr}")
+  bm_check_refused(${name} "${needle}" "${rc}" "${stdout}" "${stderr}" ${left})
 endfunction()
 
 hostile(4d.nrrd "4-D"

@@ -5,6 +5,7 @@
 # message naming the problem, and leave nothing in the output folder (nor above it: a scene named
 # ../../x). The full corpus runs in the unit tests (TestHostileScene.cxx, TestHostileRecording.cxx).
 cmake_minimum_required(VERSION 3.20)
+include(${CMAKE_CURRENT_LIST_DIR}/bmExpectRefused.cmake)
 foreach(var BMSIM WORK_DIR)
   if(NOT DEFINED ${var})
     message(FATAL_ERROR "TestBmsimSceneHostile.cmake needs -D${var}=...")
@@ -18,18 +19,8 @@ function(expect_refusal name needle)
   execute_process(COMMAND "${BMSIM}" ${ARGN}
                   WORKING_DIRECTORY "${dir}/work/a/b"
                   RESULT_VARIABLE rc OUTPUT_VARIABLE stdout ERROR_VARIABLE stderr TIMEOUT 30)
-  if(NOT (rc EQUAL 1 OR rc EQUAL 2))
-    message(FATAL_ERROR "${name}: exit '${rc}', expected 1 or 2\n${stdout}${stderr}")
-  endif()
-  string(FIND "${stderr}" "${needle}" at)
-  if(at EQUAL -1)
-    message(FATAL_ERROR "${name}: the message does not say '${needle}':\n${stderr}")
-  endif()
   file(GLOB_RECURSE left "${dir}/work/*" "${dir}/x" "${dir}/x/*")
-  if(left)
-    message(FATAL_ERROR "${name}: left ${left}")
-  endif()
-  message(STATUS "${name}: exit ${rc}: ${stderr}")
+  bm_check_refused(${name} "${needle}" "${rc}" "${stdout}" "${stderr}" ${left})
 endfunction()
 
 function(scene name needle content)
