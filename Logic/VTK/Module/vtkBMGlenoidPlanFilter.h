@@ -1,0 +1,178 @@
+// vtkBMGlenoidPlanFilter.h - glenoid planning in the plugin (Docs/Planning.md, Docs/Plugin.md
+// "Planning"): a filter whose input is a bone-fraction image (the BM CT Bone output, a voxmap
+// file bmsim import wrote, any vtkImageData holding 0..1 bone fractions) on which it runs the
+// planning logic of `bmsim plan`: bm::SegmentedBone -> bm::DetectLandmarks -> bm::MeasureGlenoid
+// -> bm::MakeGlenoidPlan.
+//
+// Input: vtkImageData, axis-aligned, isotropic spacing (mm); the point array "BoneFraction" when
+// present, else the active point scalars (first component: a voxmap file's bone fraction). The
+// glenoid is found where the scapula faces the humeral head, so the image must hold both bones
+// (bmsim import --keep-all) unless the glenoid centre is given.
+//
+// Landmarks: each of the glenoid centre, the trigonum and the inferior angle is detected, or,
+// with its Use... flag on, the given point (world mm) is used instead (what dragging its handle in
+// the 3D view sets). A given glenoid centre keeps the detected face normal (or the given one,
+// UseFaceNormal) and re-fits the rim around the given centre.
+//
+// Output (vtkPolyData, world mm): vertices at the glenoid centre, trigonum and inferior angle
+// (point array "Landmark": their names), the rim as a closed polyline, the proposed reaming axis
+// (a line from the entry, 40 mm out of the bone), the face normal (a 30 mm line from the centre)
+// and Friedman's glenoid line; cell array "Part" (0 landmark, 1 rim, 2 axis, 3 face normal,
+// 4 glenoid line).
+//
+// Caching: the segmentation is redone only when the input changes; the detection of the joint
+// (the expensive part) once per input; moving the trigonum or inferior angle, or changing the
+// targets, re-runs only the measurements and the plan.
+//
+// Failure: when no glenoid is found (a CT without a shoulder, one bone only) the output is empty,
+// GetLastError() says what was not found and which landmarks to place, and the request fails.
+#pragma once
+
+#include "BMVTKLogicModule.h" // for the export macro
+#include "vtkPolyDataAlgorithm.h"
+
+class BMVTKLOGIC_EXPORT vtkBMGlenoidPlanFilter : public vtkPolyDataAlgorithm {
+public:
+  static vtkBMGlenoidPlanFilter* New();
+  vtkTypeMacro(vtkBMGlenoidPlanFilter, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// Landmark overrides, world mm (LPS), each used only with its Use... flag on (default off,
+  /// (0, 0, 0)): the glenoid centre (on the articular face), the trigonum (the medial end of the
+  /// scapular spine) and the inferior angle of the scapula.
+  vtkSetMacro(UseGlenoidCentre, bool);
+  vtkGetMacro(UseGlenoidCentre, bool);
+  vtkBooleanMacro(UseGlenoidCentre, bool);
+  vtkSetVector3Macro(GlenoidCentre, double);
+  vtkGetVector3Macro(GlenoidCentre, double);
+  /// The face normal (unit after normalising, pointing out of the joint; with UseFaceNormal,
+  /// default off, (1, 0, 0)): with a given glenoid centre it skips the joint search, so a bone
+  /// without a humeral head can be planned.
+  vtkSetMacro(UseFaceNormal, bool);
+  vtkGetMacro(UseFaceNormal, bool);
+  vtkBooleanMacro(UseFaceNormal, bool);
+  vtkSetVector3Macro(FaceNormal, double);
+  vtkGetVector3Macro(FaceNormal, double);
+  vtkSetMacro(UseTrigonum, bool);
+  vtkGetMacro(UseTrigonum, bool);
+  vtkBooleanMacro(UseTrigonum, bool);
+  vtkSetVector3Macro(Trigonum, double);
+  vtkGetVector3Macro(Trigonum, double);
+  vtkSetMacro(UseInferiorAngle, bool);
+  vtkGetMacro(UseInferiorAngle, bool);
+  vtkBooleanMacro(UseInferiorAngle, bool);
+  vtkSetVector3Macro(InferiorAngle, double);
+  vtkGetVector3Macro(InferiorAngle, double);
+  ///@}
+  ///@{
+  /// Plan settings (bm::PlanOptions): target version and inclination of the reaming axis, deg
+  /// (default 0 and 0, within (-45, 45)); reaming depth below the glenoid centre, mm (default 2);
+  /// reamer diameter, mm (default 36.5, the built-in reamer); guide-pin hole radius, mm (default
+  /// 3.2, above the nipple's 3) and depth below the centre, mm (default 0: ream depth + nipple
+  /// 6 mm + 2 mm). Out-of-range values fail the request naming the setting.
+  vtkSetMacro(TargetVersion, double);
+  vtkGetMacro(TargetVersion, double);
+  vtkSetMacro(TargetInclination, double);
+  vtkGetMacro(TargetInclination, double);
+  vtkSetMacro(ReamDepth, double);
+  vtkGetMacro(ReamDepth, double);
+  vtkSetMacro(ReamerDiameter, double);
+  vtkGetMacro(ReamerDiameter, double);
+  vtkSetMacro(PinRadius, double);
+  vtkGetMacro(PinRadius, double);
+  vtkSetMacro(PinDepth, double);
+  vtkGetMacro(PinDepth, double);
+  ///@}
+  ///@{
+  /// The CT the plan scene's bone is imported from (a DICOM folder or volume file; the plan
+  /// scene's bone is the glenoid's bone in a box around the centre, bm::GlenoidPlan::CtBoneJson).
+  /// Empty (default): no plan scene (GetPlanScene() is "").
+  vtkSetStringMacro(CTFileName);
+  vtkGetStringMacro(CTFileName);
+  ///@}
+
+  ///@{
+  /// Results of the last execution (zero when it failed). Angles in deg: Friedman's 2D version
+  /// and the 3D version (negative = retroversion), inclination (positive = superior), the
+  /// correction from the face normal to the planned axis; lengths in mm: glenoid height, width,
+  /// the face's radius of curvature.
+  vtkGetMacro(FriedmanVersion, double);
+  vtkGetMacro(Version3D, double);
+  vtkGetMacro(Inclination, double);
+  vtkGetMacro(GlenoidHeight, double);
+  vtkGetMacro(GlenoidWidth, double);
+  vtkGetMacro(FaceRadius, double);
+  vtkGetMacro(Correction, double);
+  /// Whether the reamer fits the glenoid (no overhang); 0 also when the plan failed.
+  vtkGetMacro(ReamerFits, int);
+  /// The landmarks used (detected or given), world mm.
+  vtkGetVector3Macro(UsedGlenoidCentre, double);
+  vtkGetVector3Macro(UsedTrigonum, double);
+  vtkGetVector3Macro(UsedInferiorAngle, double);
+  /// Friedman's glenoid line on the axial slice through the glenoid centre: its anterior and
+  /// posterior ends on the rim (x, y, z, x, y, z; mm). The scapular axis of Friedman's version
+  /// runs from the trigonum to its midpoint.
+  vtkGetVector6Macro(GlenoidLine, double);
+  /// The planned entry (the glenoid centre, mm) and axis (unit, out of the bone).
+  vtkGetVector3Macro(PlanEntry, double);
+  vtkGetVector3Macro(PlanAxis, double);
+  /// The plan's warnings, one a line ("" none).
+  const char* GetWarnings();
+  /// Why the last execution failed ("" when it succeeded), e.g. "no glenoid found: ... place
+  /// landmarks".
+  const char* GetLastError();
+  /// The plan as a scene with two steps (guide pin, ream) on the CT's bone (JSON,
+  /// bm::GlenoidPlan::SceneJson, with "planning"."landmarks" and "measurements" as bmsim plan
+  /// writes them); "" without CTFileName or when the plan failed.
+  const char* GetPlanScene();
+  /// Each step alone as a plain single-step scene on the CT's bone (bm::GlenoidPlan::
+  /// StepSceneJson; a session runs it: vtkBMSessionSource Scene): the guide-pin hole, and the
+  /// reaming (on the bone the pin step left: vtkBMSessionSource BoneFile). "" as GetPlanScene().
+  const char* GetPinStepScene();
+  const char* GetReamStepScene();
+  /// How many times the joint detection ran (for tests of the caching).
+  vtkGetMacro(DetectionCount, int);
+  ///@}
+
+protected:
+  vtkBMGlenoidPlanFilter();
+  ~vtkBMGlenoidPlanFilter() override;
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
+                  vtkInformationVector* outputVector) override;
+
+  bool UseGlenoidCentre = false;
+  double GlenoidCentre[3] = {0, 0, 0};
+  bool UseFaceNormal = false;
+  double FaceNormal[3] = {1, 0, 0};
+  bool UseTrigonum = false;
+  double Trigonum[3] = {0, 0, 0};
+  bool UseInferiorAngle = false;
+  double InferiorAngle[3] = {0, 0, 0};
+  double TargetVersion = 0;
+  double TargetInclination = 0;
+  double ReamDepth = 2.0;
+  double ReamerDiameter = 36.5;
+  double PinRadius = 3.2;
+  double PinDepth = 0;
+  char* CTFileName = nullptr;
+
+  double FriedmanVersion = 0, Version3D = 0, Inclination = 0;
+  double GlenoidHeight = 0, GlenoidWidth = 0, FaceRadius = 0, Correction = 0;
+  int ReamerFits = 0;
+  double UsedGlenoidCentre[3] = {0, 0, 0};
+  double UsedTrigonum[3] = {0, 0, 0};
+  double UsedInferiorAngle[3] = {0, 0, 0};
+  double GlenoidLine[6] = {0, 0, 0, 0, 0, 0};
+  double PlanEntry[3] = {0, 0, 0};
+  double PlanAxis[3] = {0, 0, 0};
+  int DetectionCount = 0;
+
+private:
+  vtkBMGlenoidPlanFilter(const vtkBMGlenoidPlanFilter&) = delete;
+  void operator=(const vtkBMGlenoidPlanFilter&) = delete;
+
+  class vtkInternals;
+  vtkInternals* Internals;
+};
