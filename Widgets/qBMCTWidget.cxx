@@ -5,6 +5,7 @@
 
 #include "bmPanelLogic.h"
 
+#include <QComboBox>
 #include <QFileDialog>
 
 #include <string>
@@ -61,6 +62,22 @@ void qBMCTWidgetPrivate::init() {
   this->ThresholdSpinBox->setDecimals(0);
   this->ThresholdSpinBox->setSingleStep(50.0);
   this->ThresholdSpinBox->setValue(200.0);
+  this->HUSlopeSpinBox->setRange(-10000.0, 10000.0);
+  this->HUSlopeSpinBox->setDecimals(4);
+  this->HUSlopeSpinBox->setValue(1.0);
+  this->HUInterceptSpinBox->setRange(-100000.0, 100000.0);
+  this->HUInterceptSpinBox->setDecimals(1);
+  this->HUInterceptSpinBox->setValue(-1024.0);
+  // The threshold's unit and the mapping's boxes follow the intensity mode.
+  auto showMode = [this](int mode) {
+    this->ThresholdLabel->setText(mode == 1 ? qBMCTWidget::tr("Threshold (file units):")
+                                            : qBMCTWidget::tr("Threshold (HU):"));
+    this->HUSlopeSpinBox->setVisible(mode == 2);
+    this->HUInterceptSpinBox->setVisible(mode == 2);
+  };
+  QObject::connect(this->IntensityComboBox, QOverload<int>::of(&QComboBox::currentIndexChanged),
+                   q, showMode);
+  showMode(0);
   for (QDoubleSpinBox* box :
        this->roiBoxes() + this->entryBoxes() + this->seedBoxes() + this->boxCentreBoxes()) {
     box->setRange(-10000.0, 10000.0);
@@ -121,6 +138,21 @@ QString qBMCTWidget::ctFileName() const {
 double qBMCTWidget::thresholdHU() const {
   Q_D(const qBMCTWidget);
   return d->ThresholdSpinBox->value();
+}
+
+int qBMCTWidget::intensityMode() const {
+  Q_D(const qBMCTWidget);
+  return d->IntensityComboBox->currentIndex();
+}
+
+QVector<double> qBMCTWidget::huMapping() const {
+  Q_D(const qBMCTWidget);
+  return {d->HUSlopeSpinBox->value(), d->HUInterceptSpinBox->value()};
+}
+
+void qBMCTWidget::setIntensityMode(int mode) {
+  Q_D(qBMCTWidget);
+  d->IntensityComboBox->setCurrentIndex(mode);
 }
 
 QVector<double> qBMCTWidget::roi() const {

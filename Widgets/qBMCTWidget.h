@@ -26,8 +26,15 @@ public:
 
   /// The DICOM folder or CT file. Default "".
   QString ctFileName() const;
-  /// The bone threshold, HU. Default 200, range [-2000, 10000].
+  /// The bone threshold: HU, or the file's own units with intensityMode() 1 (raw values).
+  /// Default 200, range [-2000, 10000].
   double thresholdHU() const;
+  /// How the CT's values are read (vtkBMCTBoneSource::IntensityModes): 0 = HU as the file gives
+  /// them (the default), 1 = raw values (thresholdHU() in the file's units), 2 = huMapping().
+  int intensityMode() const;
+  /// The mapping to HU of mode 2: {slope, intercept (HU)}, HU = slope x value + intercept.
+  /// Default {1, -1024}.
+  QVector<double> huMapping() const;
   /// The region of interest (x0, y0, z0, x1, y1, z1), mm; all zero (the default): none.
   QVector<double> roi() const;
   /// The preview's voxmap cells along the region's longest side. Default 96, range [8, 1024].
@@ -59,6 +66,7 @@ public:
 public Q_SLOTS:
   void setCTFileName(const QString& path);
   void setThresholdHU(double hu);
+  void setIntensityMode(int mode);
   /// Sets the region of interest (mm); extra values are ignored, missing ones kept.
   void setRoi(const QVector<double>& box);
   void setAxis(const QVector<double>& axis);

@@ -630,9 +630,16 @@ CTImage ReadCTUnguarded(const std::string& path, const ReadOptions& options,
     }
   }
   CTImage& ct = r.ct;
-  IntensityEvidence& ev = r.evidence;
-  ev.file = path;
-  ev.format = ct.format;
+  r.evidence.file = path;
+  r.evidence.format = ct.format;
+  ApplyIntensityDecision(ct, r.evidence, options.intensity);
+  progress(1.0, "checking the values");
+  return ct;
+}
+
+} // namespace
+
+void ApplyIntensityDecision(CTImage& ct, IntensityEvidence ev, const IntensityOptions& options) {
   // Value range, and whether every value is whole.
   {
     const float* v = ct.hu->GetBufferPointer();
@@ -641,7 +648,8 @@ CTImage ReadCTUnguarded(const std::string& path, const ReadOptions& options,
     bool whole = true;
     for (size_t i = 0; i < n; ++i) {
       if (!std::isfinite(v[i]))
-        throw std::runtime_error("'" + path + "' holds a non-finite voxel value (NaN or infinite)");
+        throw std::runtime_error("'" + ev.file +
+                                 "' holds a non-finite voxel value (NaN or infinite)");
       lo = std::min(lo, v[i]);
       hi = std::max(hi, v[i]);
       whole = whole && v[i] == std::nearbyint(v[i]);
@@ -650,7 +658,7 @@ CTImage ReadCTUnguarded(const std::string& path, const ReadOptions& options,
     ev.maxValue = hi;
     ev.allIntegers = whole;
   }
-  ct.intensity = DecideIntensity(ev, options.intensity, ct.warnings);
+  ct.intensity = DecideIntensity(ev, options, ct.warnings);
   if (ct.intensity.kind == IntensityKind::GivenMapping) {
     float* v = ct.hu->GetBufferPointer();
     const size_t n = ct.hu->GetLargestPossibleRegion().GetNumberOfPixels();
@@ -659,11 +667,7 @@ CTImage ReadCTUnguarded(const std::string& path, const ReadOptions& options,
       v[i] = float(a * double(v[i]) + b);
   }
   UpdateHURange(ct);
-  progress(1.0, "checking the values");
-  return ct;
 }
-
-} // namespace
 
 std::vector<DicomSeriesInfo> ListDicomSeries(const std::string& folder) {
   return Summaries(ScanFolder(folder, Progress()));

@@ -93,4 +93,11 @@ namespace bm {
 void CheckMemoryBudget(uint64_t bytes, uint64_t limitBytes, const std::string& what);
 /// Set ct.huMin/huMax from the voxels (remarks on the range come from DecideIntensity).
 void UpdateHURange(CTImage& ct);
+
+/// What the values of `ct` (as read: the file's own rescale applied) mean: completes `evidence`
+/// with the value range, decides the mapping (bmIntensityMapping.h DecideIntensity) into
+/// ct.intensity, turns the values into HU when the user gave a mapping, and updates the HU range.
+/// Throws std::runtime_error on a non-finite value (naming evidence.file) and when DecideIntensity
+/// refuses the values.
+void ApplyIntensityDecision(CTImage& ct, IntensityEvidence evidence, const IntensityOptions& options);
 } // namespace bm

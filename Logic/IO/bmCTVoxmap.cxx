@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bmCTReader.h"
 #include "bmImport.h"
 
 #include <itkImageFileWriter.h>
@@ -66,7 +67,14 @@ Voxmap MakeCTVoxmapFromVolume(const CTVolumeView& volume, const nlohmann::json& 
   ImportOptions opt = ImportOptionsFromJson(options);
   if (resolution > 0)
     opt.resolution = resolution;
-  ImportResult r = ImportVoxmap(ToCTImage(volume), opt, progress ? Progress(progress) : Progress());
+  CTImage ct = ToCTImage(volume);
+  IntensityEvidence evidence;
+  evidence.file = volume.source;
+  evidence.format = ct.format;
+  evidence.storedBits = volume.storedBits;
+  evidence.storedInteger = volume.storedInteger;
+  ApplyIntensityDecision(ct, evidence, opt.read.intensity);
+  ImportResult r = ImportVoxmap(std::move(ct), opt, progress ? Progress(progress) : Progress());
   if (report)
     *report = r.Report();
   return std::move(r.voxmap);

@@ -30,12 +30,19 @@ struct CTVolumeView {
   std::array<double, 3> origin{0, 0, 0};  ///< world mm of voxel (0, 0, 0)
   std::array<double, 9> direction{1, 0, 0, 0, 1, 0, 0, 0, 1};
   std::string source = "image data"; ///< what the volume is, for the report
+  /// How the values were stored before they became floats (the intensity evidence,
+  /// bmIntensityMapping.h): bits per value (0 = unknown) and whether they were integers.
+  int storedBits = 0;
+  bool storedInteger = false;
 };
 
 /// The bone of an in-memory CT volume as a voxmap: the import of MakeCTVoxmap (options: the
 /// import keys of a scene's bone, bmImport.h ImportOptionsFromJson; any "ct" key is ignored).
+/// The values go through the same intensity decision as a file's (bmCTReader.h
+/// ApplyIntensityDecision): values that are clearly not HU (a windowed 8-bit image) are refused
+/// unless the options say how to read them ("rawThreshold" or "huMapping").
 /// `report` (optional) receives the import's summary. Throws std::runtime_error naming the
-/// problem (empty volume, spacing <= 0, no bone).
+/// problem (empty volume, spacing <= 0, non-finite values, not HU, no bone).
 Voxmap MakeCTVoxmapFromVolume(const CTVolumeView& volume, const nlohmann::json& options,
                               int resolution,
                               const std::function<bool(double, const std::string&)>& progress = {},

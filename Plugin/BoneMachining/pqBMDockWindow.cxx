@@ -370,7 +370,12 @@ void pqBMDockWindow::previewCT() {
   }
   vtkSMSourceProxy* proxy = vtkSMSourceProxy::SafeDownCast(this->CTBone->getProxy());
   vtkSMPropertyHelper(proxy, "FileName").Set(ct->ctFileName().toUtf8().constData());
-  vtkSMPropertyHelper(proxy, "ThresholdHU").Set(ct->thresholdHU());
+  vtkSMPropertyHelper(proxy, "IntensityMode").Set(ct->intensityMode());
+  if (ct->intensityMode() == 1)
+    vtkSMPropertyHelper(proxy, "RawThreshold").Set(ct->thresholdHU()); // the file's units
+  else
+    vtkSMPropertyHelper(proxy, "ThresholdHU").Set(ct->thresholdHU());
+  vtkSMPropertyHelper(proxy, "HUMapping").Set(ct->huMapping().constData(), 2);
   vtkSMPropertyHelper(proxy, "ROI").Set(ct->roi().constData(), 6);
   vtkSMPropertyHelper(proxy, "Resolution").Set(ct->ctResolution());
   vtkSMPropertyHelper(proxy, "Axis").Set(ct->axis().constData(), 3);

@@ -75,3 +75,6 @@ void VolumeFromVTKImage(vtkImageData* image, const std::string& source, VTKImage
 #endif
 
 } // namespace bm
+  const int type = values->GetDataType();
+  view.storedBits = 8 * values->GetDataTypeSize();
+  view.storedInteger = type != VTK_FLOAT && type != VTK_DOUBLE;

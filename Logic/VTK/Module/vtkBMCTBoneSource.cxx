@@ -3,6 +3,7 @@
 
 #ifdef BM_WITH_IO
 #include "bmCTVoxmap.h"
+#include "bmImport.h"
 #endif
 #include "bmVTKImageVolume.h"
 #include "bmVoxmap.h"
@@ -41,6 +42,7 @@ class vtkBMCTBoneSource::vtkInternals {
 public:
   std::string Error;
   std::string Specification;
+  std::string Report;               ///< the last import's summary ("" when it failed)
   std::unique_ptr<bm::Voxmap> Bone; ///< the last import's voxmap (null when it failed)
   vtkTimeStamp ImportTime;          ///< when the last import ran
   const void* Input = nullptr;      ///< the input image of the last import (identity only)
@@ -87,6 +89,10 @@ const char* vtkBMCTBoneSource::GetLastError() {
   return this->Internals->Error.c_str();
 }
 
+const char* vtkBMCTBoneSource::GetImportReport() {
+  return this->Internals->Report.c_str();
+}
+
 const char* vtkBMCTBoneSource::GetBoneSpecification() {
   std::string& spec = this->Internals->Specification;
   spec.clear();
@@ -102,7 +108,12 @@ const char* vtkBMCTBoneSource::GetBoneSpecification() {
 
 std::string vtkBMCTBoneSource::ImportOptionsJson() const {
   nlohmann::json j;
-  j["threshold"] = this->ThresholdHU;
+  if (this->IntensityMode == IntensityRaw)
+    j["rawThreshold"] = this->RawThreshold; // in the file's units: no HU threshold
+  else
+    j["threshold"] = this->ThresholdHU;
+  if (this->IntensityMode == IntensityMapped)
+    j["huMapping"] = {this->HUMapping[0], this->HUMapping[1]};
   if (this->ROI[3] > this->ROI[0] && this->ROI[4] > this->ROI[1] && this->ROI[5] > this->ROI[2])
     j["roi"] = {this->ROI[0], this->ROI[1], this->ROI[2], this->ROI[3], this->ROI[4], this->ROI[5]};
   if (this->UseSeed)
@@ -177,6 +188,7 @@ int vtkBMCTBoneSource::RequestInformation(vtkInformation*, vtkInformationVector*
 void vtkBMCTBoneSource::Import(vtkImageData* input) {
   vtkInternals& in = *this->Internals;
   in.Error.clear();
+  in.Report.clear();
   in.Bone.reset();
   this->BoneVoxels = 0;
   this->BoneVolumeMm3 = 0;
@@ -218,7 +230,7 @@ void vtkBMCTBoneSource::Import(vtkImageData* input) {
       const nlohmann::json options =
           bm::ParseJson(this->ImportOptionsJson(), "the CT bone's import options");
       in.Bone = std::make_unique<bm::Voxmap>(
-          bm::MakeCTVoxmapFromVolume(view, options, this->Resolution, progress));
+          bm::MakeCTVoxmapFromVolume(view, options, this->Resolution, progress, &in.Report));
       // The CT as a file a session can import at its own resolution (once per CT).
       const std::string copyOf = fromFile ? std::string(this->FileName)
                                           : std::to_string(reinterpret_cast<uintptr_t>(in.Input)) +
@@ -235,8 +247,12 @@ void vtkBMCTBoneSource::Import(vtkImageData* input) {
     } else {
       const nlohmann::json spec =
           bm::ParseJson(this->GetBoneSpecification(), "the CT bone's specification");
-      in.Bone =
-          std::make_unique<bm::Voxmap>(bm::MakeCTVoxmap(spec, "", this->Resolution, progress));
+      bm::ImportOptions options = bm::ImportOptionsFromJson(spec);
+      options.resolution = this->Resolution;
+      bm::ImportResult r =
+          bm::ImportVoxmap(spec.at("ct").get<std::string>(), options, bm::Progress(progress));
+      in.Report = r.Report();
+      in.Bone = std::make_unique<bm::Voxmap>(std::move(r.voxmap));
     }
 #else
     throw std::runtime_error("CT import needs the IO library, which this build leaves out");
@@ -275,6 +291,10 @@ void vtkBMCTBoneSource::Import(vtkImageData* input) {
     }
   } catch (const std::exception& e) {
     in.Error = e.what();
+    if (in.Error.find("--raw-threshold") != std::string::npos)
+      in.Error += " (in the panel and the filter's properties: Intensity mode 'Raw values' with "
+                  "Raw threshold, or 'Map values to HU' with HU mapping)";
+    in.Report.clear();
     in.Bone.reset();
     this->BoneVoxels = 0;
     this->BoneVolumeMm3 = 0;
@@ -312,6 +332,9 @@ void vtkBMCTBoneSource::PrintSelf(ostream& os, vtkIndent indent) {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
   os << indent << "ThresholdHU: " << this->ThresholdHU << "\n";
+  os << indent << "IntensityMode: " << this->IntensityMode << " (raw threshold "
+     << this->RawThreshold << ", HU mapping " << this->HUMapping[0] << " x value + "
+     << this->HUMapping[1] << ")\n";
   os << indent << "ROI: " << this->ROI[0] << " " << this->ROI[1] << " " << this->ROI[2] << " "
      << this->ROI[3] << " " << this->ROI[4] << " " << this->ROI[5] << " mm\n";
   os << indent << "Resolution: " << this->Resolution << "\n";

@@ -49,6 +49,24 @@ public:
   vtkGetMacro(ThresholdHU, double);
   ///@}
   ///@{
+  /// How the CT's values are read (Docs/CTImport.md, "Intensities"):
+  ///  - IntensityFromFile (default): Hounsfield units as the file or image gives them; values
+  ///    that are clearly not HU (a windowed 8-bit image, every value a whole number in 0..255, no
+  ///    rescale) are refused with a message naming the two other modes;
+  ///  - IntensityRaw: the values as stored; bone = values at or above RawThreshold (the file's
+  ///    units, default 128); ThresholdHU is not used and the material scale is uniform (1, not
+  ///    calibrated);
+  ///  - IntensityMapped: HU = HUMapping[0] x value + HUMapping[1] (slope, intercept; default 1,
+  ///    -1024), then ThresholdHU applies.
+  enum IntensityModes { IntensityFromFile = 0, IntensityRaw = 1, IntensityMapped = 2 };
+  vtkSetClampMacro(IntensityMode, int, IntensityFromFile, IntensityMapped);
+  vtkGetMacro(IntensityMode, int);
+  vtkSetMacro(RawThreshold, double);
+  vtkGetMacro(RawThreshold, double);
+  vtkSetVector2Macro(HUMapping, double);
+  vtkGetVector2Macro(HUMapping, double);
+  ///@}
+  ///@{
   /// Region of interest (x0, y0, z0, x1, y1, z1: the one ROI order of the CLI and scenes), world
   /// mm. All zeros (the default) means none: the bounding box of the segmented bone. An inverted
   /// or empty box (any x1 <= x0, ...) is an error.
@@ -108,9 +126,14 @@ public:
   vtkGetVector3Macro(SuggestedEntry, double);
   /// Why the last execution failed ("" when it succeeded).
   const char* GetLastError();
+  /// The last import's summary, as `bmsim import` prints it: what was read, the intensity
+  /// mapping used (HU, a given mapping or raw values) and whether the material scale is
+  /// calibrated, the bone's volume at the CT's resolution and in the voxmap, warnings. "" when
+  /// the last execution failed.
+  const char* GetImportReport();
   /// The bone as a session machines it: {"ct": CT file (absolute; for an input image or a VTK
   /// file, the MetaImage copy written at the last import), "threshold": HU, "roi": [x0, y0, z0,
-  /// x1, y1, z1]} (roi only when set), the "ct" description of a scene's bone (bmImport.h
+  /// x1, y1, z1]} (roi only when set; "rawThreshold" or "huMapping" with IntensityMode), the "ct" description of a scene's bone (bmImport.h
   /// ImportOptionsFromJson). "" without a CT.
   const char* GetBoneSpecification();
   ///@}
@@ -128,6 +151,9 @@ protected:
 
   char* FileName = nullptr;
   double ThresholdHU = 200.0;
+  int IntensityMode = IntensityFromFile;
+  double RawThreshold = 128.0;
+  double HUMapping[2] = {1.0, -1024.0};
   double ROI[6] = {0, 0, 0, 0, 0, 0};
   int Resolution = 96;
   double Axis[3] = {0, 0, 1};

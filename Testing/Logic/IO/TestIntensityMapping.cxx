@@ -4,6 +4,7 @@
 #include "bmIOTestUtil.h"
 
 #include "bmCTReader.h"
+#include "bmCTVoxmap.h"
 #include "bmImport.h"
 #include "bmIntensityMapping.h"
 
@@ -134,6 +135,49 @@ TEST(IntensityMapping, GivenMappingImportsLikeTheHUVolume) {
   const std::string header = ReadText(d / "m.nrrd").substr(0, 2000);
   EXPECT_NE(header.find("bm_intensity_mapping:=given-mapping"), std::string::npos) << header;
   EXPECT_NE(header.find("bm_material_calibrated:=true"), std::string::npos) << header;
+}
+
+// An image handed over in memory (the plugin's input from a ParaView reader) is read as a file
+// is: the same refusal of windowed 8-bit values, the same overrides, non-finite values refused.
+TEST(IntensityMapping, InMemoryVolumeGoesThroughTheSameDecision) {
+  bm::CTImage block = bm::MakePhantomCT("block");
+  const size_t n = block.hu->GetLargestPossibleRegion().GetNumberOfPixels();
+  std::vector<float> windowed(n);
+  for (size_t i = 0; i < n; ++i)
+    windowed[i] = float(std::lround(
+        std::clamp((double(block.hu->GetBufferPointer()[i]) - kLow) / kSlope, 0.0, 255.0)));
+  bm::CTVolumeView view;
+  view.values = windowed.data();
+  for (unsigned a = 0; a < 3; ++a) {
+    view.dims[a] = int(block.hu->GetLargestPossibleRegion().GetSize()[a]);
+    view.spacing[a] = block.hu->GetSpacing()[a];
+    view.origin[a] = block.hu->GetOrigin()[a];
+  }
+  view.source = "the input image";
+  view.storedBits = 8;
+  view.storedInteger = true;
+  try {
+    bm::MakeCTVoxmapFromVolume(view, nlohmann::json::object(), 32);
+    ADD_FAILURE() << "an 8-bit windowed image in memory was taken as HU";
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("the input image"), std::string::npos) << m;
+    EXPECT_NE(m.find("not Hounsfield units"), std::string::npos) << m;
+  }
+  std::string report;
+  bm::Voxmap raw = bm::MakeCTVoxmapFromVolume(
+      view, {{"rawThreshold", (200 - kLow) / kSlope}}, 32, {}, &report);
+  EXPECT_GT(raw.CountBone(), 0);
+  EXPECT_NE(report.find("raw values, bone threshold"), std::string::npos) << report;
+  bm::Voxmap mapped = bm::MakeCTVoxmapFromVolume(
+      view, {{"huMapping", {kSlope, kLow}}, {"threshold", 200}}, 32, {}, &report);
+  EXPECT_NE(report.find("given mapping"), std::string::npos) << report;
+  bm::ImportOptions huOpt;
+  huOpt.resolution = 32;
+  bm::ImportResult hu = bm::ImportVoxmap(bm::MakePhantomCT("block"), huOpt);
+  EXPECT_NEAR(mapped.BoneVolume(), hu.voxmap.BoneVolume(), 0.03 * hu.voxmap.BoneVolume());
+  windowed[n / 2] = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_THROW(bm::MakeCTVoxmapFromVolume(view, {{"rawThreshold", 100}}, 32), std::runtime_error);
 }
 
 TEST(IntensityMapping, InvalidOverridesAreRefused) {
