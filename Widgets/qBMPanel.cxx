@@ -3,6 +3,7 @@
 
 #include "qBMCTWidget.h"
 #include "qBMChartsWidget.h"
+#include "qBMPlanWidget.h"
 #include "qBMSessionWidget.h"
 #include "qBMToolWidget.h"
 
@@ -12,6 +13,7 @@ class qBMPanelPrivate {
 public:
   qBMToolWidget* Tool = nullptr;
   qBMCTWidget* CT = nullptr;
+  qBMPlanWidget* Plan = nullptr;
   qBMSessionWidget* Session = nullptr;
   qBMChartsWidget* Charts = nullptr;
 };
@@ -24,11 +26,13 @@ qBMPanel::qBMPanel(QWidget* parent) : Superclass(parent), d_ptr(new qBMPanelPriv
   layout->setObjectName("MainLayout");
   d->Tool = new qBMToolWidget(this);
   d->CT = new qBMCTWidget(this);
+  d->Plan = new qBMPlanWidget(this);
   d->Session = new qBMSessionWidget(this);
   d->Charts = new qBMChartsWidget(this);
   d->Charts->setObjectName("ChartsWidget");
   layout->addWidget(d->Tool);
   layout->addWidget(d->CT);
+  layout->addWidget(d->Plan);
   layout->addWidget(d->Session);
   layout->addWidget(d->Charts);
   layout->addStretch(1);
@@ -44,6 +48,11 @@ qBMToolWidget* qBMPanel::toolWidget() const {
 qBMCTWidget* qBMPanel::ctWidget() const {
   Q_D(const qBMPanel);
   return d->CT;
+}
+
+qBMPlanWidget* qBMPanel::planWidget() const {
+  Q_D(const qBMPanel);
+  return d->Plan;
 }
 
 qBMSessionWidget* qBMPanel::sessionWidget() const {

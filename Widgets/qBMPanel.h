@@ -2,6 +2,7 @@
 // Qt-free module logic (bmPanelLogic.h and the vtkBM* sources):
 //   qBMToolWidget     choose a tool and its parameters, add it to the scene;
 //   qBMCTWidget       a CT's bone (threshold, region, preview) and the entry and axis on it;
+//   qBMPlanWidget     glenoid planning: landmarks, measured and target angles, the axis, steps;
 //   qBMSessionWidget  run a machining session (scene, resolutions and their expected cost, force
 //                     model, device, force scale, depth, bone file, start / pause / stop);
 //   qBMChartsWidget   the session's live thrust, torque and frame-time charts.
@@ -15,6 +16,7 @@
 class qBMCTWidget;
 class qBMChartsWidget;
 class qBMPanelPrivate;
+class qBMPlanWidget;
 class qBMSessionWidget;
 class qBMToolWidget;
 
@@ -23,7 +25,7 @@ class qBMPanel : public QWidget {
 
 public:
   using Superclass = QWidget;
-  /// A panel with its four sections at their defaults (object name "qBMPanel").
+  /// A panel with its five sections at their defaults (object name "qBMPanel").
   explicit qBMPanel(QWidget* parent = nullptr);
   ~qBMPanel() override;
 
@@ -31,6 +33,8 @@ public:
   qBMToolWidget* toolWidget() const;
   /// The CT section (object name CTGroupBox).
   qBMCTWidget* ctWidget() const;
+  /// The Planning section (object name PlanGroupBox).
+  qBMPlanWidget* planWidget() const;
   /// The session section (object name SessionGroupBox).
   qBMSessionWidget* sessionWidget() const;
   /// The charts under the session section (object name ChartsWidget).

@@ -5,6 +5,7 @@
 #include "qBMCTWidget.h"
 #include "qBMChartsWidget.h"
 #include "qBMPanel.h"
+#include "qBMPlanWidget.h"
 #include "qBMSessionWidget.h"
 #include "qBMToolWidget.h"
 #include "vtkBMSessionSource.h"
@@ -59,6 +60,10 @@ pqBMDockWindow::pqBMDockWindow(QWidget* parent)
                    &pqBMDockWindow::setVolumeRendering);
   QObject::connect(this->Panel->ctWidget(), &qBMCTWidget::previewCTRequested, this,
                    &pqBMDockWindow::previewCT);
+  QObject::connect(this->Panel->planWidget(), &qBMPlanWidget::planRequested, this,
+                   &pqBMDockWindow::planGlenoid);
+  QObject::connect(this->Panel->planWidget(), &qBMPlanWidget::runStepRequested, this,
+                   &pqBMDockWindow::runPlanStep);
   // Picking in the 3D view (the surface point under the mouse): Ctrl+Shift+E adds an exclude
   // point, Ctrl+Shift+I sets the include seed of the CT bone.
   auto* exclude = new QShortcut(QKeySequence(tr("Ctrl+Shift+E")), this);

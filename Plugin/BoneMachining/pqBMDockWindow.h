@@ -62,6 +62,14 @@ private Q_SLOTS:
   /// bone), shows its bone as a slice coloured by BoneFraction and reports the preview (bone
   /// voxels, volume, bounds, suggested entry, or the import error) in the panel.
   void previewCT();
+  /// The Planning section's settings onto a "BM Glenoid Plan" filter (created once) on the
+  /// selected image source (a voxmap, a BM CT Bone), else the CT section's preview; its result,
+  /// or why it failed, back into the section; its landmarks, rim and axis shown in the active
+  /// view (pqBMDockPlanning.cxx).
+  void planGlenoid();
+  /// Runs step `step` of the plan (0 guide pin, 1 reaming) as a session on the step's scene (the
+  /// step's tool, the CT's bone; the reaming on the bone the last session left, saved first).
+  void runPlanStep(int step);
 
 private:
   Q_DISABLE_COPY(pqBMDockWindow);
@@ -75,6 +83,8 @@ private:
   QPointer<QWidget> WheelView;
   QPointer<pqPipelineSource> Session;
   QPointer<pqPipelineSource> CTBone;
+  QPointer<pqPipelineSource> GlenoidPlan; ///< the Planning section's BM Glenoid Plan filter
+  QPointer<pqPipelineSource> PlanInput;   ///< the image it plans on
   QTimer* Poll;
   /// Session frame the charts show, and the time since they were drawn.
   vtkIdType ChartedFrame = -1;

@@ -1,0 +1,162 @@
+// pqBMDockPlanning.cxx - the dock's glue for the panel's Planning section (pqBMDockWindow.h:
+// planGlenoid, runPlanStep): the section's settings onto a "BM Glenoid Plan" filter
+// (vtkBMGlenoidPlanFilter), its results back into the section, and a plan's step run as a
+// "BM Session" on the step's scene.
+#include "pqBMDockWindow.h"
+
+#include "qBMCTWidget.h"
+#include "qBMPanel.h"
+#include "qBMPlanWidget.h"
+#include "qBMSessionWidget.h"
+
+#include "pqActiveObjects.h"
+#include "pqApplicationCore.h"
+#include "pqObjectBuilder.h"
+#include "pqOutputPort.h"
+#include "pqPipelineSource.h"
+#include "pqServer.h"
+#include "pqView.h"
+#include "vtkNew.h"
+#include "vtkPVDataInformation.h"
+#include "vtkSMParaViewPipelineControllerWithRendering.h"
+#include "vtkSMPropertyHelper.h"
+#include "vtkSMSourceProxy.h"
+#include "vtkSMViewProxy.h"
+
+#include <QCoreApplication>
+#include <QDir>
+#include <QFile>
+
+#include <string>
+
+namespace {
+/// Whether `source`'s first output is image data (a bone-fraction image the plan can read).
+bool OutputsImage(pqPipelineSource* source) {
+  if (!source || source->getNumberOfOutputPorts() < 1)
+    return false;
+  vtkPVDataInformation* info = source->getOutputPort(0)->getDataInformation();
+  return info && info->GetDataSetType() == VTK_IMAGE_DATA;
+}
+
+QVector<double> Get3(vtkSMProxy* proxy, const char* name) {
+  QVector<double> v(3);
+  vtkSMPropertyHelper(proxy, name).Get(v.data(), 3);
+  return v;
+}
+} // namespace
+
+void pqBMDockWindow::planGlenoid() {
+  pqServer* server = pqActiveObjects::instance().activeServer();
+  qBMPlanWidget* w = this->Panel->planWidget();
+  if (!server)
+    return;
+  // The bone: the selected image source (a voxmap opened, a BM CT Bone), else the one planned
+  // on before, else the CT section's preview.
+  pqPipelineSource* active = pqActiveObjects::instance().activeSource();
+  if (active && active != this->GlenoidPlan && active != this->Session && OutputsImage(active))
+    this->PlanInput = active;
+  if (!this->PlanInput)
+    this->PlanInput = this->CTBone;
+  if (!this->PlanInput) {
+    w->setPlanFailure(tr("no bone image: preview the CT bone, or select a voxmap holding the "
+                         "scapula and the humeral head (bmsim import --keep-all)"));
+    return;
+  }
+  pqObjectBuilder* builder = pqApplicationCore::instance()->getObjectBuilder();
+  if (!this->GlenoidPlan) {
+    this->GlenoidPlan = builder->createFilter("sources", "BMGlenoidPlanFilter", this->PlanInput);
+    if (!this->GlenoidPlan) {
+      w->setPlanFailure(tr("could not create a BM Glenoid Plan filter"));
+      return;
+    }
+  }
+  vtkSMSourceProxy* proxy = vtkSMSourceProxy::SafeDownCast(this->GlenoidPlan->getProxy());
+  vtkSMPropertyHelper(proxy, "Input").Set(this->PlanInput->getProxy(), 0);
+  const char* names[3] = {"GlenoidCentre", "Trigonum", "InferiorAngle"};
+  for (int i = 0; i < 3; ++i) {
+    vtkSMPropertyHelper(proxy, (std::string("Use") + names[i]).c_str())
+        .Set(w->useLandmark(i) ? 1 : 0);
+    vtkSMPropertyHelper(proxy, names[i]).Set(w->landmark(i).constData(), 3);
+  }
+  vtkSMPropertyHelper(proxy, "TargetVersion").Set(w->targetVersion());
+  vtkSMPropertyHelper(proxy, "TargetInclination").Set(w->targetInclination());
+  vtkSMPropertyHelper(proxy, "ReamDepth").Set(w->reamDepth());
+  vtkSMPropertyHelper(proxy, "ReamerDiameter").Set(w->reamerDiameter());
+  vtkSMPropertyHelper(proxy, "CTFileName")
+      .Set(this->Panel->ctWidget()->ctFileName().toUtf8().constData());
+  proxy->UpdateVTKObjects();
+  this->GlenoidPlan->updatePipeline();
+  this->GlenoidPlan->setModifiedState(pqProxy::UNMODIFIED);
+  proxy->UpdatePropertyInformation();
+  const QString error =
+      QString::fromStdString(vtkSMPropertyHelper(proxy, "LastErrorInfo").GetAsString());
+  if (!error.isEmpty()) {
+    w->setPlanFailure(error);
+    return;
+  }
+  qBMPlanResult r;
+  r.friedmanVersionDeg = vtkSMPropertyHelper(proxy, "FriedmanVersionInfo").GetAsDouble();
+  r.version3DDeg = vtkSMPropertyHelper(proxy, "Version3DInfo").GetAsDouble();
+  r.inclinationDeg = vtkSMPropertyHelper(proxy, "InclinationInfo").GetAsDouble();
+  r.heightMm = vtkSMPropertyHelper(proxy, "GlenoidHeightInfo").GetAsDouble();
+  r.widthMm = vtkSMPropertyHelper(proxy, "GlenoidWidthInfo").GetAsDouble();
+  r.faceRadiusMm = vtkSMPropertyHelper(proxy, "FaceRadiusInfo").GetAsDouble();
+  r.correctionDeg = vtkSMPropertyHelper(proxy, "CorrectionInfo").GetAsDouble();
+  r.reamerFits = vtkSMPropertyHelper(proxy, "ReamerFitsInfo").GetAsInt() != 0;
+  r.glenoidCentre = Get3(proxy, "UsedGlenoidCentreInfo");
+  r.trigonum = Get3(proxy, "UsedTrigonumInfo");
+  r.inferiorAngle = Get3(proxy, "UsedInferiorAngleInfo");
+  r.entry = Get3(proxy, "PlanEntryInfo");
+  r.axis = Get3(proxy, "PlanAxisInfo");
+  const QString warnings =
+      QString::fromStdString(vtkSMPropertyHelper(proxy, "WarningsInfo").GetAsString());
+  if (!warnings.isEmpty())
+    r.warnings = warnings.split('\n');
+  r.canRunSteps = !std::string(vtkSMPropertyHelper(proxy, "PlanSceneInfo").GetAsString()).empty();
+  w->setPlanResult(r);
+  if (pqView* view = pqActiveObjects::instance().activeView()) {
+    vtkNew<vtkSMParaViewPipelineControllerWithRendering> controller;
+    controller->Show(proxy, 0, view->getViewProxy());
+    view->render();
+  }
+}
+
+void pqBMDockWindow::runPlanStep(int step) {
+  qBMPlanWidget* w = this->Panel->planWidget();
+  qBMSessionWidget* session = this->Panel->sessionWidget();
+  if (!this->GlenoidPlan || (step != 0 && step != 1))
+    return;
+  vtkSMProxy* proxy = this->GlenoidPlan->getProxy();
+  proxy->UpdatePropertyInformation();
+  const std::string scene =
+      vtkSMPropertyHelper(proxy, step == 0 ? "PinStepSceneInfo" : "ReamStepSceneInfo")
+          .GetAsString();
+  if (scene.empty()) {
+    w->setPlanFailure(tr("no plan scene: name the CT in the CT section and plan again"));
+    return;
+  }
+  const QDir dir(
+      QDir::temp().filePath(QString("bm-plan-%1").arg(QCoreApplication::applicationPid())));
+  dir.mkpath(".");
+  const QString path = dir.filePath(step == 0 ? "step1-guide-pin.json" : "step2-ream.json");
+  QFile file(path);
+  if (!file.open(QIODevice::WriteOnly | QIODevice::Truncate) ||
+      file.write(scene.c_str(), qint64(scene.size())) != qint64(scene.size())) {
+    session->setSessionStatus(tr("Cannot write the step's scene %1").arg(path), false);
+    return;
+  }
+  file.close();
+  // The step's own tool and bone: not the tool section's, not the CT section's bone.
+  session->setUseChosenTool(false);
+  this->Panel->ctWidget()->setUseCTBone(false);
+  if (step == 1 && this->Session) {
+    // Ream the bone the guide-pin step left.
+    const QString bone = dir.filePath("after-guide-pin.nrrd");
+    this->saveBone(bone);
+    session->setBoneFile(bone);
+    session->setStartFromBoneFile(QFile::exists(bone));
+  } else {
+    session->setStartFromBoneFile(false);
+  }
+  this->startSession(path, 0, 0, session->deviceType());
+}

@@ -1,0 +1,122 @@
+"""The plugin's "BM Glenoid Plan" filter on the scapula phantom, as the Planning section uses it.
+
+usage: pvbatch TestGlenoidPlanPlugin.py PLUGIN BMSIM WORK_DIR
+
+1. `bmsim phantom scapula` writes the phantom's DICOM series and truth.json; `bmsim import
+   --keep-all --resolution 160` turns it into a voxmap (scapula and humeral head, ~1 mm voxels)
+   that ParaView's MetaImage reader opens.
+2. "BM Glenoid Plan" on that voxmap: Friedman's version, the 3D version and the inclination
+   within 1 deg of the phantom's truth, the glenoid centre within 1 mm, the plan scene with the
+   guide-pin and reaming steps on the CT.
+3. The trigonum moved as its handle widget moves it (Trigonum set, UseTrigonum on), turned 5 deg
+   about the vertical through the glenoid line's midpoint: Friedman's version changes by 5 deg.
+4. On "BM CT Bone"'s output (the scapula alone, no humeral head) the filter says "no glenoid
+   found" and asks for landmarks; with the glenoid centre and face normal given it measures the
+   version within 1 deg again.
+Exits non-zero on the first failed check.
+"""
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+
+from paraview.simple import LoadPlugin, OpenDataFile, SetActiveSource
+
+
+def check(condition, message):
+    print(("ok   " if condition else "FAIL ") + message)
+    if not condition:
+        sys.exit(1)
+
+
+def info(proxy, name):
+    proxy.SMProxy.UpdatePropertyInformation()
+    prop = proxy.SMProxy.GetProperty(name)
+    n = prop.GetNumberOfElements()
+    values = [prop.GetElement(i) for i in range(n)]
+    return values[0] if n == 1 else values
+
+
+def turn_about_vertical(p, c, deg):
+    a = math.radians(deg)
+    x, y = p[0] - c[0], p[1] - c[1]
+    return [c[0] + math.cos(a) * x - math.sin(a) * y, c[1] + math.sin(a) * x + math.cos(a) * y, p[2]]
+
+
+def main():
+    check(len(sys.argv) == 4, "usage: TestGlenoidPlanPlugin.py PLUGIN BMSIM WORK_DIR")
+    plugin, bmsim, work = sys.argv[1], sys.argv[2], sys.argv[3]
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(work)
+    ct = os.path.join(work, "ct")
+    voxmap = os.path.join(work, "bone.mha")
+    subprocess.run([bmsim, "phantom", "scapula", "--quiet", "--out", ct], check=True)
+    subprocess.run([bmsim, "import", ct, "--keep-all", "--resolution", "160", "--quiet",
+                    "--out", voxmap], check=True)
+    with open(os.path.join(ct, "truth.json")) as f:
+        truth = json.load(f)
+
+    LoadPlugin(plugin, remote=False, ns=globals())
+    check("BMGlenoidPlan" in globals(), "the plugin defines BM Glenoid Plan")
+    reader = OpenDataFile(voxmap)
+    plan = globals()["BMGlenoidPlan"](Input=reader, CTFileName=ct)
+    plan.UpdatePipeline()
+    check(info(plan, "LastErrorInfo") == "", "no error (%r)" % info(plan, "LastErrorInfo"))
+    friedman = info(plan, "FriedmanVersionInfo")
+    version = info(plan, "Version3DInfo")
+    inclination = info(plan, "InclinationInfo")
+    check(abs(friedman - truth["friedman_version_deg"]) < 1.0,
+          "Friedman version %.2f deg (truth %.2f)" % (friedman, truth["friedman_version_deg"]))
+    check(abs(version - truth["version_3d_deg"]) < 1.0,
+          "3D version %.2f deg (truth %.2f)" % (version, truth["version_3d_deg"]))
+    check(abs(inclination - truth["inclination_deg"]) < 1.0,
+          "inclination %.2f deg (truth %.2f)" % (inclination, truth["inclination_deg"]))
+    centre = info(plan, "UsedGlenoidCentreInfo")
+    error = math.dist(centre, truth["glenoid_centre_mm"])
+    check(error < 1.0, "glenoid centre %s, %.2f mm from the truth" % (centre, error))
+    scene = json.loads(info(plan, "PlanSceneInfo"))
+    check([s["name"] for s in scene["steps"]] == ["guide pin", "ream"],
+          "the plan scene holds the guide-pin and reaming steps")
+    check(scene["bone"]["ct"]["ct"] == os.path.abspath(ct), "the plan scene's bone is the CT")
+    check(plan.GetDataInformation().GetNumberOfPoints() > 70,
+          "the output draws landmarks, rim, axis and normal")
+
+    # Drag the trigonum (as the handle widget does: the property, then its Use flag) 5 deg about
+    # the vertical through the midpoint of Friedman's glenoid line, where his scapular axis ends.
+    trigonum = info(plan, "UsedTrigonumInfo")
+    line = info(plan, "GlenoidLineInfo")
+    mid = [(line[i] + line[i + 3]) / 2 for i in range(3)]
+    plan.Trigonum = turn_about_vertical(trigonum, mid, 5.0)
+    plan.UseTrigonum = 1
+    plan.UpdatePipeline()
+    moved = info(plan, "FriedmanVersionInfo")
+    check(abs(abs(moved - friedman) - 5.0) < 0.1,
+          "the trigonum turned 5 deg: Friedman version %.2f -> %.2f deg" % (friedman, moved))
+    check(abs(info(plan, "Version3DInfo") - version) > 1.0, "the 3D version changes too")
+
+    # The CT Bone output holds the scapula only: no joint to find, so the filter asks for the
+    # landmarks; given the centre and normal it plans.
+    SetActiveSource(None)  # the CT Bone reads FileName, no input image
+    bone = globals()["BMCTBone"](FileName=ct, Resolution=160)
+    bone.UpdatePipeline()
+    on_ct = globals()["BMGlenoidPlan"](Input=bone)
+    on_ct.UpdatePipeline()
+    message = info(on_ct, "LastErrorInfo")
+    check("no glenoid found" in message and "Use Glenoid Centre" in message,
+          "one bone: %r" % message)
+    on_ct.GlenoidCentre = truth["glenoid_centre_mm"]
+    on_ct.UseGlenoidCentre = 1
+    on_ct.FaceNormal = truth["face_normal"]
+    on_ct.UseFaceNormal = 1
+    on_ct.UpdatePipeline()
+    check(info(on_ct, "LastErrorInfo") == "", "landmarks given: no error")
+    given = info(on_ct, "FriedmanVersionInfo")
+    check(abs(given - truth["friedman_version_deg"]) < 1.0,
+          "Friedman version with given landmarks %.2f deg" % given)
+    print("TestGlenoidPlanPlugin: all checks passed")
+
+
+if __name__ == "__main__":
+    main()

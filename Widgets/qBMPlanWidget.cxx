@@ -1,0 +1,264 @@
+// qBMPlanWidget.cxx - see qBMPlanWidget.h.
+#include "qBMPlanWidget.h"
+
+#include <QCheckBox>
+#include <QDoubleSpinBox>
+#include <QFormLayout>
+#include <QGridLayout>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QPushButton>
+#include <QSignalBlocker>
+#include <QVBoxLayout>
+
+#include <array>
+
+namespace {
+const char* const kLandmarkNames[3] = {"GlenoidCentre", "Trigonum", "InferiorAngle"};
+const char* const kLandmarkLabels[3] = {"Glenoid centre", "Trigonum", "Inferior angle"};
+} // namespace
+
+class qBMPlanWidgetPrivate {
+  Q_DECLARE_PUBLIC(qBMPlanWidget);
+
+public:
+  explicit qBMPlanWidgetPrivate(qBMPlanWidget& object) : q_ptr(&object) {}
+  void init();
+  QDoubleSpinBox* spinBox(const QString& name, double lo, double hi, double value,
+                          const QString& suffix, const QString& tip);
+
+  qBMPlanWidget* const q_ptr;
+  std::array<QCheckBox*, 3> Use{};
+  std::array<std::array<QDoubleSpinBox*, 3>, 3> Point{};
+  QDoubleSpinBox* TargetVersion = nullptr;
+  QDoubleSpinBox* TargetInclination = nullptr;
+  QDoubleSpinBox* ReamDepth = nullptr;
+  QDoubleSpinBox* ReamerDiameter = nullptr;
+  QLabel* FriedmanVersion = nullptr;
+  QLabel* Version3D = nullptr;
+  QLabel* Inclination = nullptr;
+  QLabel* Size = nullptr;
+  QLabel* Axis = nullptr;
+  QLabel* Status = nullptr;
+  QPushButton* Plan = nullptr;
+  QPushButton* RunPin = nullptr;
+  QPushButton* RunReam = nullptr;
+};
+
+QDoubleSpinBox* qBMPlanWidgetPrivate::spinBox(const QString& name, double lo, double hi,
+                                              double value, const QString& suffix,
+                                              const QString& tip) {
+  Q_Q(qBMPlanWidget);
+  auto* box = new QDoubleSpinBox(q);
+  box->setObjectName(name);
+  box->setRange(lo, hi);
+  box->setDecimals(2);
+  box->setValue(value);
+  box->setSuffix(suffix);
+  box->setToolTip(tip);
+  box->setKeyboardTracking(false); // one plan per edit, not per keystroke
+  QObject::connect(box, QOverload<double>::of(&QDoubleSpinBox::valueChanged), q,
+                   [q](double) { Q_EMIT q->planRequested(); });
+  return box;
+}
+
+void qBMPlanWidgetPrivate::init() {
+  Q_Q(qBMPlanWidget);
+  q->setObjectName("PlanGroupBox");
+  q->setTitle(qBMPlanWidget::tr("Planning"));
+  auto* layout = new QVBoxLayout(q);
+  auto* marks = new QGridLayout;
+  for (int i = 0; i < 3; ++i) {
+    const QString name = kLandmarkNames[i];
+    this->Use[i] = new QCheckBox(qBMPlanWidget::tr(kLandmarkLabels[i]), q);
+    this->Use[i]->setObjectName("Use" + name + "CheckBox");
+    this->Use[i]->setToolTip(qBMPlanWidget::tr("Use the point given here (world mm) instead of "
+                                               "the detected one; dragging the landmark's "
+                                               "handle in the 3D view sets it"));
+    QObject::connect(this->Use[i], &QCheckBox::toggled, q,
+                     [q](bool) { Q_EMIT q->planRequested(); });
+    marks->addWidget(this->Use[i], i, 0);
+    for (int c = 0; c < 3; ++c) {
+      this->Point[i][c] = this->spinBox(name + QStringList{"X", "Y", "Z"}[c] + "SpinBox", -10000,
+                                        10000, 0, " mm", qBMPlanWidget::tr("World coordinate, mm"));
+      marks->addWidget(this->Point[i][c], i, c + 1);
+    }
+  }
+  layout->addLayout(marks);
+  auto* form = new QFormLayout;
+  this->TargetVersion =
+      this->spinBox("TargetVersionSpinBox", -44.9, 44.9, 0, " deg",
+                    qBMPlanWidget::tr("Target version of the reaming axis (negative = "
+                                      "retroversion)"));
+  this->TargetInclination =
+      this->spinBox("TargetInclinationSpinBox", -44.9, 44.9, 0, " deg",
+                    qBMPlanWidget::tr("Target inclination (positive = superior)"));
+  this->ReamDepth = this->spinBox("ReamDepthSpinBox", 0.01, 10, 2, " mm",
+                                  qBMPlanWidget::tr("Reaming depth below the glenoid centre"));
+  this->ReamerDiameter =
+      this->spinBox("ReamerDiameterSpinBox", 10.01, 60, 36.5, " mm",
+                    qBMPlanWidget::tr("Reamer diameter, checked against the glenoid"));
+  form->addRow(qBMPlanWidget::tr("Target version"), this->TargetVersion);
+  form->addRow(qBMPlanWidget::tr("Target inclination"), this->TargetInclination);
+  form->addRow(qBMPlanWidget::tr("Reaming depth"), this->ReamDepth);
+  form->addRow(qBMPlanWidget::tr("Reamer diameter"), this->ReamerDiameter);
+  auto label = [q](const char* name) {
+    auto* l = new QLabel(qBMPlanWidget::tr("-"), q);
+    l->setObjectName(name);
+    l->setWordWrap(true);
+    l->setTextInteractionFlags(Qt::TextSelectableByMouse);
+    return l;
+  };
+  this->FriedmanVersion = label("FriedmanVersionLabel");
+  this->Version3D = label("Version3DLabel");
+  this->Inclination = label("InclinationLabel");
+  this->Size = label("GlenoidSizeLabel");
+  this->Axis = label("PlanAxisLabel");
+  this->Status = label("PlanStatusLabel");
+  form->addRow(qBMPlanWidget::tr("Version (Friedman 2D)"), this->FriedmanVersion);
+  form->addRow(qBMPlanWidget::tr("Version (3D)"), this->Version3D);
+  form->addRow(qBMPlanWidget::tr("Inclination (3D)"), this->Inclination);
+  form->addRow(qBMPlanWidget::tr("Glenoid"), this->Size);
+  form->addRow(qBMPlanWidget::tr("Reaming axis"), this->Axis);
+  layout->addLayout(form);
+  layout->addWidget(this->Status);
+  auto* buttons = new QHBoxLayout;
+  this->Plan = new QPushButton(qBMPlanWidget::tr("Plan"), q);
+  this->Plan->setObjectName("PlanButton");
+  this->RunPin = new QPushButton(qBMPlanWidget::tr("Run guide pin"), q);
+  this->RunPin->setObjectName("RunPinButton");
+  this->RunReam = new QPushButton(qBMPlanWidget::tr("Run reaming"), q);
+  this->RunReam->setObjectName("RunReamButton");
+  this->RunPin->setEnabled(false);
+  this->RunReam->setEnabled(false);
+  QObject::connect(this->Plan, &QPushButton::clicked, q, &qBMPlanWidget::planRequested);
+  QObject::connect(this->RunPin, &QPushButton::clicked, q,
+                   [q]() { Q_EMIT q->runStepRequested(0); });
+  QObject::connect(this->RunReam, &QPushButton::clicked, q,
+                   [q]() { Q_EMIT q->runStepRequested(1); });
+  buttons->addWidget(this->Plan);
+  buttons->addWidget(this->RunPin);
+  buttons->addWidget(this->RunReam);
+  layout->addLayout(buttons);
+}
+
+qBMPlanWidget::qBMPlanWidget(QWidget* parent)
+    : Superclass(parent), d_ptr(new qBMPlanWidgetPrivate(*this)) {
+  Q_D(qBMPlanWidget);
+  d->init();
+}
+
+qBMPlanWidget::~qBMPlanWidget() = default;
+
+bool qBMPlanWidget::useLandmark(int i) const {
+  Q_D(const qBMPlanWidget);
+  return i >= 0 && i < 3 && d->Use[i]->isChecked();
+}
+
+QVector<double> qBMPlanWidget::landmark(int i) const {
+  Q_D(const qBMPlanWidget);
+  if (i < 0 || i >= 3)
+    return {};
+  return {d->Point[i][0]->value(), d->Point[i][1]->value(), d->Point[i][2]->value()};
+}
+
+double qBMPlanWidget::targetVersion() const {
+  Q_D(const qBMPlanWidget);
+  return d->TargetVersion->value();
+}
+
+double qBMPlanWidget::targetInclination() const {
+  Q_D(const qBMPlanWidget);
+  return d->TargetInclination->value();
+}
+
+double qBMPlanWidget::reamDepth() const {
+  Q_D(const qBMPlanWidget);
+  return d->ReamDepth->value();
+}
+
+double qBMPlanWidget::reamerDiameter() const {
+  Q_D(const qBMPlanWidget);
+  return d->ReamerDiameter->value();
+}
+
+QString qBMPlanWidget::measurementsText() const {
+  Q_D(const qBMPlanWidget);
+  return tr("Friedman %1; 3D %2; inclination %3")
+      .arg(d->FriedmanVersion->text(), d->Version3D->text(), d->Inclination->text());
+}
+
+void qBMPlanWidget::setLandmark(int i, const QVector<double>& point) {
+  Q_D(qBMPlanWidget);
+  if (i < 0 || i >= 3 || point.size() < 3)
+    return;
+  {
+    const QSignalBlocker b0(d->Point[i][0]), b1(d->Point[i][1]), b2(d->Point[i][2]), b3(d->Use[i]);
+    for (int c = 0; c < 3; ++c)
+      d->Point[i][c]->setValue(point[c]);
+    d->Use[i]->setChecked(true);
+  }
+  Q_EMIT this->planRequested();
+}
+
+void qBMPlanWidget::setUseLandmark(int i, bool use) {
+  Q_D(qBMPlanWidget);
+  if (i >= 0 && i < 3)
+    d->Use[i]->setChecked(use);
+}
+
+void qBMPlanWidget::setTargets(double versionDeg, double inclinationDeg) {
+  Q_D(qBMPlanWidget);
+  {
+    const QSignalBlocker b0(d->TargetVersion), b1(d->TargetInclination);
+    d->TargetVersion->setValue(versionDeg);
+    d->TargetInclination->setValue(inclinationDeg);
+  }
+  Q_EMIT this->planRequested();
+}
+
+void qBMPlanWidget::setPlanResult(const qBMPlanResult& r) {
+  Q_D(qBMPlanWidget);
+  auto deg = [](double v) { return qBMPlanWidget::tr("%1 deg").arg(v, 0, 'f', 1); };
+  d->FriedmanVersion->setText(deg(r.friedmanVersionDeg));
+  d->Version3D->setText(deg(r.version3DDeg));
+  d->Inclination->setText(deg(r.inclinationDeg));
+  d->Size->setText(tr("%1 x %2 mm, radius of curvature %3 mm")
+                       .arg(r.heightMm, 0, 'f', 1)
+                       .arg(r.widthMm, 0, 'f', 1)
+                       .arg(r.faceRadiusMm, 0, 'f', 1));
+  if (r.entry.size() >= 3 && r.axis.size() >= 3)
+    d->Axis->setText(tr("from (%1, %2, %3) mm along (%4, %5, %6), correction %7 deg")
+                         .arg(r.entry[0], 0, 'f', 1)
+                         .arg(r.entry[1], 0, 'f', 1)
+                         .arg(r.entry[2], 0, 'f', 1)
+                         .arg(r.axis[0], 0, 'f', 3)
+                         .arg(r.axis[1], 0, 'f', 3)
+                         .arg(r.axis[2], 0, 'f', 3)
+                         .arg(r.correctionDeg, 0, 'f', 1));
+  QStringList status;
+  status << (r.reamerFits ? tr("The reamer fits the glenoid.")
+                          : tr("The reamer overhangs the glenoid."));
+  status << r.warnings;
+  if (!r.canRunSteps)
+    status << tr("Name the CT to run the steps.");
+  d->Status->setText(status.join("\n"));
+  const QVector<double>* used[3] = {&r.glenoidCentre, &r.trigonum, &r.inferiorAngle};
+  for (int i = 0; i < 3; ++i)
+    if (!d->Use[i]->isChecked() && used[i]->size() >= 3)
+      for (int c = 0; c < 3; ++c) {
+        const QSignalBlocker block(d->Point[i][c]);
+        d->Point[i][c]->setValue((*used[i])[c]);
+      }
+  d->RunPin->setEnabled(r.canRunSteps);
+  d->RunReam->setEnabled(r.canRunSteps);
+}
+
+void qBMPlanWidget::setPlanFailure(const QString& error) {
+  Q_D(qBMPlanWidget);
+  for (QLabel* l : {d->FriedmanVersion, d->Version3D, d->Inclination, d->Size, d->Axis})
+    l->setText(tr("-"));
+  d->Status->setText(tr("No plan: %1").arg(error));
+  d->RunPin->setEnabled(false);
+  d->RunReam->setEnabled(false);
+}
