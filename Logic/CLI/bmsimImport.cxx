@@ -69,7 +69,8 @@ static void ImportCommandOptions(ParsedArgs& p) {
              "region of interest, world mm (default: the bone's bounding box; an inverted box "
              "is an error)")
       .Value("box", "CX,CY,CZ,HX,HY,HZ[,RX,RY,RZ]",
-             "oriented box region: centre, half sizes (mm), rotation about x, y, z (degrees)")
+             "oriented box region: centre, half sizes (mm), rotation about x, y, z (degrees; "
+             "applied y, then x, then z, as VTK and ParaView's box widget do)")
       .Value("series", "ID",
              "series to read when the folder holds several: the id listed (SeriesInstanceUID, "
              "or noUID-... for a series without one)")

@@ -23,10 +23,10 @@ std::array<std::array<double, 3>, 3> OrientedBox::Axes() const {
   const double cx = std::cos(rotationDeg[0] * k), sx = std::sin(rotationDeg[0] * k);
   const double cy = std::cos(rotationDeg[1] * k), sy = std::sin(rotationDeg[1] * k);
   const double cz = std::cos(rotationDeg[2] * k), sz = std::sin(rotationDeg[2] * k);
-  // R = Rz Ry Rx, row-major.
-  const double R[3][3] = {{cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx},
-                          {sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx},
-                          {-sy, cy * sx, cy * cx}};
+  // R = Rz Rx Ry, row-major (VTK's orientation order: vtkTransform RotateZ, RotateX, RotateY).
+  const double R[3][3] = {{cz * cy - sz * sx * sy, -sz * cx, cz * sy + sz * sx * cy},
+                          {sz * cy + cz * sx * sy, cz * cx, sz * sy - cz * sx * cy},
+                          {-cx * sy, sx, cx * cy}};
   std::array<std::array<double, 3>, 3> axes{};
   for (int a = 0; a < 3; ++a)
     for (int r = 0; r < 3; ++r)

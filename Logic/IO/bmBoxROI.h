@@ -3,9 +3,10 @@
 // "roi" box.
 //
 // The box: centre c (world mm), half sizes h (mm, along its own axes) and rotation angles
-// (rx, ry, rz) in degrees: its axes are the columns of R = Rz(rz) Ry(ry) Rx(rx) (rotations about
-// the world x, then y, then z axis; all zero = axis-aligned). A world point p is inside when
-// |R^T (p - c)|_a <= h_a on each axis a.
+// (rx, ry, rz) in degrees: its axes are the columns of R = Rz(rz) Rx(rx) Ry(ry) (rotations about
+// the world y, then x, then z axis: VTK's orientation order, that of vtkProp3D and of ParaView's
+// box widget, so the box the 3D view shows is the box that is cut; all zero = axis-aligned). A
+// world point p is inside when |R^T (p - c)|_a <= h_a on each axis a.
 //
 // In the CT chain (Docs/Segmentation.md) the CT is cropped to the box's axis-aligned bounds and
 // the bone voxels whose centres lie outside the box are dropped right after the threshold, before
@@ -23,7 +24,8 @@ namespace bm {
 struct OrientedBox {
   std::array<double, 3> centreMm{0, 0, 0};
   std::array<double, 3> halfSizesMm{0, 0, 0};
-  std::array<double, 3> rotationDeg{0, 0, 0}; ///< about world x, y, z, applied in that order
+  /// Angles about world x, y, z (deg), applied y first, then x, then z (R = Rz Rx Ry).
+  std::array<double, 3> rotationDeg{0, 0, 0};
 
   /// Throws std::runtime_error naming `what` when a half size is not > 0 or a value not finite.
   void Check(const std::string& what) const;

@@ -21,6 +21,7 @@
 #include "vtkPointData.h"
 #include "vtkSmartPointer.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkTransform.h"
 #include "vtkXMLImageDataReader.h"
 #include "bmJson.h"
 
@@ -100,7 +101,12 @@ const char* vtkBMCTBoneSource::GetBoneSpecification() {
                        (this->FileName && bm::IsVTKImageFile(this->FileName));
   if (viaCopy ? this->Internals->CTCopy.empty() : (!this->FileName || !*this->FileName))
     return spec.c_str();
-  nlohmann::json j = bm::ParseJson(this->ImportOptionsJson(), "the CT bone's import options");
+  nlohmann::json j;
+  try {
+    j = bm::ParseJson(this->ImportOptionsJson(), "the CT bone's import options");
+  } catch (const std::exception&) {
+    return spec.c_str(); // invalid settings: no bone (Import names the problem)
+  }
   j["ct"] = viaCopy ? this->Internals->CTCopy : std::filesystem::absolute(this->FileName).string();
   spec = j.dump();
   return spec.c_str();
@@ -124,11 +130,30 @@ std::string vtkBMCTBoneSource::ImportOptionsJson() const {
       j["exclude"].push_back(
           {this->ExcludePoints[i], this->ExcludePoints[i + 1], this->ExcludePoints[i + 2]});
   }
-  if (this->UseBox)
+  if (this->UseBox) {
+    // The widget's box: world = centre + R (scale o p), p in the reference box, R = Rz Rx Ry.
+    const double unit[6] = {0, 1, 0, 1, 0, 1};
+    const double* ref = this->BoxUseReferenceBounds ? this->BoxReferenceBounds : unit;
+    double refCentre[3], centre[3], half[3];
+    for (int a = 0; a < 3; ++a) {
+      if (!(ref[2 * a + 1] > ref[2 * a]))
+        throw std::runtime_error("the box widget's reference bounds are empty along axis " +
+                                 std::to_string(a) + " (give x0 < x1, y0 < y1, z0 < z1)");
+      refCentre[a] = this->BoxHalfSizes[a] * 0.5 * (ref[2 * a] + ref[2 * a + 1]);
+      half[a] = std::abs(this->BoxHalfSizes[a]) * 0.5 * (ref[2 * a + 1] - ref[2 * a]);
+    }
+    vtkNew<vtkTransform> rotation;
+    rotation->RotateZ(this->BoxRotation[2]);
+    rotation->RotateX(this->BoxRotation[0]);
+    rotation->RotateY(this->BoxRotation[1]);
+    rotation->TransformVector(refCentre, centre);
     j["box"] = {
-        {"centre", {this->BoxCentre[0], this->BoxCentre[1], this->BoxCentre[2]}},
-        {"halfSizes", {this->BoxHalfSizes[0], this->BoxHalfSizes[1], this->BoxHalfSizes[2]}},
+        {"centre",
+         {this->BoxCentre[0] + centre[0], this->BoxCentre[1] + centre[1],
+          this->BoxCentre[2] + centre[2]}},
+        {"halfSizes", {half[0], half[1], half[2]}},
         {"rotation", {this->BoxRotation[0], this->BoxRotation[1], this->BoxRotation[2]}}};
+  }
   return j.dump();
 }
 
@@ -210,6 +235,7 @@ void vtkBMCTBoneSource::Import(vtkImageData* input) {
                   this->Axis[2] * this->Axis[2]);
     if (!(axisNorm > 0))
       throw std::runtime_error("the axis is zero: give the direction the tool comes in along");
+    (void)this->ImportOptionsJson(); // the settings' own errors (the box reference), named
 #ifdef BM_WITH_IO
     auto progress = [this](double f, const std::string&) {
       this->UpdateProgress(f);

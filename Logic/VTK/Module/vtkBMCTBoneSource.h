@@ -91,7 +91,8 @@ public:
   ///@}
   ///@{
   /// Oriented box region (with UseBox; default off): centre (mm), half sizes (mm, default 50)
-  /// and rotation (degrees about world x, then y, then z; default 0) (bmBoxROI.h).
+  /// and rotation (degrees about world x, y and z, applied y first, then x, then z: the order of
+  /// ParaView's box widget, which the plugin shows for it; default 0) (bmBoxROI.h).
   vtkSetMacro(UseBox, bool);
   vtkGetMacro(UseBox, bool);
   vtkBooleanMacro(UseBox, bool);
@@ -101,6 +102,18 @@ public:
   vtkGetVector3Macro(BoxHalfSizes, double);
   vtkSetVector3Macro(BoxRotation, double);
   vtkGetVector3Macro(BoxRotation, double);
+  ///@}
+  ///@{
+  /// The reference box of ParaView's box widget (pqBoxPropertyWidget, "InteractiveBox"): the box
+  /// cut is the reference box scaled by BoxHalfSizes, rotated by BoxRotation and moved by
+  /// BoxCentre, so that what the 3D widget shows is what is kept. With the default reference
+  /// [-1, 1]^3 (BoxUseReferenceBounds on) BoxCentre is the centre and BoxHalfSizes the half sizes;
+  /// with BoxUseReferenceBounds off the reference is the unit cube [0, 1]^3 (BoxCentre is then a
+  /// corner). Bounds: x0, x1, y0, y1, z0, z1 (unitless; an empty reference is an error).
+  vtkSetMacro(BoxUseReferenceBounds, bool);
+  vtkGetMacro(BoxUseReferenceBounds, bool);
+  vtkSetVector6Macro(BoxReferenceBounds, double);
+  vtkGetVector6Macro(BoxReferenceBounds, double);
   ///@}
   ///@{
   /// Voxmap cells along the region's longest side. Default 96 (a preview; a session resamples at
@@ -164,6 +177,8 @@ protected:
   double BoxCentre[3] = {0, 0, 0};
   double BoxHalfSizes[3] = {50, 50, 50};
   double BoxRotation[3] = {0, 0, 0};
+  bool BoxUseReferenceBounds = true;
+  double BoxReferenceBounds[6] = {-1, 1, -1, 1, -1, 1};
   vtkIdType BoneVoxels = 0;
   double BoneVolumeMm3 = 0;
   double BoneBounds[6] = {0, 0, 0, 0, 0, 0};
@@ -171,6 +186,7 @@ protected:
 
 private:
   /// The import options (JSON, bmImport.h ImportOptionsFromJson keys) of the current settings.
+  /// Throws std::runtime_error on an empty box reference.
   std::string ImportOptionsJson() const;
   /// Imports the CT (`input` when not null, else FileName) with the current settings into the
   /// internals and fills the results (or the error).

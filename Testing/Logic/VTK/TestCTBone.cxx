@@ -2,6 +2,9 @@
 // it (volume, bounds, suggested entry, bad input named), and a session on that bone from the
 // suggested entry (vtkBMSessionSource BoneCT + OverrideTrial).
 #include "vtkBMCTBoneSource.h"
+#ifdef BM_WITH_IO
+#include "bmBoxROI.h"
+#endif
 #include "vtkBMSessionSource.h"
 
 #include "vtkCallbackCommand.h"
@@ -13,10 +16,12 @@
 #include "vtkPointData.h"
 #include "vtkSmartPointer.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkTransform.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -207,6 +212,46 @@ TEST(CTBoneSource, FiltersACTImageFromTheHostViewer) {
   filter->SetInputData(empty);
   filter->Update();
   EXPECT_NE(std::string(filter->GetLastError()).find("no point scalars"), std::string::npos)
+      << filter->GetLastError();
+}
+
+// ParaView's box widget (Position, Rotation, Scale on a reference box) and the import's oriented
+// box describe the same box: the rotation order is VTK's (y, then x, then z), and the reference
+// box's scale and offset become the centre and half sizes.
+TEST(CTBoneSource, BoxWidgetIsTheBoxThatIsCut) {
+  bm::OrientedBox box;
+  box.rotationDeg = {20, 35, -50};
+  vtkNew<vtkTransform> widget;
+  widget->RotateZ(-50);
+  widget->RotateX(20);
+  widget->RotateY(35);
+  const auto axes = box.Axes();
+  for (int a = 0; a < 3; ++a)
+    for (int r = 0; r < 3; ++r)
+      EXPECT_NEAR(axes[a][r], widget->GetMatrix()->GetElement(r, a), 1e-12) << a << r;
+
+  vtkNew<vtkBMCTBoneSource> filter;
+  filter->SetFileName("ct.nrrd"); // the specification is built, nothing is read
+  filter->UseBoxOn();
+  filter->SetBoxCentre(1, 2, 3);
+  filter->SetBoxHalfSizes(2, 4, 6); // the widget's scale
+  filter->SetBoxRotation(0, 0, 90);
+  nlohmann::json spec = nlohmann::json::parse(filter->GetBoneSpecification());
+  for (int a = 0; a < 3; ++a) // default reference [-1, 1]^3: centre and half sizes as given
+    EXPECT_NEAR(spec["box"]["centre"][a].get<double>(), (std::array{1., 2., 3.})[a], 1e-12);
+  filter->SetBoxUseReferenceBounds(false); // the unit cube: the position is a corner
+  spec = nlohmann::json::parse(filter->GetBoneSpecification());
+  const std::array<double, 3> centre{1 - 2, 2 + 1, 3 + 3}, half{1, 2, 3}; // + Rz(90) (1, 2, 3)
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(spec["box"]["centre"][a].get<double>(), centre[a], 1e-12) << spec.dump();
+    EXPECT_NEAR(spec["box"]["halfSizes"][a].get<double>(), half[a], 1e-12) << spec.dump();
+  }
+  filter->SetBoxUseReferenceBounds(true);
+  filter->SetBoxReferenceBounds(0, 0, -1, 1, -1, 1);
+  EXPECT_STREQ(filter->GetBoneSpecification(), "");
+  filter->Update();
+  EXPECT_NE(std::string(filter->GetLastError()).find("reference bounds are empty"),
+            std::string::npos)
       << filter->GetLastError();
 }
 
