@@ -51,7 +51,8 @@ int ReplayCommand(const bm::cli::ParsedArgs& p) {
                       {"max_torque_diff_Nmm", r.maxTorqueDiffNmm},
                       {"max_proxy_diff_mm", r.maxProxyDiffMm},
                       {"tolerance_N", tol},
-                      {"reproduced", ok}};
+                      {"reproduced", ok},
+                      {"coefficients", setup.Model().ProvenanceJson()}};
   std::cout << "replayed " << r.frames << " frames of " << p.Positional()[0] << "\n"
             << "  max |coupling force difference| " << r.maxCouplingForceDiffN << " N, thrust "
             << r.maxThrustDiffN << " N, torque " << r.maxTorqueDiffNmm << " N mm, proxy "

@@ -218,6 +218,7 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
       {"contact", ToString(so.proxy.method)},
       {"rendering", ToString(so.proxy.rendering)},
       {"engine", setup.GetEngine().Name()},
+      {"coefficients", setup.Model().ProvenanceJson()},
       {"rate_hz", so.rateHz},
       {"frames", frames.size()},
       {"duration_s", double(frames.size()) / so.rateHz},

@@ -139,6 +139,8 @@ BenchCell RunBenchCell(Method method, const std::string& backend, int shell, int
   c.thrustError = std::abs(c.thrustN - ref.thrustN) / std::abs(ref.thrustN);
   c.torqueError = std::abs(c.torqueNmm - ref.torqueNmm) / std::abs(ref.torqueNmm);
   c.forceError = std::max(c.thrustError, c.torqueError);
+  c.coefficients = setup.Model().Provenance().name;
+  c.calibrated = setup.Model().Provenance().calibrated;
   return c;
 }
 
@@ -162,7 +164,9 @@ nlohmann::json ToJson(const BenchCell& c) {
           {"torqueErr", c.torqueError},
           {"forceErr", c.forceError},
           {"engaged", c.engagedCutting},
-          {"setup", c.setupS}};
+          {"setup", c.setupS},
+          {"coefficients", c.coefficients},
+          {"calibrated", c.calibrated}};
 }
 
 void FromJson(const nlohmann::json& j, BenchCell& c) {
@@ -184,6 +188,8 @@ void FromJson(const nlohmann::json& j, BenchCell& c) {
   c.forceError = j.at("forceErr");
   c.engagedCutting = j.at("engaged");
   c.setupS = j.at("setup");
+  c.coefficients = j.at("coefficients");
+  c.calibrated = j.at("calibrated");
 }
 
 } // namespace
@@ -276,7 +282,7 @@ std::string BenchCsv(const std::vector<BenchCell>& cells) {
   os << std::setprecision(6);
   os << "method,backend,shell,voxmap,status,engine,elements,frames,median_ms,p99_ms,mean_ms,sd_ms,"
         "max_ms,thrust_N,torque_Nmm,ref_thrust_N,ref_torque_Nmm,thrust_error,torque_error,"
-        "force_error,engaged_cutting,peak_memory_MiB,setup_s\n";
+        "force_error,engaged_cutting,peak_memory_MiB,setup_s,coefficients,calibrated\n";
   for (const auto& c : cells) {
     std::string status = c.status;
     std::replace(status.begin(), status.end(), ',', ';');
@@ -286,7 +292,8 @@ std::string BenchCsv(const std::vector<BenchCell>& cells) {
        << ',' << c.p99Ms << ',' << c.meanMs << ',' << c.sdMs << ',' << c.maxMs << ',' << c.thrustN
        << ',' << c.torqueNmm << ',' << c.refThrustN << ',' << c.refTorqueNmm << ',' << c.thrustError
        << ',' << c.torqueError << ',' << c.forceError << ',' << c.engagedCutting << ','
-       << c.peakMemoryMb << ',' << c.setupS << '\n';
+       << c.peakMemoryMb << ',' << c.setupS << ',' << c.coefficients << ','
+       << (c.calibrated ? "true" : "false") << '\n';
   }
   return os.str();
 }
@@ -356,6 +363,14 @@ std::vector<BenchCell> ParseBenchCsv(const std::string& text, const std::string&
     number("engaged_cutting", c.engagedCutting);
     number("peak_memory_MiB", c.peakMemoryMb);
     number("setup_s", c.setupS);
+    if (column.count("coefficients"))
+      c.coefficients = f[column["coefficients"]];
+    if (column.count("calibrated")) {
+      const std::string& t = f[column["calibrated"]];
+      if (t != "true" && t != "false")
+        throw std::runtime_error(at + "column 'calibrated' is not true or false: '" + t + "'");
+      c.calibrated = t == "true";
+    }
     cells.push_back(c);
   }
   return cells;
@@ -366,6 +381,21 @@ std::string BenchTable(const std::vector<BenchCell>& cells, Method method, const
   std::ostringstream os;
   os << std::fixed;
   os << "# " << title << "\n";
+  // The coefficient sets the cells' forces come from (ForceModel::Provenance).
+  std::vector<std::string> sets;
+  for (const auto& c : cells)
+    if (c.method == method && c.status == "ok" && !c.coefficients.empty()) {
+      const std::string set =
+          c.coefficients + (c.calibrated ? " (calibrated)" : " (not calibrated)");
+      if (std::find(sets.begin(), sets.end(), set) == sets.end())
+        sets.push_back(set);
+    }
+  if (!sets.empty()) {
+    os << "\nCoefficients: ";
+    for (size_t i = 0; i < sets.size(); ++i)
+      os << (i ? ", " : "") << sets[i];
+    os << "\n";
+  }
   std::vector<std::string> backends;
   for (const auto& c : cells)
     if (c.method == method &&

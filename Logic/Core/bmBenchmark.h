@@ -52,6 +52,8 @@ struct BenchCell {
   double engagedCutting = 0; ///< mean engaged cutting elements per frame
   double peakMemoryMb = 0;   ///< child's peak resident set, MiB
   double setupS = 0;         ///< building scene, shell, voxmap and engine, s
+  std::string coefficients;  ///< the force model's coefficient set (ForceModel::Provenance)
+  bool calibrated = false;   ///< whether that set was fitted to measured forces
 };
 
 /// The drilling scene of a cell (bm::Scene defaults: 10 mm reference drill, 5 x 5 x 1.5 mm

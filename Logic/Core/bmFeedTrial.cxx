@@ -178,6 +178,36 @@ nlohmann::json FeedTrial::Summary() const {
   const EdgeIntegral ref =
       IntegrateEdges(Setup_.Tool(), Setup_.Model(), s.trial.feedMmPerRev, s.trial.speedRpm);
   const double mT = mean(thrust), mM = mean(torque);
+  // Errors compare like with like (Docs/Calibration.md section 8): the fully engaged mean with
+  // the fully engaged reference; a partly engaged mean on the block (flat top at the entry, so the
+  // engagement depth is the frame's depth) with the reference integrated at each of its frames'
+  // depths. On any other bone the partial engagement has no reference: no error is given.
+  std::string errorBasis = "full_engagement";
+  EdgeIntegral same = ref;
+  if (!full) {
+    errorBasis = "none";
+    if (s.bone.type == "block" && !thrust.empty()) {
+      errorBasis = "partial_engagement_same_depths";
+      same = {};
+      int k = 0;
+      for (const auto& f : Frames_)
+        if (f.depthMm >= from) {
+          const EdgeIntegral e =
+              IntegrateEdges(Setup_.Tool(), Setup_.Model(), s.trial.feedMmPerRev, s.trial.speedRpm,
+                             std::max(f.depthMm, 0.0), EdgeKind::None, 200);
+          same.thrustN += e.thrustN;
+          same.torqueNmm += e.torqueNmm;
+          ++k;
+        }
+      same.thrustN /= k;
+      same.torqueNmm /= k;
+    }
+  }
+  auto error = [&](double measured, double reference) -> nlohmann::json {
+    if (errorBasis == "none" || reference == 0)
+      return nullptr;
+    return (measured - reference) / reference;
+  };
   const double analytic =
       s.bone.type == "block" ? VolumeBelowDepth(Setup_.Tool(), FinalDepth_) : -1.0;
   nlohmann::json j = {
@@ -207,8 +237,15 @@ nlohmann::json FeedTrial::Summary() const {
       {"lateral_N", mean(lateral)},
       {"reference_thrust_N", ref.thrustN},
       {"reference_torque_Nmm", ref.torqueNmm},
-      {"thrust_error", ref.thrustN != 0 ? (mT - ref.thrustN) / ref.thrustN : 0.0},
-      {"torque_error", ref.torqueNmm != 0 ? (mM - ref.torqueNmm) / ref.torqueNmm : 0.0},
+      {"error_reference", errorBasis},
+      {"error_reference_thrust_N",
+       errorBasis == "none" ? nlohmann::json(nullptr) : nlohmann::json(same.thrustN)},
+      {"error_reference_torque_Nmm",
+       errorBasis == "none" ? nlohmann::json(nullptr) : nlohmann::json(same.torqueNmm)},
+      {"thrust_error", error(mT, same.thrustN)},
+      {"torque_error", error(mM, same.torqueNmm)},
+      {"thrust_fraction_of_full_engagement", ref.thrustN != 0 ? mT / ref.thrustN : 0.0},
+      {"coefficients", Setup_.Model().ProvenanceJson()},
       {"frame_ms_p50", Percentile(ms, 50)},
       {"frame_ms_p99", Percentile(ms, 99)},
       {"frame_ms_max", ms.empty() ? 0.0 : *std::max_element(ms.begin(), ms.end())},

@@ -89,13 +89,19 @@ public:
   /// model is the same in both methods (Faieghi et al. compare the lips only).
   ForceModel(Method m, Coefficients lips, Coefficients chisel);
 
-  /// Default coefficients for cortical bone, the assumed set "faieghi-assumed" (not calibrated;
-  /// Docs/Calibration.md lists it and the measured alternatives): the Lazar model with k_f = 0.5
-  /// gives the reference drill at f = 0.02 mm/rev, n = 1000 rpm a thrust of 10 N (the middle of
-  /// Lee et al.'s range) and 11.35 N mm; the Zheng model is fitted to the Lazar model's
-  /// entry-phase curves over the four conditions f in {0.01, 0.02} x n in {500, 3000} through the
-  /// same calibration code, so the two methods are compared on equal footing.
+  /// Default coefficients (Docs/Calibration.md section 1). Drills with the Lazar method: the
+  /// calibrated set "drilling-bovine-orelaja2020", k_c = 1173.85 x 1000/n and k_t = 378.84 x
+  /// 1000/n N/mm^2 (n in rpm) on lips and chisel, fitted to Orelaja et al. 2020's bovine femur
+  /// rows (the reference drill: 7.77 N and 15.98 N mm at f = 0.02 mm/rev, 1000 rpm; a third less
+  /// at 1500 rpm). Zheng's method, and every tool other than a drill: Assumed(m, tool).
   static ForceModel Default(Method m, const ToolModel& tool);
+  /// The assumed, uncalibrated set "faieghi-assumed" that the paper's reproductions use: the
+  /// Lazar model with k_f = 0.5 gives the reference drill at f = 0.02 mm/rev, n = 1000 rpm a
+  /// thrust of 10 N (the middle of Lee et al.'s range) and 11.35 N mm at every speed; Zheng's
+  /// model ("zheng-fit-to-faieghi-assumed") is fitted to the Lazar set's entry-phase curves over
+  /// the four conditions f in {0.01, 0.02} x n in {500, 3000} through the same calibration code,
+  /// so the two methods are compared on equal footing.
+  static ForceModel Assumed(Method m, const ToolModel& tool);
 
   Method GetMethod() const { return Method_; }
   const Coefficients& LipCoefficients() const { return Lips_; }
@@ -104,6 +110,9 @@ public:
   nlohmann::json ToJson() const;
   const CoefficientProvenance& Provenance() const { return Provenance_; }
   void SetProvenance(const CoefficientProvenance& p) { Provenance_ = p; }
+  /// {"name": ..., "calibrated": true|false, "source": ...}: what every report and summary
+  /// prints as its "coefficients".
+  nlohmann::json ProvenanceJson() const;
   /// {"method": "lazar"|"zheng", "lips": {...}, "chisel": {...}, "name": ..., "calibrated": ...,
   /// "source": ...}; missing parts take defaults. {"coefficients": NAME_OR_PATH} loads a
   /// coefficient file (LoadCoefficientSet) instead; other keys then must not be given, except a

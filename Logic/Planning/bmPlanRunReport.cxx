@@ -43,6 +43,15 @@ struct Section {
   std::vector<std::string> notes;
 };
 
+// "NAME (calibrated)" or "NAME (not calibrated)" from a summary's "coefficients"
+// (ForceModel::ProvenanceJson); "-" when the summary has none.
+std::string CoefficientSet(const nlohmann::json& c) {
+  if (!c.is_object() || !c.contains("name") || !c.at("name").is_string())
+    return "-";
+  const bool calibrated = c.value("calibrated", false);
+  return c.at("name").get<std::string>() + (calibrated ? " (calibrated)" : " (not calibrated)");
+}
+
 std::vector<Section> Sections(const nlohmann::json& s) {
   std::vector<Section> out;
   const nlohmann::json& m = At(s, {"planning", "measurements"});
@@ -77,6 +86,7 @@ std::vector<Section> Sections(const nlohmann::json& s) {
         {"Removed volume (mm^3)", Num(At(ss, {"removed_volume_mm3"}))},
         {"Mean thrust (N)", Num(At(ss, {"thrust_N"}))},
         {"Mean torque (N mm)", Num(At(ss, {"torque_Nmm"}))},
+        {"Coefficient set", CoefficientSet(At(ss, {"coefficients"}))},
         {"Forces over time, cut surface", st.value("folder", std::string()) + "/report.html"}};
     for (const auto& w : ss.value("warnings", nlohmann::json::array()))
       step.notes.push_back(w.get<std::string>());

@@ -221,6 +221,18 @@ int main(int argc, char* argv[]) {
         "mean thrust " + std::to_string(s["thrust_N"].get<double>()) + " N and torque " +
             std::to_string(s["torque_Nmm"].get<double>()) + " N mm positive");
 
+  // The reamer never engages every lip element here: the summary compares no partly engaged
+  // mean with the fully engaged reference, and says so; it names the coefficient set.
+  Check(s["statistics_phase"] == "last_fifth_of_travel" && s["error_reference"] == "none" &&
+            s["thrust_error"].is_null() && s["torque_error"].is_null(),
+        "partial engagement on a CT bone: no thrust_error against the fully engaged reference "
+        "(thrust is " +
+            std::to_string(s["thrust_fraction_of_full_engagement"].get<double>()) +
+            " of the fully engaged)");
+  Check(s["coefficients"]["name"] == setup.Model().Provenance().name &&
+            s["coefficients"]["calibrated"].is_boolean(),
+        "the summary names the coefficient set " + setup.Model().Provenance().name);
+
   // Report files.
   for (const std::string& f :
        {files.markdown, files.html, files.surfaceVtp, files.surfaceStl, files.image})
@@ -232,6 +244,8 @@ int main(int argc, char* argv[]) {
   Check(text.find("Removed bone volume") != std::string::npos &&
             text.find("reamed.png") != std::string::npos,
         "report.md lists the removed volume and shows the picture");
+  Check(text.find(setup.Model().Provenance().name + " (not calibrated") != std::string::npos,
+        "report.md names the coefficient set and that it is not calibrated");
 
   // Picture against the baseline.
   vtkSmartPointer<vtkPolyData> surface = bm::CutBoneSurface(setup, trial);

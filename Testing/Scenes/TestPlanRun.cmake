@@ -41,6 +41,18 @@ foreach(f 1-guide-pin/summary.json 1-guide-pin/forces.csv 2-ream/summary.json 2-
     message(FATAL_ERROR "the plan run wrote no ${f}")
   endif()
 endforeach()
+# Each step's summary and the plan's result name the coefficient set and whether it is calibrated
+# (the reamer's default is the assumed, uncalibrated set).
+string(JSON pinSet GET "${summary}" steps 0 summary coefficients name)
+string(JSON pinCalibrated GET "${summary}" steps 0 summary coefficients calibrated)
+string(JSON reamSet GET "${summary}" steps 1 summary coefficients name)
+file(READ ${WORK_DIR}/run/plan_result.md result)
+string(FIND "${result}" "${reamSet} (not calibrated)" reamAt)
+if(pinSet STREQUAL "" OR reamSet STREQUAL "" OR reamAt EQUAL -1)
+  message(FATAL_ERROR "the plan's summaries do not name the coefficient sets: pin '${pinSet}' "
+                      "(calibrated ${pinCalibrated}), ream '${reamSet}'")
+endif()
+message(STATUS "coefficient sets: pin ${pinSet} (calibrated ${pinCalibrated}), ream ${reamSet}")
 file(GLOB leftovers ${WORK_DIR}/run/.bmsim-steps-*)
 if(leftovers)
   message(FATAL_ERROR "the plan run left its staging folder: ${leftovers}")

@@ -233,6 +233,11 @@ TrialReportFiles WriteTrialReport(const std::string& dirName, MachiningSetup& se
                                          Fixed(s["frame_ms_max"].get<double>(), 3) +
                                          " ms (period " + Fixed(scene.trial.frameS * 1000.0, 3) +
                                          " ms)"},
+      {"Coefficients",
+       setup.Model().Provenance().name +
+           (setup.Model().Provenance().calibrated ? " (calibrated: fitted to measured forces)"
+                                                  : " (not calibrated: an assumption)") +
+           ": " + setup.Model().Provenance().source},
       {"Frames", std::to_string(frames.size())},
       {"Engine",
        s["engine"].get<std::string>() + ", " + std::to_string(scene.threads) + " threads"},
@@ -245,9 +250,8 @@ TrialReportFiles WriteTrialReport(const std::string& dirName, MachiningSetup& se
   };
   const std::string title = "BoneMachining report: scene " + scene.name;
   const std::string note =
-      "Forces use the force model's default coefficients, calibrated for drilling cortical bone; "
-      "the "
-      "phantom's cancellous bone is scaled by its material. Thrust and torque are the "
+      "Forces use the coefficient set named above (Docs/Calibration.md says what each rests on); "
+      "the phantom's cancellous bone is scaled by its material. Thrust and torque are the "
       "time-averaged "
       "values the haptic engine computes per frame. Depth is measured along the trial axis from "
       "the "

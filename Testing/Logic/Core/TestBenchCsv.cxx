@@ -34,6 +34,8 @@ TEST(BenchCsv, WrittenCellsReadBackFieldByField) {
   a.torqueNmm = 12.75;
   a.forceError = 0.0015;
   a.peakMemoryMb = 64;
+  a.coefficients = "drilling-bovine-orelaja2020";
+  a.calibrated = true;
   bm::BenchCell b;
   b.shell = 128;
   b.voxmap = 128;
@@ -55,8 +57,19 @@ TEST(BenchCsv, WrittenCellsReadBackFieldByField) {
   EXPECT_DOUBLE_EQ(cells[0].torqueNmm, 12.75);
   EXPECT_DOUBLE_EQ(cells[0].forceError, 0.0015);
   EXPECT_DOUBLE_EQ(cells[0].peakMemoryMb, 64);
+  EXPECT_EQ(cells[0].coefficients, "drilling-bovine-orelaja2020");
+  EXPECT_TRUE(cells[0].calibrated);
   EXPECT_EQ(cells[1].status, "failed: timed out");
   EXPECT_EQ(cells[1].method, bm::Method::Lazar);
+  EXPECT_FALSE(cells[1].calibrated);
+  // The printed table names the cells' coefficient set.
+  EXPECT_NE(bm::BenchTable(cells, bm::Method::Zheng, "t", {512}, {256})
+                .find("Coefficients: drilling-bovine-orelaja2020 (calibrated)"),
+            std::string::npos);
+  EXPECT_NE(Error("method,backend,shell,voxmap,status,median_ms,p99_ms,force_error,calibrated\n"
+                  "lazar,cpu,128,64,ok,0.1,0.2,0.003,yes\n")
+                .find("column 'calibrated' is not true or false: 'yes'"),
+            std::string::npos);
 }
 
 TEST(BenchCsv, ATableWithOnlyTheNamedColumnsReads) {

@@ -19,23 +19,42 @@
 
 namespace {
 
-TEST(CoefficientSets, BuiltInSetsAreNamedAndNotCalibrated) {
+TEST(CoefficientSets, BuiltInSetsAreNamedAndSayWhetherCalibrated) {
   const bm::TwistDrill drill;
-  for (auto m : {bm::Method::Lazar, bm::Method::Zheng}) {
-    const bm::ForceModel d = bm::ForceModel::Default(m, drill);
-    EXPECT_FALSE(d.Provenance().calibrated);
+  const bm::ArcLipTool reamer;
+  struct Case {
+    bm::ForceModel model;
+    const char* name;
+    bool calibrated;
+  };
+  const Case cases[] = {
+      {bm::ForceModel::Default(bm::Method::Lazar, drill), "drilling-bovine-orelaja2020", true},
+      {bm::ForceModel::Default(bm::Method::Zheng, drill), "zheng-fit-to-faieghi-assumed", false},
+      {bm::ForceModel::Default(bm::Method::Lazar, reamer), "faieghi-assumed", false},
+      {bm::ForceModel::Assumed(bm::Method::Lazar, drill), "faieghi-assumed", false},
+      {bm::ForceModel::Assumed(bm::Method::Zheng, drill), "zheng-fit-to-faieghi-assumed", false}};
+  for (const Case& c : cases) {
+    const bm::ForceModel& d = c.model;
+    EXPECT_EQ(d.Provenance().name, c.name);
+    EXPECT_EQ(d.Provenance().calibrated, c.calibrated) << c.name;
     EXPECT_FALSE(d.Provenance().source.empty());
     const nlohmann::json j = d.ToJson();
     EXPECT_EQ(j.at("name"), d.Provenance().name);
-    EXPECT_EQ(j.at("calibrated"), false);
+    EXPECT_EQ(j.at("calibrated"), c.calibrated);
     const bm::ForceModel back = bm::ForceModel::FromJson(j, drill);
     EXPECT_EQ(back.Provenance().name, d.Provenance().name);
     EXPECT_EQ(back.LipCoefficients().kc, d.LipCoefficients().kc);
+    EXPECT_EQ(back.ChiselCoefficients().kt, d.ChiselCoefficients().kt);
   }
-  EXPECT_EQ(bm::ForceModel::Default(bm::Method::Lazar, drill).Provenance().name, "faieghi-assumed");
-  const bm::ArcLipTool reamer;
-  EXPECT_NE(bm::ForceModel::Default(bm::Method::Lazar, reamer).Provenance().source.find("reamer"),
-            std::string::npos);
+  // The built-in default drilling set is the shipped file of the same name.
+  const bm::ForceModel file =
+      bm::ForceModel::FromJson({{"coefficients", "drilling-bovine-orelaja2020"}}, drill);
+  EXPECT_EQ(file.LipCoefficients().kc, cases[0].model.LipCoefficients().kc);
+  EXPECT_EQ(file.LipCoefficients().kt, cases[0].model.LipCoefficients().kt);
+  EXPECT_EQ(file.ChiselCoefficients().kc, cases[0].model.ChiselCoefficients().kc);
+  EXPECT_EQ(file.Provenance().source, cases[0].model.Provenance().source);
+  // Drilling coefficients on another tool say so.
+  EXPECT_NE(cases[2].model.Provenance().source.find("reamer"), std::string::npos);
 }
 
 TEST(CoefficientSets, CustomCoefficientsWithoutAProvenanceAreUnnamedAndUncalibrated) {
@@ -110,7 +129,7 @@ namespace {
 // thrust, the top of the hand-applied drilling forces reported for operators (peak 6-24 N).
 TEST(CoefficientSets, ReamingAssumedSetAimsAtHandForces) {
   const bm::ArcLipTool reamer;
-  const bm::ForceModel drillSet = bm::ForceModel::Default(bm::Method::Lazar, reamer);
+  const bm::ForceModel drillSet = bm::ForceModel::Assumed(bm::Method::Lazar, reamer);
   const bm::ForceModel ream =
       bm::ForceModel::FromJson({{"coefficients", "reaming-assumed"}}, reamer);
   EXPECT_EQ(ream.Provenance().name, "reaming-assumed");

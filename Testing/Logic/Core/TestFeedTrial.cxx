@@ -156,6 +156,36 @@ TEST(FeedTrial, ZhengRunsThroughTheSameHarness) {
   EXPECT_NEAR(r.boneBefore - r.boneAfter, Get(r, "removed_volume_mm3"), 1e-9 * r.boneBefore);
 }
 
+// A trial stopped before full engagement compares like with like: its partly engaged mean against
+// the reference integrated at its own frames' depths (flat block top), not against the fully
+// engaged reference; the summary names the comparison and the coefficient set.
+TEST(FeedTrial, PartialEngagementErrorsUseTheSameEngagement) {
+  bm::Scene s = DrillingScene({512, 128});
+  s.trial.depthMm = 0.3; // the tip's edges are fully engaged at 0.683 mm
+  const TrialResult r = RunTrial(s);
+  std::printf("partial: thrust %.4f N vs same-depth reference %.4f N (error %+.4f), fully engaged "
+              "reference %.4f N (fraction %.3f); torque error %+.4f\n",
+              Get(r, "thrust_N"), Get(r, "error_reference_thrust_N"), Get(r, "thrust_error"),
+              Get(r, "reference_thrust_N"), Get(r, "thrust_fraction_of_full_engagement"),
+              Get(r, "torque_error"));
+  EXPECT_EQ(r.summary.at("statistics_phase"), "last_fifth_of_travel");
+  EXPECT_EQ(r.summary.at("error_reference"), "partial_engagement_same_depths");
+  // Against the fully engaged reference the torque would be 'wrong' by 80 %; against the
+  // reference of its own engagement it is within the coarse grid's few %.
+  const double torqueVsFull = Get(r, "torque_Nmm") / Get(r, "reference_torque_Nmm") - 1;
+  std::printf("torque against the fully engaged reference: %+.4f\n", torqueVsFull);
+  EXPECT_LT(torqueVsFull, -0.5);
+  EXPECT_LT(Get(r, "thrust_fraction_of_full_engagement"), 0.95);
+  EXPECT_LT(std::abs(Get(r, "thrust_error")), 0.02);
+  EXPECT_LT(std::abs(Get(r, "torque_error")), 0.06);
+  EXPECT_EQ(r.summary.at("coefficients").at("name"), "drilling-bovine-orelaja2020");
+  EXPECT_EQ(r.summary.at("coefficients").at("calibrated"), true);
+  // The full-engagement run says which comparison it made.
+  const TrialResult f = RunTrial(DrillingScene({256, 64}));
+  EXPECT_EQ(f.summary.at("error_reference"), "full_engagement");
+  EXPECT_DOUBLE_EQ(Get(f, "error_reference_thrust_N"), Get(f, "reference_thrust_N"));
+}
+
 TEST(FeedTrial, PercentileByNearestRank) {
   std::vector<double> v{10, 1, 9, 2, 8, 3, 7, 4, 6, 5};
   EXPECT_EQ(bm::Percentile(v, 50), 5);

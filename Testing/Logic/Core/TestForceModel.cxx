@@ -103,10 +103,11 @@ TEST(ForceModel, PositiveCoefficientsGiveThrustAndResistingTorque) {
     EXPECT_GT(full.torqueNmm, 0.0);
     EXPECT_LT(kfCrit, 0.5);
   }
-  // The methods' default models: positive totals at every condition and every entry depth.
+  // The assumed sets (k_f = 0.5 Lazar, Zheng's fit to it): every lip element resists the spindle,
+  // at most the outer 5 % pull the tool in, totals positive at every entry depth.
   const double depth = bm::FullEngagementDepth(drill);
   for (bm::Method m : {bm::Method::Lazar, bm::Method::Zheng}) {
-    const bm::ForceModel d = bm::ForceModel::Default(m, drill);
+    const bm::ForceModel d = bm::ForceModel::Assumed(m, drill);
     for (const auto& [f, rpm] : bm::LeeConditions()) {
       double rNeg = lip[1];
       for (int i = 0; i <= n; ++i) {
@@ -122,9 +123,65 @@ TEST(ForceModel, PositiveCoefficientsGiveThrustAndResistingTorque) {
         EXPECT_GT(p.thrustN, 0.0);
         EXPECT_GT(p.torqueNmm, 0.0);
       }
-      std::printf("%s default f %.2f n %4.0f: lip thrust < 0 from r = %.4f mm (R = %.2f)\n",
+      std::printf("%s assumed f %.2f n %4.0f: lip thrust < 0 from r = %.4f mm (R = %.2f)\n",
                   bm::ToString(m).c_str(), f, rpm, rNeg, lip[1]);
     }
+  }
+}
+
+// The default drilling set (drilling-bovine-orelaja2020) has the fitted friction coefficient
+// k_f = k_t / k_c = 0.323: where a lip element's normal rake is large enough that the friction
+// along the rake face no longer outweighs the normal force's axial pull, the element pulls the
+// tool in (Merchant's feed force F_c tan(beta - gamma) < 0 when the rake gamma exceeds the
+// friction angle beta; with the lip's inclination the crossover here falls at gamma_n ~ 13.7 deg,
+// r ~ 1.02 mm). Docs/Calibration.md section 4 states what follows and why it is kept:
+//  - every lip element still resists the spindle, and elements pull in only beyond 0.8 R;
+//  - the entry thrust rises monotonically until the first pulling element engages, then falls by
+//    under 3 % of the fully engaged thrust; the entry torque rises monotonically throughout;
+//  - totals stay positive at every depth, feed and speed.
+TEST(ForceModel, DefaultDrillingSetPullsInOnlyAtTheOuterLip) {
+  const bm::TwistDrill drill;
+  const bm::ForceModel d = bm::ForceModel::Default(bm::Method::Lazar, drill);
+  ASSERT_EQ(d.Provenance().name, "drilling-bovine-orelaja2020");
+  const auto lip = drill.EdgeRange(bm::EdgeKind::Lip);
+  const double depth = bm::FullEngagementDepth(drill);
+  const int n = 4000;
+  for (const auto& [f, rpm] : bm::LeeConditions()) {
+    double rNeg = lip[1];
+    bool pulling = false;
+    for (int i = 0; i <= n; ++i) {
+      const double r = lip[0] + (lip[1] - lip[0]) * i / n;
+      const bm::ElementForce e = d.Evaluate(drill, bm::EdgeKind::Lip, r, f, rpm);
+      EXPECT_GT(-r * e.fy, 0.0) << "lip r " << r << " f " << f << " n " << rpm;
+      EXPECT_FALSE(pulling && e.fz >= 0) << "pulling elements form one outer band; r " << r;
+      if (e.fz < 0 && !pulling) {
+        pulling = true;
+        rNeg = r;
+      }
+    }
+    EXPECT_GT(rNeg, 0.8 * lip[1]);
+    EXPECT_LT(rNeg, lip[1]); // k_f = 0.323 does pull in: the test would notice a refit
+    const double pullDepth = bm::EdgeHeight(drill, rNeg);
+    const bm::EdgeIntegral full = bm::IntegrateEdges(drill, d, f, rpm);
+    bm::EdgeIntegral last{};
+    double peak = 0;
+    for (int i = 1; i <= 40; ++i) {
+      const double z = depth * i / 40;
+      const bm::EdgeIntegral p = bm::IntegrateEdges(drill, d, f, rpm, z);
+      EXPECT_GT(p.thrustN, 0.0);
+      EXPECT_GT(p.torqueNmm, last.torqueNmm) << "depth " << z;
+      if (z <= pullDepth) {
+        EXPECT_GT(p.thrustN, last.thrustN) << "depth " << z;
+      }
+      peak = std::max(peak, p.thrustN);
+      last = p;
+    }
+    EXPECT_GE(peak, full.thrustN);
+    EXPECT_LT(peak, 1.03 * full.thrustN);
+    std::printf("default f %.2f n %4.0f: lip thrust < 0 from r = %.4f mm (R = %.2f, depth %.3f of "
+                "%.3f mm); entry thrust peak %.4f N = %.2f %% above fully engaged %.4f N\n",
+                f, rpm, rNeg, lip[1], pullDepth, depth, peak, 100 * (peak / full.thrustN - 1),
+                full.thrustN);
   }
 }
 
@@ -171,8 +228,9 @@ TEST(ForceModel, MagnitudeCheckOfModelNotes) {
 
 TEST(ForceModel, ThrustGrowsWithFeedAndEngagementDepth) {
   const bm::TwistDrill drill;
-  const bm::ForceModel model = bm::ForceModel::Default(bm::Method::Lazar, drill);
   const double full = bm::FullEngagementDepth(drill);
+  // The assumed set: every lip element pushes out, so the entry thrust rises to full engagement.
+  const bm::ForceModel model = bm::ForceModel::Assumed(bm::Method::Lazar, drill);
   double last = 0;
   for (int i = 1; i <= 10; ++i) {
     const double t = bm::IntegrateEdges(drill, model, 0.02, 1000, full * i / 10).thrustN;
@@ -181,6 +239,16 @@ TEST(ForceModel, ThrustGrowsWithFeedAndEngagementDepth) {
   }
   EXPECT_NEAR(last, bm::IntegrateEdges(drill, model, 0.02, 1000).thrustN, 1e-9);
   EXPECT_LT(bm::IntegrateEdges(drill, model, 0.01, 1000).thrustN, last);
+  // Every set's thrust grows with the feed at every depth (the feed solver's premise).
+  const bm::ForceModel d = bm::ForceModel::Default(bm::Method::Lazar, drill);
+  for (int i = 1; i <= 10; ++i) {
+    double prev = 0;
+    for (double f : {0.005, 0.01, 0.02, 0.05, 0.1}) {
+      const double t = bm::IntegrateEdges(drill, d, f, 1000, full * i / 10).thrustN;
+      EXPECT_GT(t, prev) << "f " << f << " depth " << full * i / 10;
+      prev = t;
+    }
+  }
 }
 
 } // namespace
