@@ -53,12 +53,12 @@ double Get(const TrialResult& r, const char* key) {
   return r.summary.at(key).get<double>();
 }
 
-// Measured (Release): thrust error +0.47 % / +0.55 % / +0.37 %, torque +0.02 % / +0.01 % / +0.00 %
-// at 256/64, 512/128, 1024/256. Torque converges steadily; thrust does not fall monotonically:
-// its error is the point shell's midpoint rule over the force bins in the chisel's first bin,
-// where the feed angle turns within a few um of the axis (TestPointShell shows the same +0.55 %
-// at shell 512 without any voxmap). Asserted: within 1 % at the finest level and no worse there
-// than at the coarsest (0.2 % slack).
+// Measured (Release), default drilling set: thrust error +0.04 % / -0.03 % / -0.00 %, torque
+// -0.00 % at 256/64, 512/128, 1024/256. With the assumed set (k_f = 0.5 on the chisel) the thrust
+// error was +0.47 % / +0.55 % / +0.37 % and did not fall monotonically: the point shell's
+// midpoint rule over the force bins in the chisel's first bin, where the feed angle turns within
+// a few um of the axis (TestPointShell). Asserted: within 1 % at the finest level and no worse
+// there than at the coarsest (0.2 % slack).
 TEST(FeedTrial, SteadyForcesConvergeToTheQuadratureReference) {
   const std::vector<Level> levels{{256, 64}, {512, 128}, {1024, 256}};
   std::vector<double> thrustErr, torqueErr;
