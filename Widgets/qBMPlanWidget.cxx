@@ -14,8 +14,11 @@
 #include <array>
 
 namespace {
-const char* const kLandmarkNames[3] = {"GlenoidCentre", "Trigonum", "InferiorAngle"};
-const char* const kLandmarkLabels[3] = {"Glenoid centre", "Trigonum", "Inferior angle"};
+constexpr int kLandmarks = 4; ///< glenoid centre, trigonum, inferior angle, face normal
+const char* const kLandmarkNames[kLandmarks] = {"GlenoidCentre", "Trigonum", "InferiorAngle",
+                                                "FaceNormal"};
+const char* const kLandmarkLabels[kLandmarks] = {"Glenoid centre", "Trigonum", "Inferior angle",
+                                                 "Face normal"};
 } // namespace
 
 class qBMPlanWidgetPrivate {
@@ -28,8 +31,8 @@ public:
                           const QString& suffix, const QString& tip);
 
   qBMPlanWidget* const q_ptr;
-  std::array<QCheckBox*, 3> Use{};
-  std::array<std::array<QDoubleSpinBox*, 3>, 3> Point{};
+  std::array<QCheckBox*, kLandmarks> Use{};
+  std::array<std::array<QDoubleSpinBox*, 3>, kLandmarks> Point{};
   QDoubleSpinBox* TargetVersion = nullptr;
   QDoubleSpinBox* TargetInclination = nullptr;
   QDoubleSpinBox* ReamDepth = nullptr;
@@ -68,19 +71,30 @@ void qBMPlanWidgetPrivate::init() {
   q->setTitle(qBMPlanWidget::tr("Planning"));
   auto* layout = new QVBoxLayout(q);
   auto* marks = new QGridLayout;
-  for (int i = 0; i < 3; ++i) {
+  for (int i = 0; i < kLandmarks; ++i) {
     const QString name = kLandmarkNames[i];
     this->Use[i] = new QCheckBox(qBMPlanWidget::tr(kLandmarkLabels[i]), q);
     this->Use[i]->setObjectName("Use" + name + "CheckBox");
-    this->Use[i]->setToolTip(qBMPlanWidget::tr("Use the point given here (world mm) instead of "
-                                               "the detected one; dragging the landmark's "
-                                               "handle in the 3D view sets it"));
+    const bool direction = i == 3;
+    this->Use[i]->setToolTip(
+        direction ? qBMPlanWidget::tr("Use the direction given here (out of the joint, "
+                                      "normalised) instead of the detected face normal; with a "
+                                      "given glenoid centre the joint is not searched for")
+                  : qBMPlanWidget::tr("Use the point given here (world mm) instead of the "
+                                      "detected one; dragging the landmark's handle in the 3D "
+                                      "view sets it"));
     QObject::connect(this->Use[i], &QCheckBox::toggled, q,
                      [q](bool) { Q_EMIT q->planRequested(); });
     marks->addWidget(this->Use[i], i, 0);
     for (int c = 0; c < 3; ++c) {
-      this->Point[i][c] = this->spinBox(name + QStringList{"X", "Y", "Z"}[c] + "SpinBox", -10000,
-                                        10000, 0, " mm", qBMPlanWidget::tr("World coordinate, mm"));
+      const QString box = name + QStringList{"X", "Y", "Z"}[c] + "SpinBox";
+      this->Point[i][c] = direction
+                              ? this->spinBox(box, -1, 1, c == 0 ? 1 : 0, "",
+                                              qBMPlanWidget::tr("Direction component (world)"))
+                              : this->spinBox(box, -10000, 10000, 0, " mm",
+                                              qBMPlanWidget::tr("World coordinate, mm"));
+      if (direction)
+        this->Point[i][c]->setDecimals(4);
       marks->addWidget(this->Point[i][c], i, c + 1);
     }
   }
@@ -152,12 +166,12 @@ qBMPlanWidget::~qBMPlanWidget() = default;
 
 bool qBMPlanWidget::useLandmark(int i) const {
   Q_D(const qBMPlanWidget);
-  return i >= 0 && i < 3 && d->Use[i]->isChecked();
+  return i >= 0 && i < kLandmarks && d->Use[i]->isChecked();
 }
 
 QVector<double> qBMPlanWidget::landmark(int i) const {
   Q_D(const qBMPlanWidget);
-  if (i < 0 || i >= 3)
+  if (i < 0 || i >= kLandmarks)
     return {};
   return {d->Point[i][0]->value(), d->Point[i][1]->value(), d->Point[i][2]->value()};
 }
@@ -190,7 +204,7 @@ QString qBMPlanWidget::measurementsText() const {
 
 void qBMPlanWidget::setLandmark(int i, const QVector<double>& point) {
   Q_D(qBMPlanWidget);
-  if (i < 0 || i >= 3 || point.size() < 3)
+  if (i < 0 || i >= kLandmarks || point.size() < 3)
     return;
   {
     const QSignalBlocker b0(d->Point[i][0]), b1(d->Point[i][1]), b2(d->Point[i][2]), b3(d->Use[i]);
@@ -203,7 +217,7 @@ void qBMPlanWidget::setLandmark(int i, const QVector<double>& point) {
 
 void qBMPlanWidget::setUseLandmark(int i, bool use) {
   Q_D(qBMPlanWidget);
-  if (i >= 0 && i < 3)
+  if (i >= 0 && i < kLandmarks)
     d->Use[i]->setChecked(use);
 }
 
@@ -243,8 +257,9 @@ void qBMPlanWidget::setPlanResult(const qBMPlanResult& r) {
   if (!r.canRunSteps)
     status << tr("Name the CT to run the steps.");
   d->Status->setText(status.join("\n"));
-  const QVector<double>* used[3] = {&r.glenoidCentre, &r.trigonum, &r.inferiorAngle};
-  for (int i = 0; i < 3; ++i)
+  const QVector<double>* used[kLandmarks] = {&r.glenoidCentre, &r.trigonum, &r.inferiorAngle,
+                                             &r.faceNormal};
+  for (int i = 0; i < kLandmarks; ++i)
     if (!d->Use[i]->isChecked() && used[i]->size() >= 3)
       for (int c = 0; c < 3; ++c) {
         const QSignalBlocker block(d->Point[i][c]);

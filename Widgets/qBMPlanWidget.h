@@ -1,6 +1,7 @@
 // qBMPlanWidget.h - the module panel's Planning section (Docs/Plugin.md, "Planning"): the
 // glenoid's landmarks (detected, or placed by hand: a Use box and x, y, z in world mm per
-// landmark, what dragging its handle in the 3D view sets), the target version and inclination,
+// landmark, what dragging its handle in the 3D view sets) and the face normal, the target
+// version and inclination,
 // the reaming depth and reamer diameter; the measured angles and sizes, the proposed axis and the
 // plan's warnings or why planning failed; buttons that run the guide-pin and the reaming steps.
 //
@@ -25,6 +26,7 @@ struct qBMPlanResult {
   double correctionDeg = 0;
   bool reamerFits = false;
   QVector<double> glenoidCentre, trigonum, inferiorAngle; ///< the landmarks used, 3 each
+  QVector<double> faceNormal;                             ///< the face normal used (unit)
   QVector<double> entry, axis;                            ///< the planned axis (unit), 3 each
   QStringList warnings;
   bool canRunSteps = false; ///< a plan scene exists (the CT is known)
@@ -38,9 +40,10 @@ public:
   explicit qBMPlanWidget(QWidget* parent = nullptr);
   ~qBMPlanWidget() override;
 
-  /// Landmark `i` (0 glenoid centre, 1 trigonum, 2 inferior angle): whether the point given in
-  /// the section replaces the detected one (default false) and that point (world mm, default
-  /// 0, 0, 0; each coordinate in [-10000, 10000]).
+  /// Landmark `i` (0 glenoid centre, 1 trigonum, 2 inferior angle, 3 face normal): whether the
+  /// value given in the section replaces the detected one (default false) and that value: a
+  /// point (world mm, default 0, 0, 0; each coordinate in [-10000, 10000]) or, for the face
+  /// normal, a direction out of the joint (default 1, 0, 0; components in [-1, 1]).
   bool useLandmark(int i) const;
   QVector<double> landmark(int i) const;
   /// Target version and inclination of the reaming axis, deg (default 0, range [-44.9, 44.9]).

@@ -72,8 +72,8 @@ void pqBMDockWindow::planGlenoid() {
   }
   vtkSMSourceProxy* proxy = vtkSMSourceProxy::SafeDownCast(this->GlenoidPlan->getProxy());
   vtkSMPropertyHelper(proxy, "Input").Set(this->PlanInput->getProxy(), 0);
-  const char* names[3] = {"GlenoidCentre", "Trigonum", "InferiorAngle"};
-  for (int i = 0; i < 3; ++i) {
+  const char* names[4] = {"GlenoidCentre", "Trigonum", "InferiorAngle", "FaceNormal"};
+  for (int i = 0; i < 4; ++i) {
     vtkSMPropertyHelper(proxy, (std::string("Use") + names[i]).c_str())
         .Set(w->useLandmark(i) ? 1 : 0);
     vtkSMPropertyHelper(proxy, names[i]).Set(w->landmark(i).constData(), 3);
@@ -106,6 +106,7 @@ void pqBMDockWindow::planGlenoid() {
   r.glenoidCentre = Get3(proxy, "UsedGlenoidCentreInfo");
   r.trigonum = Get3(proxy, "UsedTrigonumInfo");
   r.inferiorAngle = Get3(proxy, "UsedInferiorAngleInfo");
+  r.faceNormal = Get3(proxy, "UsedFaceNormalInfo");
   r.entry = Get3(proxy, "PlanEntryInfo");
   r.axis = Get3(proxy, "PlanAxisInfo");
   const QString warnings =
@@ -114,6 +115,14 @@ void pqBMDockWindow::planGlenoid() {
     r.warnings = warnings.split('\n');
   r.canRunSteps = !std::string(vtkSMPropertyHelper(proxy, "PlanSceneInfo").GetAsString()).empty();
   w->setPlanResult(r);
+  // The landmarks not given take the used (detected) points, so that their handles in the 3D
+  // view start there; with Use off they do not change the plan.
+  const QVector<double>* used[4] = {&r.glenoidCentre, &r.trigonum, &r.inferiorAngle, &r.faceNormal};
+  for (int i = 0; i < 4; ++i)
+    if (!w->useLandmark(i))
+      vtkSMPropertyHelper(proxy, names[i]).Set(used[i]->constData(), 3);
+  proxy->UpdateVTKObjects();
+  this->GlenoidPlan->setModifiedState(pqProxy::UNMODIFIED);
   if (pqView* view = pqActiveObjects::instance().activeView()) {
     vtkNew<vtkSMParaViewPipelineControllerWithRendering> controller;
     controller->Show(proxy, 0, view->getViewProxy());

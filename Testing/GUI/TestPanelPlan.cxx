@@ -50,6 +50,9 @@ void Plan(qBMPlanWidget* w, vtkBMGlenoidPlanFilter* f) {
   f->SetTrigonum(t[0], t[1], t[2]);
   f->SetUseInferiorAngle(w->useLandmark(2));
   f->SetInferiorAngle(i[0], i[1], i[2]);
+  const QVector<double> n = w->landmark(3);
+  f->SetUseFaceNormal(w->useLandmark(3));
+  f->SetFaceNormal(n[0], n[1], n[2]);
   f->SetTargetVersion(w->targetVersion());
   f->SetTargetInclination(w->targetInclination());
   f->SetReamDepth(w->reamDepth());
@@ -72,6 +75,7 @@ void Plan(qBMPlanWidget* w, vtkBMGlenoidPlanFilter* f) {
   r.glenoidCentre = vec(f->GetUsedGlenoidCentre());
   r.trigonum = vec(f->GetUsedTrigonum());
   r.inferiorAngle = vec(f->GetUsedInferiorAngle());
+  r.faceNormal = vec(f->GetUsedFaceNormal());
   r.entry = vec(f->GetPlanEntry());
   r.axis = vec(f->GetPlanAxis());
   const QString warnings = QString::fromUtf8(f->GetWarnings());

@@ -153,7 +153,7 @@ int vtkBMGlenoidPlanFilter::RequestData(vtkInformation*, vtkInformationVector** 
   this->ReamerFits = 0;
   std::fill(std::begin(this->GlenoidLine), std::end(this->GlenoidLine), 0.0);
   for (double* p : {this->UsedGlenoidCentre, this->UsedTrigonum, this->UsedInferiorAngle,
-                    this->PlanEntry, this->PlanAxis})
+                    this->UsedFaceNormal, this->PlanEntry, this->PlanAxis})
     p[0] = p[1] = p[2] = 0;
   try {
     if (!input)
@@ -252,6 +252,7 @@ int vtkBMGlenoidPlanFilter::RequestData(vtkInformation*, vtkInformationVector** 
     Copy3(L.glenoidCentre, this->UsedGlenoidCentre);
     Copy3(L.trigonum, this->UsedTrigonum);
     Copy3(L.inferiorAngle, this->UsedInferiorAngle);
+    Copy3(L.faceNormal, this->UsedFaceNormal);
     Copy3(m.anteriorRim, this->GlenoidLine);
     Copy3(m.posteriorRim, this->GlenoidLine + 3);
     Copy3(plan.entry, this->PlanEntry);

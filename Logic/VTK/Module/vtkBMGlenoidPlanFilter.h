@@ -110,6 +110,8 @@ public:
   vtkGetVector3Macro(UsedGlenoidCentre, double);
   vtkGetVector3Macro(UsedTrigonum, double);
   vtkGetVector3Macro(UsedInferiorAngle, double);
+  /// The face normal used (detected or given; unit, out of the joint).
+  vtkGetVector3Macro(UsedFaceNormal, double);
   /// Friedman's glenoid line on the axial slice through the glenoid centre: its anterior and
   /// posterior ends on the rim (x, y, z, x, y, z; mm). The scapular axis of Friedman's version
   /// runs from the trigonum to its midpoint.
@@ -164,6 +166,7 @@ protected:
   double UsedGlenoidCentre[3] = {0, 0, 0};
   double UsedTrigonum[3] = {0, 0, 0};
   double UsedInferiorAngle[3] = {0, 0, 0};
+  double UsedFaceNormal[3] = {0, 0, 0};
   double GlenoidLine[6] = {0, 0, 0, 0, 0, 0};
   double PlanEntry[3] = {0, 0, 0};
   double PlanAxis[3] = {0, 0, 0};
