@@ -14,6 +14,8 @@
 
 #include <time.h>
 
+#include <ctime>
+
 #include <vtkNew.h>
 #include <vtkPolyData.h>
 
@@ -29,6 +31,7 @@
 #include "bmMachiningSetup.h"
 #include "bmScene.h"
 #include "bmSceneOverrides.h"
+#include "bmSessionBenchTable.h"
 #include "bmSessionBuilder.h"
 #include "bmSpeedAccuracyChart.h"
 #include "bmsimArgs.h"
@@ -437,43 +440,79 @@ int SessionBench(const bm::cli::ParsedArgs& p) {
   const double tremor = p.GetDouble("tremor", 0, bm::DeviceLimits().maxForceN).value_or(0.1);
   const int repeats = int(p.GetInt("repeats", 1, 100).value_or(2));
   const bool realTime = !p.Has("back-to-back");
+  const std::string out = p.Get("out", "out/bench-session");
   bm::SceneOverrides overrides;
   if (auto t = p.GetInt("threads", 1, 64))
     overrides.threads = int(*t);
-  const bm::Scene scene = bm::ApplyOverrides(bm::ResolveScene(sceneName), overrides);
+  const bm::Scene base = bm::ApplyOverrides(bm::ResolveScene(sceneName), overrides);
+  // The scene's own resolutions, or each voxmap asked for with the shell scaled alike (as the
+  // BM Session source does for a voxmap set alone).
+  std::vector<bm::Scene> scenes;
+  for (int v : Resolutions(p, "voxmaps", {0}))
+    scenes.push_back(v > 0 ? base.WithVoxmapResolution(v) : base);
+  std::filesystem::create_directories(out);
+  const std::string machine = MachineName();
+  char date[16] = "";
+  const std::time_t now = std::time(nullptr);
+  std::strftime(date, sizeof date, "%Y-%m-%d", std::gmtime(&now));
+  std::string csv = bm::SessionBenchCsvHeader() + "\n";
   std::cout << std::fixed << std::setprecision(3);
-  std::cout << "session bench, scene " << scene.name << " (voxmap " << scene.voxmapResolution
-            << ", shell " << scene.shellResolution << ", " << scene.threads
-            << " engine threads): scripted hand pushing " << push << " N with " << tremor
-            << " N of lateral tremor, " << seconds << " s at " << 1.0 / scene.trial.frameS << " Hz"
-            << (realTime ? "" : " (frames back to back)") << "; machine: " << MachineName() << "\n";
   auto figures = [](const std::vector<double>& v) {
     std::ostringstream s;
     s << std::fixed << std::setprecision(3) << "p50 " << bm::Percentile(v, 50) << " ms, p99 "
       << bm::Percentile(v, 99) << " ms, max " << (v.empty() ? 0.0 : v.back()) << " ms";
     return s.str();
   };
-  for (int run = 1; run <= repeats; ++run)
-    for (bool incremental : {true, false}) {
-      const SessionRun r = RunHandSession(scene, incremental, push, tremor, seconds, realTime);
-      std::cout << "run " << run << (incremental ? " incremental" : " full pass  ") << ": "
-                << r.frameMs.size() << " frames " << figures(r.frameMs) << "; "
-                << r.contactMs.size() << " touching bone " << figures(r.contactMs) << "; over "
-                << 1000.0 * scene.trial.frameS << " ms: " << r.over << ", overrun pauses "
-                << r.rulePauses << "\n"
-                << std::setprecision(9) << "  checksum: removed " << r.removedMm3
-                << " mm^3, sum thrust " << r.sumThrustN << " N, sum proxy " << r.sumProxyMm
-                << " mm, sum device force " << r.sumForceN << " N, last proxy (" << r.lastProxy(0)
-                << ", " << r.lastProxy(1) << ", " << r.lastProxy(2) << ") mm\n"
-                << std::setprecision(3) << std::flush;
-    }
+  for (const bm::Scene& scene : scenes) {
+    std::cout << "session bench, scene " << scene.name << " (voxmap " << scene.voxmapResolution
+              << ", shell " << scene.shellResolution << ", " << scene.threads
+              << " engine threads): scripted hand pushing " << push << " N with " << tremor
+              << " N of lateral tremor, " << seconds << " s at " << 1.0 / scene.trial.frameS
+              << " Hz" << (realTime ? "" : " (frames back to back)") << "; machine: " << machine
+              << "\n";
+    for (int run = 1; run <= repeats; ++run)
+      for (bool incremental : {true, false}) {
+        const SessionRun r = RunHandSession(scene, incremental, push, tremor, seconds, realTime);
+        std::cout << "run " << run << (incremental ? " incremental" : " full pass  ") << ": "
+                  << r.frameMs.size() << " frames " << figures(r.frameMs) << "; "
+                  << r.contactMs.size() << " touching bone " << figures(r.contactMs) << "; over "
+                  << 1000.0 * scene.trial.frameS << " ms: " << r.over << ", overrun pauses "
+                  << r.rulePauses << "\n"
+                  << std::setprecision(9) << "  checksum: removed " << r.removedMm3
+                  << " mm^3, sum thrust " << r.sumThrustN << " N, sum proxy " << r.sumProxyMm
+                  << " mm, sum device force " << r.sumForceN << " N, last proxy ("
+                  << r.lastProxy(0) << ", " << r.lastProxy(1) << ", " << r.lastProxy(2)
+                  << ") mm\n"
+                  << std::setprecision(3) << std::flush;
+        bm::SessionBenchRow row;
+        row.scene = scene.name;
+        row.voxmap = scene.voxmapResolution;
+        row.shell = scene.shellResolution;
+        row.threads = scene.threads;
+        row.path = incremental ? "incremental" : "full";
+        row.run = run;
+        row.frames = (long long)r.frameMs.size();
+        row.p50Ms = bm::Percentile(r.frameMs, 50);
+        row.p99Ms = bm::Percentile(r.frameMs, 99);
+        row.maxMs = r.frameMs.empty() ? 0.0 : r.frameMs.back();
+        row.over = r.over;
+        row.overrunPauses = r.rulePauses;
+        row.seconds = double(r.frameMs.size()) * scene.trial.frameS;
+        row.machine = machine;
+        row.date = date;
+        csv += bm::SessionBenchCsvRecord(row) + "\n";
+      }
+  }
+  bm::WriteFileAtomic(out + "/session.csv", csv);
+  std::cout << "wrote " << out << "/session.csv\n";
   return 0;
 }
 
 void BenchOptions(bm::cli::ParsedArgs& p) {
   p.Value("out", "DIR",
-          "output folder (default out/bench; --view: out/bench-view): bench.csv, table1.md "
-          "(ours), table2.md (Zheng's), speed_vs_accuracy.png")
+          "output folder (default out/bench; --view: out/bench-view; --session: "
+          "out/bench-session, writing session.csv): bench.csv, table1.md (ours), table2.md "
+          "(Zheng's), speed_vs_accuracy.png")
       .Flag("quick", "small subset, fewer frames (< 1 min): shells 128,256, voxmap 128, 200 "
                      "frames after 20 warm-up frames")
       .Value("methods", "LIST", "lazar,zheng (default both)")
@@ -482,7 +521,8 @@ void BenchOptions(bm::cli::ParsedArgs& p) {
              "point-shell resolutions, each in [8, 4096] (default 128,256,512,1024,2048; --view: "
              "the scene's shell scaled with each voxmap)")
       .Value("voxmaps", "LIST",
-             "voxmap resolutions, each in [8, 4096] (default 128,256,512,1024; --view: 192,512)")
+             "voxmap resolutions, each in [8, 4096] (default 128,256,512,1024; --view: 192,512; "
+             "--session: the scene's, the shell scaled alike)")
       .Int("frames", 1, 100000000,
            "timed frames per cell, at most 1000000 (default 1000); --view: stop after N haptic "
            "frames (default: the scene's whole trial)")
@@ -589,12 +629,15 @@ int BenchCommand(const bm::cli::ParsedArgs& p) {
   std::string framesNote;
   if (auto files = p.Get("replot")) {
     for (const auto& f : bm::SplitCommaList(*files)) {
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(f, ec)) // a FIFO would block the read
+        throw UsageError("--replot: " + f + " is not a regular file");
       std::ifstream in(f);
       if (!in)
         throw UsageError("--replot: cannot read " + f);
       std::stringstream text;
       text << in.rdbuf();
-      for (const auto& c : bm::ParseBenchCsv(text.str())) {
+      for (const auto& c : bm::ParseBenchCsv(text.str(), f)) {
         auto same = [&](const bm::BenchCell& o) {
           return o.method == c.method && o.backend == c.backend && o.shell == c.shell &&
                  o.voxmap == c.voxmap;

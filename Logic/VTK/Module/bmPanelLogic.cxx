@@ -4,6 +4,7 @@
 #include "bmBenchmark.h"
 #include "bmHapticSession.h"
 #include "bmScene.h"
+#include "bmSessionBenchTable.h"
 #include "bmVirtualCoupling.h"
 #include "vtkBMSessionSource.h"
 
@@ -13,6 +14,7 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <sstream>
 #include <utility>
@@ -148,9 +150,25 @@ ExpectedCost::ExpectedCost() {
   } catch (const std::exception& e) {
     this->Error_ = e.what();
   }
+  const std::string sessions = DefaultSessionBenchPath();
+  if (std::ifstream in{sessions}) {
+    std::ostringstream text;
+    text << in.rdbuf();
+    try {
+      this->Sessions_ = ParseSessionBenchCsv(text.str(), sessions);
+    } catch (const std::exception& e) {
+      this->Error_ = e.what(); // a damaged table is named, not ignored
+      this->Table_.reset();
+    }
+  }
 }
 
-ExpectedCost::ExpectedCost(BenchmarkTable table) : Table_(std::move(table)) {}
+ExpectedCost::~ExpectedCost() = default;
+ExpectedCost::ExpectedCost(ExpectedCost&&) noexcept = default;
+ExpectedCost& ExpectedCost::operator=(ExpectedCost&&) noexcept = default;
+
+ExpectedCost::ExpectedCost(BenchmarkTable table, std::vector<SessionBenchRow> sessions)
+    : Table_(std::move(table)), Sessions_(std::move(sessions)) {}
 
 std::string ExpectedCost::Line(const std::string& sceneName, int voxmap, int shell, int method,
                                double periodMs) const {
@@ -177,6 +195,23 @@ std::string ExpectedCost::Line(const std::string& sceneName, int voxmap, int she
   const BenchCell* cell = this->Table_->Nearest(name, scene.backend, s, v);
   if (!cell)
     return "Expected cost unknown: no " + name + " / " + scene.backend + " cell was measured";
+  const auto session = name == ToString(scene.method)
+                           ? NearestSessionCell(this->Sessions_, scene.name, v, s)
+                           : std::nullopt;
+  if (session) {
+    const bool overruns = session->p99Ms > periodMs || session->overrunPauses > 0;
+    return "Expected (" + scene.name + " session, shell " + std::to_string(s) + " / voxmap " +
+           std::to_string(v) + ", nearest measured: " + std::to_string(session->shell) + " / " +
+           std::to_string(session->voxmap) + ", hand-like trial on " + session->machine + ", " +
+           session->date + "): frame " + Format("%.3g", session->p50Ms) + " ms median, " +
+           Format("%.3g", session->p99Ms) + " ms p99, " + Format("%.3g", session->maxMs) +
+           " ms max; " + std::to_string(session->overrunPauses) + " overrun pauses in " +
+           Format("%g", session->seconds) + " s; force error " +
+           Format("%.2g", cell->forceError * 100.0) + " %" +
+           (overruns ? "; over the " + Format("%g", periodMs) +
+                           " ms period: expect overrun pauses, choose coarser resolutions"
+                     : "");
+  }
   return "Expected (" + name + ", shell " + std::to_string(s) + " / voxmap " + std::to_string(v) +
          ", nearest measured: " + std::to_string(cell->shell) + " / " +
          std::to_string(cell->voxmap) + "): frame " + Format("%.3g", cell->medianMs) +

@@ -17,6 +17,7 @@
 namespace bm {
 
 enum class SessionState; // bmHapticSession.h: Idle, Running, Paused, Stopped
+struct SessionBenchRow;  // bmSessionBenchTable.h: a measured session cell
 
 namespace PanelLogic {
 
@@ -62,25 +63,39 @@ std::string ForceScaleError(double scale);
 /// cell of the benchmark table for the scene's method and backend.
 class ExpectedCost {
 public:
-  /// Reads the table at bm::BenchmarkTable::DefaultPath() ($BM_BENCHMARK_CSV or the resources');
-  /// a table that cannot be read is remembered and named by Line().
+  ~ExpectedCost();
+  ExpectedCost(ExpectedCost&&) noexcept;
+  ExpectedCost& operator=(ExpectedCost&&) noexcept;
+  /// Reads the drilling bench table at bm::BenchmarkTable::DefaultPath() ($BM_BENCHMARK_CSV or
+  /// the resources') and the session table at bm::DefaultSessionBenchPath()
+  /// ($BM_SESSION_BENCHMARK_CSV or the resources' Benchmark/session.csv); a bench table that
+  /// cannot be read is remembered and named by Line(); without a session table every scene uses
+  /// the bench.
   ExpectedCost();
-  /// Uses `table` (tests).
-  explicit ExpectedCost(BenchmarkTable table);
-  /// One line for the panel: "Expected (<method>, shell S / voxmap V, nearest measured: s / v):
-  /// frame <median> ms median, <p99> ms p99; force error <e> %", or why it is unknown (an
-  /// unreadable table, an unknown scene, no cell of that method and backend).
+  /// Uses `table` and `sessions` (tests).
+  explicit ExpectedCost(BenchmarkTable table, std::vector<SessionBenchRow> sessions = {});
+  /// One line for the panel. For a scene with its own session measurements near the asked
+  /// resolution (a hand-like trial of `bmsim bench --session`, on the scene's own method, voxmap
+  /// within 1.5 x; bm::NearestSessionCell): "Expected (<scene> session, shell S /
+  /// voxmap V, nearest measured: s / v, hand-like trial on <machine>, <date>): frame <p50> ms
+  /// median, <p99> ms p99, <max> ms max; <N> overrun pauses in <T> s; force error <e> %" (the
+  /// force error from the bench's cell). Otherwise: "Expected (<method>, shell S / voxmap V,
+  /// nearest measured: s / v): frame <median> ms median, <p99> ms p99; force error <e> %" from
+  /// the drilling bench, or why it is unknown (an unreadable table, an unknown scene, no cell of
+  /// that method and backend).
   /// `scene`: a built-in name or a scene file; `voxmap`, `shell`: cells along the longest side,
   /// 0 = the scene's (a voxmap set alone scales the scene's shell alike, as the session does);
   /// `method`: a vtkBMSessionSource::MethodTypes value (0 the scene's, 1 Lazar, 2 Zheng).
-  /// When the cell's p99 frame time exceeds `periodMs` (the haptic period, ms; default 1, i.e.
-  /// 1 kHz) the line ends with a warning that the session will pause on overruns.
+  /// When the p99 frame time exceeds `periodMs` (the haptic period, ms; default 1, i.e. 1 kHz),
+  /// or the measured session paused on overruns, the line ends with a warning that the session
+  /// will pause on overruns.
   std::string Line(const std::string& scene, int voxmap, int shell, int method,
                    double periodMs = 1.0) const;
 
 private:
   std::optional<BenchmarkTable> Table_;
   std::string Error_;
+  std::vector<SessionBenchRow> Sessions_;
 };
 
 } // namespace PanelLogic
