@@ -318,9 +318,12 @@ int vtkBMGlenoidPlanFilter::RequestData(vtkInformation*, vtkInformationVector** 
     output->GetPointData()->AddArray(names);
     output->GetCellData()->AddArray(part);
   } catch (const bm::NoGlenoidFound& e) {
-    in.Error = std::string(e.what()) +
-               " (in the plugin: turn on Use Glenoid Centre and drag its handle onto the "
-               "glenoid face, and give the Face Normal with Use Face Normal)";
+    // The detection's hint names the plan file's keys; here the landmarks are the filter's.
+    std::string what = e.what();
+    what = what.substr(0, what.find("; place the landmarks"));
+    in.Error = what + "; place the landmarks: turn on Use Glenoid Centre and Use Face Normal and "
+                      "give them (drag the centre's handle onto the glenoid face in the 3D "
+                      "view), and Use Trigonum or Use Inferior Angle for one not found";
     output->Initialize();
     vtkErrorMacro(<< "glenoid plan: " << in.Error);
     return 0;
