@@ -13,6 +13,7 @@
 #include "bmPlanRunReport.h"
 #include "bmReamingOutcome.h"
 #ifdef BM_WITH_REPORT
+#include "bmGlenoidPictures.h"
 #include "bmTrialReport.h"
 #endif
 #include "bmsimProgressBar.h"
@@ -154,13 +155,27 @@ int RunSceneSteps(const bm::Scene& scene, const ParsedArgs& args, const std::str
       std::cout << "  warning: " << w << "\n";
   }
 
-  // Everything was written: move the step folders into place, then the summary (written last, it
-  // says the set is complete).
+  // The glenoid before and after, with the planned axis, face normal, rim and face plane drawn.
+  std::vector<std::string> pictures;
+#ifdef BM_WITH_REPORT
+  if (report && scene.planning.is_object() && scene.planning.contains("entry_mm") &&
+      scene.planning.contains("axis")) {
+    const GlenoidPictureFiles files =
+        WriteGlenoidPictures(stage.path.string(), before, bone, scene.planning);
+    summary["pictures"] = {{"before", files.before}, {"after", files.after}};
+    pictures = {files.before, files.after};
+  }
+#endif
+
+  // Everything was written: move the step folders and pictures into place, then the summary
+  // (written last, it says the set is complete).
   for (const std::string& folder : folders) {
     const fs::path target = fs::path(outDir) / folder;
     fs::remove_all(target);
     fs::rename(stage.path / folder, target);
   }
+  for (const std::string& picture : pictures)
+    fs::rename(stage.path / picture, fs::path(outDir) / picture);
   summary = WithFaceAngles(std::move(summary));
   const fs::path d(outDir);
   WriteFilesAtomic({{(d / "summary.json").string(), summary.dump(2) + "\n"},

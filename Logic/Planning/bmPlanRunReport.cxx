@@ -158,6 +158,14 @@ std::string PlanRunMarkdown(const nlohmann::json& summary) {
     for (const std::string& n : sec.notes)
       md << "\n**Warning:** " << n << "\n";
   }
+  if (summary.contains("pictures")) {
+    md << "\n## The glenoid before and after\n\nRed: the planned reaming axis; green: the "
+          "measured face normal; yellow: the rim; white: the planned face plane at the reamer's "
+          "radius.\n\n";
+    for (const char* when : {"before", "after"})
+      if (summary["pictures"].contains(when))
+        md << "![" << when << "](" << summary["pictures"][when].get<std::string>() << ")\n";
+  }
   md << "\nMethods: Docs/Planning.md (measurements and the outcome).\n";
   return md.str();
 }
@@ -185,6 +193,16 @@ std::string PlanRunHtml(const nlohmann::json& summary) {
     h << "</table>\n";
     for (const std::string& n : sec.notes)
       h << "<p class=\"warn\">Warning: " << HtmlEscape(n) << "</p>\n";
+  }
+  if (summary.contains("pictures")) {
+    h << "<h2>The glenoid before and after</h2>\n<p>Red: the planned reaming axis; green: the "
+         "measured face normal; yellow: the rim; white: the planned face plane at the reamer's "
+         "radius.</p>\n<p>";
+    for (const char* when : {"before", "after"})
+      if (summary["pictures"].contains(when))
+        h << "<img src=\"" << HtmlEscape(summary["pictures"][when].get<std::string>())
+          << "\" alt=\"" << when << "\" width=\"400\"> ";
+    h << "</p>\n";
   }
   h << "</body></html>\n";
   return h.str();
