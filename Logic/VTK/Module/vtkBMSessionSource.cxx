@@ -60,12 +60,16 @@ public:
   bm::BoneSurface Surface;
   vtkNew<vtkBMToolSource> Tool;
   int64_t LastFrame = -1;
+  /// State and pause reason of the last execution: a pause publishes a new state without a new
+  /// frame, and the output must still be re-executed to show it.
+  bm::SessionState LastState = bm::SessionState::Idle;
+  bm::PauseReason LastReason = bm::PauseReason::None;
   std::string Error;
   std::string TouchStatus;
   std::string PauseReason = "none";
-  /// History rows (time_s, thrust_N, torque_Nmm, frame_ms, depth_mm), oldest first, and the
-  /// session time of the next row to keep.
-  std::deque<std::array<double, 5>> History;
+  /// History rows (time_s, thrust_N, torque_Nmm, frame_ms, depth_mm, feed_mm_per_rev), oldest
+  /// first, and the session time of the next row to keep.
+  std::deque<std::array<double, 6>> History;
   double NextHistoryS = 0;
   std::vector<bm::FrameRecord> Records; ///< drained from the session, reused
   vtkNew<vtkTable> HistoryTable;
@@ -87,15 +91,15 @@ public:
         continue;
       const Eigen::Vector3d proxy(r.proxyPos[0], r.proxyPos[1], r.proxyPos[2]);
       this->History.push_back(
-          {r.timeS, r.thrustN, r.torqueNmm, r.frameMs, this->Depth(proxy, rot)});
+          {r.timeS, r.thrustN, r.torqueNmm, r.frameMs, this->Depth(proxy, rot), r.feedMmPerRev});
       this->NextHistoryS = r.timeS + stepS;
     }
     while (!this->History.empty() && this->History.front()[0] < this->History.back()[0] - keepS)
       this->History.pop_front();
-    static const char* const names[5] = {"time_s", "thrust_N", "torque_Nmm", "frame_ms",
-                                         "depth_mm"};
+    static const char* const names[6] = {"time_s",   "thrust_N", "torque_Nmm",
+                                         "frame_ms", "depth_mm", "feed_mm_per_rev"};
     vtkNew<vtkTable> table;
-    for (int c = 0; c < 5; ++c) {
+    for (int c = 0; c < 6; ++c) {
       vtkNew<vtkDoubleArray> column;
       column->SetName(names[c]);
       column->SetNumberOfTuples(vtkIdType(this->History.size()));
@@ -222,7 +226,10 @@ bool vtkBMSessionSource::Start() {
     bm::SessionRequest request;
     request.device = this->DeviceType == MOUSE   ? bm::SessionDevice::Mouse
                      : this->DeviceType == TOUCH ? bm::SessionDevice::Touch
+                     : this->DeviceType == HAND  ? bm::SessionDevice::Scripted
                                                  : bm::SessionDevice::Robot;
+    if (this->DeviceType == HAND)
+      request.mode = bm::ScriptMode::Hand;
     request.realTime = this->RealTime;
     request.maxFrames = this->MaxFrames >= 0 ? this->MaxFrames : -1;
     request.mouseDepthMm = this->ToolDepth;
@@ -243,6 +250,8 @@ bool vtkBMSessionSource::Start() {
     in.Surface.MarkAllDirty();
     in.Fraction.MarkAllDirty();
     in.LastFrame = -1;
+    in.LastState = bm::SessionState::Idle;
+    in.LastReason = bm::PauseReason::None;
     in.History.clear();
     in.NextHistoryS = 0;
     in.Session->Start();
@@ -318,7 +327,11 @@ bool vtkBMSessionSource::SaveBone(const char* path) {
 
 bool vtkBMSessionSource::GetNeedsUpdate() {
   vtkInternals& in = *this->Internals;
-  const bool needs = in.Session && in.Session->Snapshot().frame != in.LastFrame;
+  bool needs = false;
+  if (in.Session) {
+    const bm::SessionSnapshot s = in.Session->Snapshot();
+    needs = s.frame != in.LastFrame || s.state != in.LastState || s.pauseReason != in.LastReason;
+  }
   if (needs)
     this->Modified(); // so that the pipeline update that follows the poll re-executes
   return needs;
@@ -334,6 +347,8 @@ int vtkBMSessionSource::RequestData(vtkInformation*, vtkInformationVector**,
   const auto t0 = std::chrono::steady_clock::now();
   const bm::SessionSnapshot s = in.Session->Snapshot();
   in.LastFrame = s.frame;
+  in.LastState = s.state;
+  in.LastReason = s.pauseReason;
 
   // Re-extract the bricks the haptic thread changed since the last update (the voxmap's change
   // generations say which), reading the live voxmap without stopping it. At most

@@ -5,18 +5,20 @@
 // mm; the 0.5 fill-fraction iso-surface, re-extracted per brick only where the voxmap changed
 // since the last update, bm::BoneSurface). Output port 1: the tool's surface at the proxy pose
 // (world mm; cell data EdgeKind as vtkBMToolSource). Output port 2: the session's recent history
-// as a vtkTable (columns time_s, thrust_N, torque_Nmm, frame_ms, depth_mm; one row per
-// HistoryStepS of session time over the last HistorySeconds), drained from the session's record
+// as a vtkTable (columns time_s, thrust_N, torque_Nmm, frame_ms, depth_mm, feed_mm_per_rev; one
+// row per HistoryStepS of session time over the last HistorySeconds; a step of one period keeps
+// every frame), drained from the session's record
 // ring when this source executes, for live charts. Output port 3: with VolumeOutput on, the cut
 // bone as vtkImageData (point data BoneFraction, 0..1, at the voxel centres, world mm) for volume
 // rendering; empty otherwise.
 //
-// Live source: GetNeedsUpdate() is true when the session ran frames since the last execution, so
-// ParaView re-executes it (server-manager hint LiveSource); pvpython polls it through the
-// NeedsUpdateInfo property. The haptic thread never waits for this source: it reads the
-// session's snapshot (double-buffered, try-lock on the writer side) and the voxmap's fills through
-// atomic loads, after marking their bricks seen (bm::Voxmap::SeenBrickGeneration): a brick read
-// while a frame cuts it shows that frame half done and is re-extracted at the next update.
+// Live source: GetNeedsUpdate() is true when the session ran frames (or paused, or resumed) since
+// the last execution, so ParaView re-executes it (server-manager hint LiveSource); pvpython polls
+// it through the NeedsUpdateInfo property. The haptic thread never waits for this source: it
+// reads the session's snapshot (double-buffered, try-lock on the writer side) and the voxmap's
+// fills through atomic loads, after marking their bricks seen (bm::Voxmap::SeenBrickGeneration):
+// a brick read while a frame cuts it shows that frame half done and is re-extracted at the next
+// update.
 //
 // The session is built as every session is (bm::ApplyOverrides, bm::BuildSession; Docs/Session.md,
 // "Building a session"). Devices: SCRIPTED feeds the tool along the scene's axis at its feed and
@@ -25,7 +27,10 @@
 // the foremost cutting point below the scene's entry point along its axis), the mouse proxy of the
 // panel for users without a Touch; TOUCH is a 3D Systems Touch through OpenHaptics
 // (bm::TouchDevice, libHD loaded at Start(); ProbeTouch() says whether it can be opened and why
-// not), its workspace centre placed 10 mm above the entry point along the axis.
+// not), its workspace centre placed 10 mm above the entry point along the axis; HAND is the
+// scripted hand on a simulated Touch (bm::SessionDevice::Scripted, bm::ScriptMode::Hand: a 2.5 N
+// push rising over 0.5 s with lateral tremor, force scale bm::kDefaultSessionForceScale; 2 s of
+// session unless MaxFrames says otherwise), for tests and demonstrations without a device.
 //
 // The scene's tool, force model and bone can be overridden: SetTool() (a tool specification, as
 // vtkBMToolSource::GetToolSpecification() gives it), SetMethod() and SetBoneFile() (a voxmap
@@ -50,7 +55,7 @@ public:
   vtkTypeMacro(vtkBMSessionSource, vtkPolyDataAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
-  enum DeviceTypes { SCRIPTED = 0, MOUSE = 1, TOUCH = 2 };
+  enum DeviceTypes { SCRIPTED = 0, MOUSE = 1, TOUCH = 2, HAND = 3 };
   /// Force model: the scene's (default), Lazar's oblique cutting (Faieghi et al.) or Zheng's.
   enum MethodTypes { SCENE_METHOD = 0, LAZAR = 1, ZHENG = 2 };
 
@@ -110,8 +115,8 @@ public:
   vtkGetVector3Macro(Axis, double);
   ///@}
   ///@{
-  /// SCRIPTED (default), MOUSE or TOUCH.
-  vtkSetClampMacro(DeviceType, int, SCRIPTED, TOUCH);
+  /// SCRIPTED (default: the robot's feed), MOUSE, TOUCH or HAND (the scripted hand).
+  vtkSetClampMacro(DeviceType, int, SCRIPTED, HAND);
   vtkGetMacro(DeviceType, int);
   ///@}
   ///@{
@@ -137,7 +142,8 @@ public:
   vtkBooleanMacro(RealTime, bool);
   ///@}
   ///@{
-  /// Pause after this many frames (< 0, default: the scripted trial's length; no limit with MOUSE).
+  /// Pause after this many frames (< 0, default: the scripted trial's length, 2 s with HAND; no
+  /// limit with MOUSE or TOUCH).
   vtkSetMacro(MaxFrames, vtkIdType);
   vtkGetMacro(MaxFrames, vtkIdType);
   ///@}
@@ -183,8 +189,9 @@ public:
   /// ProbeTouch()'s answer, probed at this call; "" when a Touch can be opened.
   const char* GetTouchStatus();
 
-  /// True when the session ran frames since the last execution (ParaView's live-source poll);
-  /// then also marks this source modified, so the update that follows re-executes it.
+  /// True when the session ran frames, or changed its state or pause reason, since the last
+  /// execution (ParaView's live-source poll; a pause runs no frame but must still be shown); then
+  /// also marks this source modified, so the update that follows re-executes it.
   bool GetNeedsUpdate();
   ///@{
   /// The session as of the last execution.
