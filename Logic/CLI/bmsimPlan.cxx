@@ -147,6 +147,10 @@ static int PlanCommand(const ParsedArgs& p) {
   io.segmentation.keepAllComponents = true; // the humeral head shows where the glenoid is
   LandmarkOverrides ov;
   if (const auto f = p.Get("landmarks")) {
+    std::error_code ec;
+    if (std::filesystem::exists(*f, ec) && !std::filesystem::is_regular_file(*f, ec))
+      throw std::runtime_error("the landmarks file " + *f +
+                               " is not a regular file (a FIFO would block the read)");
     std::ifstream in(*f);
     if (!in)
       throw std::runtime_error("cannot read the landmarks file " + *f);
@@ -177,6 +181,18 @@ static int PlanCommand(const ParsedArgs& p) {
 
   std::string ctPath, ctRef, source;
   nlohmann::json truth;
+  // A failure before the plan's outputs leaves nothing behind: the folder when made here, else
+  // (RequireEmptyOut: it was empty) the phantom's CT written into it.
+  struct Cleanup {
+    fs::path dir;
+    bool created;
+    bool armed = true;
+    ~Cleanup() {
+      std::error_code ec;
+      if (armed)
+        fs::remove_all(created ? dir : dir / "ct", ec);
+    }
+  } cleanup{out, !fs::exists(out)};
   fs::create_directories(out);
   if (phantom) {
     const ScapulaPhantom ph(sp);
@@ -192,6 +208,7 @@ static int PlanCommand(const ParsedArgs& p) {
     source = ctRef;
   }
   ImportResult r = ImportVoxmap(ctPath, io, progress.Range(phantom ? 0.3 : 0, 0.9));
+  cleanup.armed = false;
   progress(0.95, "finding the glenoid");
   PlanReportInput rep;
   rep.source = source;

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -178,7 +179,8 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
   const double duration = built.durationS;
   HapticSession session(setup, device, so);
   std::vector<FrameRecord> frames;
-  frames.reserve(size_t(so.maxFrames));
+  if (so.maxFrames > 0) // < 0: no frame limit (the device ends the session)
+    frames.reserve(size_t(std::min<int64_t>(so.maxFrames, 3600000)));
   session.Start();
   std::cout << "session " << scene.name << ": " << deviceName << " device, " << mode << " mode, "
             << ToString(so.proxy.method) << "/" << ToString(so.proxy.rendering) << ", " << so.rateHz

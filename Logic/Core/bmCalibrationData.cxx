@@ -65,6 +65,10 @@ std::string Num(double v) {
 } // namespace
 
 std::vector<CalibrationRecord> ReadCalibrationCsv(const std::filesystem::path& file) {
+  std::error_code ec;
+  if (std::filesystem::exists(file, ec) && !std::filesystem::is_regular_file(file, ec))
+    throw std::invalid_argument("calibration data " + file.string() +
+                                ": not a regular file (a FIFO would block the read)");
   std::ifstream in(file);
   if (!in)
     throw std::invalid_argument("calibration data " + file.string() + ": cannot open");

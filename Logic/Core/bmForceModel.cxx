@@ -63,11 +63,33 @@ nlohmann::json Coefficients::ToJson() const {
 }
 
 Coefficients Coefficients::FromJson(const nlohmann::json& j) {
+  if (!j.is_object())
+    throw std::invalid_argument("coefficients must be an object of basis, kc_N_per_mm2 and "
+                                "kt_N_per_mm2");
+  for (const char* key : {"basis", "kc_N_per_mm2", "kt_N_per_mm2"})
+    if (!j.contains(key) || !j.at(key).is_array() || j.at(key).size() > 64)
+      throw std::invalid_argument(std::string("coefficients: '") + key +
+                                  "' must be an array of at most 64 entries");
   Coefficients c;
-  for (const auto& t : j.at("basis"))
+  for (const auto& t : j.at("basis")) {
+    if (!t.is_string())
+      throw std::invalid_argument("coefficients: a 'basis' entry is not a term name");
     c.basis.push_back(BasisTermFromString(t.get<std::string>()));
-  c.kc = j.at("kc_N_per_mm2").get<std::vector<double>>();
-  c.kt = j.at("kt_N_per_mm2").get<std::vector<double>>();
+  }
+  // A coefficient reaches every elemental force: finite and within 1e9 N/mm^2 (calibrated sets
+  // are below 1e6), so a huge value cannot overflow the force sums.
+  auto numbers = [&](const char* key) {
+    std::vector<double> v;
+    for (const auto& x : j.at(key)) {
+      if (!x.is_number() || !std::isfinite(x.get<double>()) || std::abs(x.get<double>()) > 1e9)
+        throw std::invalid_argument(std::string("coefficients: '") + key + "' entry " + x.dump() +
+                                    " is not a number within +-1e9 N/mm^2");
+      v.push_back(x.get<double>());
+    }
+    return v;
+  };
+  c.kc = numbers("kc_N_per_mm2");
+  c.kt = numbers("kt_N_per_mm2");
   if (c.kc.size() != c.basis.size() || c.kt.size() != c.basis.size())
     throw std::invalid_argument("coefficients: kc and kt need one value per basis term");
   return c;
@@ -185,10 +207,13 @@ ForceModel ForceModel::FromJson(const nlohmann::json& j, const ToolModel& tool) 
                                     "' cannot be combined with 'coefficients'");
     const std::string ref = j.at("coefficients").get<std::string>();
     const nlohmann::json file = LoadCoefficientSet(ref);
-    if (j.contains("method") && j.at("method") != file.value("method", std::string("lazar")))
-      throw std::invalid_argument("force_model.method disagrees with coefficient set '" + ref +
-                                  "'");
-    return FromJson(file, tool);
+    try {
+      if (j.contains("method") && j.at("method") != file.value("method", std::string("lazar")))
+        throw std::invalid_argument("force_model.method disagrees with the set");
+      return FromJson(file, tool);
+    } catch (const std::exception& e) { // nlohmann's type errors too: name the set
+      throw std::invalid_argument("coefficient set '" + ref + "': " + e.what());
+    }
   }
   Method m = MethodFromString(j.value("method", std::string("lazar")));
   ForceModel d = Default(m, tool);

@@ -260,6 +260,10 @@ Scene Scene::Builtin(const std::string& name) {
 Scene Scene::Load(const std::string& path) {
   if (std::filesystem::is_directory(path))
     throw std::runtime_error("scene file '" + path + "' is a folder");
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw std::runtime_error("scene file '" + path +
+                             "' is not a regular file (a FIFO would block the read)");
   std::ifstream in(path);
   if (!in)
     throw std::runtime_error("cannot read scene file '" + path + "'");

@@ -240,6 +240,10 @@ uint64_t GzipBytes(const fs::path& file, uint64_t offset, uint64_t need) {
     }
     if (n == 0)
       break;
+    if (total == 0 && gzdirect(gz)) { // zlib passes data without a gzip header through as is
+      gzclose(gz);
+      throw std::runtime_error(Q(file) + ": its data are declared gzip but are not gzip data");
+    }
     total += uint64_t(n);
   }
   gzclose(gz);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -33,7 +34,15 @@ const char* ToString(ScriptMode m) {
   return "?";
 }
 
+namespace {
+constexpr double kMaxTrajectoryS = 3600;   ///< the longest session bmsim runs (--duration), s
+constexpr double kMaxTrajectoryMm = 10000; ///< the reach of a scene (entry point limit), mm
+} // namespace
+
 std::vector<TrajectorySample> LoadTrajectoryCsv(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) // a FIFO would block the read
+    throw std::runtime_error("trajectory '" + path + "' is not a regular file");
   std::ifstream in(path);
   if (!in)
     throw std::runtime_error("cannot read trajectory '" + path + "'");
@@ -47,17 +56,34 @@ std::vector<TrajectorySample> LoadTrajectoryCsv(const std::string& path) {
     const std::vector<double> v = ParseCsvNumbers(line, path + ":" + std::to_string(lineNo));
     if (v.size() != 4 && v.size() != 8)
       throw std::runtime_error(path + ":" + std::to_string(lineNo) + ": needs 4 or 8 columns");
+    const std::string where = path + ":" + std::to_string(lineNo);
+    for (size_t c = 0; c < v.size(); ++c)
+      if (!std::isfinite(v[c]))
+        throw std::runtime_error(where + ": column " + std::to_string(c + 1) +
+                                 " is not a finite number");
+    if (!(v[0] >= 0 && v[0] <= kMaxTrajectoryS))
+      throw std::runtime_error(where + ": time_s must be in [0, 3600] s, got " +
+                               std::to_string(v[0]));
+    for (int c = 1; c <= 3; ++c)
+      if (!(std::abs(v[size_t(c)]) <= kMaxTrajectoryMm))
+        throw std::runtime_error(where + ": position must be within +-10000 mm, got " +
+                                 std::to_string(v[size_t(c)]));
     TrajectorySample s;
     s.timeS = v[0];
     s.positionMm = {v[1], v[2], v[3]};
-    if (v.size() == 8)
-      s.rotation = Eigen::Quaterniond(v[4], v[5], v[6], v[7]).normalized().toRotationMatrix();
+    if (v.size() == 8) {
+      const Eigen::Quaterniond q(v[4], v[5], v[6], v[7]);
+      if (!(q.norm() > 1e-6))
+        throw std::runtime_error(where + ": the quaternion (qw, qx, qy, qz) is zero");
+      s.rotation = q.normalized().toRotationMatrix();
+    }
     if (!out.empty() && !(s.timeS > out.back().timeS))
       throw std::runtime_error(path + ":" + std::to_string(lineNo) + ": times must increase");
     out.push_back(s);
   }
-  if (out.empty())
-    throw std::runtime_error("trajectory '" + path + "' has no samples");
+  if (out.size() < 2)
+    throw std::runtime_error("trajectory '" + path +
+                             "' needs at least 2 samples (a start and an end time)");
   return out;
 }
 

@@ -38,7 +38,9 @@ struct TrajectorySample {
 };
 
 /// Reads "time_s,x_mm,y_mm,z_mm[,qw,qx,qy,qz]" rows (header line and '#' lines skipped), times
-/// increasing. Throws std::runtime_error naming the file and line on bad input.
+/// increasing. Throws std::runtime_error naming the file and line on bad input: not a regular
+/// file, fewer than 2 samples, a value not finite, a time outside [0, 3600] s, a position beyond
+/// +-10000 mm, a zero quaternion.
 std::vector<TrajectorySample> LoadTrajectoryCsv(const std::string& path);
 
 enum class ScriptMode { Feed, Force, Trajectory, Hand };

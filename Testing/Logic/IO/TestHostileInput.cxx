@@ -2,6 +2,7 @@
 // refused by the import with a message naming the problem, no crash, no hang and nothing written.
 // Each format's generator also makes a valid control file that reads, so every refusal comes from
 // the one thing a case changes.
+#include "bmHostileFiles.h"
 #include "bmIOTestUtil.h"
 
 #include "bmCTReader.h"
@@ -17,114 +18,13 @@
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <iostream>
 #include <limits>
 #include <map>
 
 using namespace bmtest;
 
 namespace {
-
-/// 4 x 4 x 4 int16 voxels: air (-1000) with a cube of bone (1000).
-std::string Voxels(size_t count = 64) {
-  std::string s;
-  for (size_t i = 0; i < count; ++i) {
-    const int16_t v = (i % 64 >= 21 && i % 64 <= 42) ? 1000 : -1000;
-    s.append(reinterpret_cast<const char*>(&v), 2);
-  }
-  return s;
-}
-
-void WriteFile(const fs::path& p, const std::string& bytes) {
-  std::ofstream f(p, std::ios::binary);
-  f.write(bytes.data(), std::streamsize(bytes.size()));
-}
-
-void WriteGzip(const fs::path& p, const std::string& bytes) {
-  gzFile gz = gzopen(p.c_str(), "wb");
-  gzwrite(gz, bytes.data(), unsigned(bytes.size()));
-  gzclose(gz);
-}
-
-/// A NRRD header from fields (in order), attached data after it unless a field names a data file.
-std::string Nrrd(std::map<std::string, std::string> over, const std::string& data = Voxels()) {
-  std::vector<std::pair<std::string, std::string>> f = {{"type", "short"},    {"dimension", "3"},
-                                                        {"sizes", "4 4 4"},   {"spacings", "1 1 1"},
-                                                        {"endian", "little"}, {"encoding", "raw"}};
-  for (auto& [k, v] : f)
-    if (over.count(k)) {
-      v = over[k];
-      over.erase(k);
-    }
-  std::string s = "NRRD0004\n";
-  for (const auto& [k, v] : f)
-    if (v != "-")
-      s += k + ": " + v + "\n";
-  bool detached = false;
-  for (const auto& [k, v] : over) {
-    if (k == "data file")
-      detached = true;
-    if (v != "-")
-      s += k + ": " + v + "\n";
-  }
-  s += "\n";
-  return detached ? s : s + data;
-}
-
-/// A MetaImage (.mha) with LOCAL data unless ElementDataFile is given.
-std::string Mha(std::map<std::string, std::string> over, const std::string& data = Voxels()) {
-  std::vector<std::pair<std::string, std::string>> f = {
-      {"ObjectType", "Image"},     {"NDims", "3"},
-      {"DimSize", "4 4 4"},        {"ElementType", "MET_SHORT"},
-      {"ElementSpacing", "1 1 1"}, {"Offset", "0 0 0"},
-      {"BinaryData", "True"},      {"BinaryDataByteOrderMSB", "False"}};
-  for (auto& [k, v] : f)
-    if (over.count(k)) {
-      v = over[k];
-      over.erase(k);
-    }
-  std::string file = "LOCAL";
-  if (over.count("ElementDataFile")) {
-    file = over["ElementDataFile"];
-    over.erase("ElementDataFile");
-  }
-  std::string s;
-  for (const auto& [k, v] : f)
-    s += k + " = " + v + "\n";
-  for (const auto& [k, v] : over)
-    s += k + " = " + v + "\n";
-  s += "ElementDataFile = " + file + "\n";
-  return file == "LOCAL" ? s + data : s;
-}
-
-/// A single-file NIfTI-1 image; `edit` changes the 348-byte header before it is written.
-std::string Nifti(const std::function<void(char*)>& edit = {}, const std::string& data = Voxels()) {
-  char h[352] = {};
-  auto put32 = [&](int off, int32_t v) { std::memcpy(h + off, &v, 4); };
-  auto put16 = [&](int off, int16_t v) { std::memcpy(h + off, &v, 2); };
-  auto putf = [&](int off, float v) { std::memcpy(h + off, &v, 4); };
-  put32(0, 348);
-  const int16_t dim[8] = {3, 4, 4, 4, 1, 1, 1, 1};
-  for (int i = 0; i < 8; ++i)
-    put16(40 + 2 * i, dim[i]);
-  put16(70, 4);  // datatype int16
-  put16(72, 16); // bitpix
-  for (int i = 0; i < 8; ++i)
-    putf(76 + 4 * i, 1.0f);
-  putf(108, 352); // vox_offset
-  putf(112, 1);   // scl_slope
-  putf(116, 0);   // scl_inter
-  std::memcpy(h + 344, "n+1", 4);
-  if (edit)
-    edit(h);
-  return std::string(h, sizeof h) + data;
-}
-
-void PutFloat(char* h, int off, float v) {
-  std::memcpy(h + off, &v, 4);
-}
-void PutShort(char* h, int off, int16_t v) {
-  std::memcpy(h + off, &v, 2);
-}
 
 const float kNaN = std::numeric_limits<float>::quiet_NaN();
 
@@ -154,6 +54,7 @@ void ExpectRefused(const ScratchDir& dir, const Case& c, const fs::path& input) 
 }
 
 void RunCorpus(const std::string& tag, const std::vector<Case>& cases) {
+  std::cout << "hostile corpus (" << tag << "): " << cases.size() << " cases\n";
   ScratchDir d("hostile-" + tag);
   for (const auto& c : cases) {
     const fs::path folder = d / ("case-" + std::to_string(&c - cases.data()));
@@ -462,38 +363,6 @@ TEST(HostileInput, DicomCorpus) {
   RunCorpus("dicom", cases);
 }
 
-namespace {
-
-/// One ustar member: a 512-byte header and the data padded to 512 bytes.
-std::string TarMember(const std::string& name, const std::string& data) {
-  char h[512] = {};
-  std::memcpy(h, name.data(), std::min<size_t>(name.size(), 99));
-  std::snprintf(h + 100, 8, "%07o", 0644);
-  std::snprintf(h + 124, 12, "%011llo", (unsigned long long)data.size());
-  h[156] = '0';
-  std::memcpy(h + 257, "ustar", 5);
-  std::string out(h, sizeof h);
-  out += data;
-  out.append((512 - data.size() % 512) % 512, '\0');
-  return out;
-}
-
-/// main.plist of an InVesalius project with `shape` (z y x) and `spacing`, int16 matrix.dat.
-std::string Plist(const std::string& shape = "<integer>4</integer><integer>4</integer>"
-                                             "<integer>4</integer>",
-                  const std::string& spacing = "<real>1</real><real>1</real><real>1</real>") {
-  return "<?xml version=\"1.0\"?><plist version=\"1.0\"><dict><key>modality</key><string>CT"
-         "</string><key>matrix</key><dict><key>dtype</key><string>int16</string><key>filename"
-         "</key><string>matrix.dat</string><key>shape</key><array>" +
-         shape + "</array></dict><key>spacing</key><array>" + spacing + "</array></dict></plist>";
-}
-
-std::string Inv3(const std::string& plist = Plist(), const std::string& matrix = Voxels()) {
-  return TarMember("project/main.plist", plist) + TarMember("project/matrix.dat", matrix) +
-         std::string(1024, '\0');
-}
-
-} // namespace
 
 TEST(HostileInput, InvesaliusCorpus) {
   {
@@ -549,23 +418,6 @@ TEST(HostileInput, OutputEqualToTheInputIsRefused) {
   EXPECT_FALSE(fs::exists(d / "dicom" / "v.nrrd"));
 }
 
-namespace {
-
-/// A saved voxmap's MetaImage: 4 x 4 x 4 voxels of (bone fraction 1, `material`), `at` voxel
-/// index given `bad` instead.
-std::string VoxmapMha(float material, int at = -1, float bad = 1.0f,
-                      std::map<std::string, std::string> over = {}) {
-  std::string data;
-  for (int i = 0; i < 64; ++i) {
-    const float v[2] = {1.0f, i == at ? bad : material};
-    data.append(reinterpret_cast<const char*>(v), sizeof v);
-  }
-  over.emplace("ElementType", "MET_FLOAT");
-  over.emplace("ElementNumberOfChannels", "2");
-  return Mha(over, data);
-}
-
-} // namespace
 
 TEST(HostileInput, SavedVoxmapCorpus) {
   ScratchDir d("hostile-voxmap");
