@@ -2,8 +2,12 @@
 //
 // Debian's ParaView VTK renders only through GLX, so a render window needs an X server. When
 // DISPLAY is unset, Ensure() starts a private Xvfb (`Xvfb -displayfd`, no TCP) and points this
-// process's DISPLAY at it; the server is stopped (SIGTERM, then reaped) when the process exits.
-// When DISPLAY is set, nothing is started.
+// process's DISPLAY at it. The server dies with this process, however it ends: a keeper process
+// (forked first, Xvfb its child) waits on a pipe whose write end only this process holds; when
+// the process exits or is killed (SIGKILL included) the keeper reads end-of-file and stops Xvfb
+// (SIGTERM, then reaped); Xvfb itself gets SIGKILL if the keeper is killed
+// (prctl(PR_SET_PDEATHSIG), tied to the single-threaded keeper). When DISPLAY is set, nothing is
+// started.
 #pragma once
 
 #include <memory>
@@ -28,8 +32,10 @@ public:
   const std::string& Name() const { return Name_; }
 
 private:
-  VirtualDisplay(pid_t pid, std::string name) : Pid_(pid), Name_(std::move(name)) {}
-  pid_t Pid_;
+  VirtualDisplay(pid_t pid, int lifeFd, std::string name)
+      : Pid_(pid), LifeFd_(lifeFd), Name_(std::move(name)) {}
+  pid_t Pid_;  ///< the keeper process (Xvfb is its child)
+  int LifeFd_; ///< write end of the keeper's pipe: closed, the keeper stops Xvfb
   std::string Name_;
 };
 
