@@ -73,6 +73,7 @@ int RunCommand(const bm::cli::ParsedArgs& p) {
   }
   if (bm::cli::WantsSession(p))
     return bm::cli::RunSessionScene(scene, p, out);
+  bm::cli::CheckWritableOutput("--out", out, true); // before the trial, not after it
   bm::MachiningSetup setup(scene, bm::cli::SceneBone(scene), p.Get("cl-device", ""));
   bm::FeedTrial trial(setup);
   {

@@ -811,7 +811,7 @@ void SceneCases() {
        "{out}/no/such/rec.csv"},
       {"--record"});
   Add("run --out is a file", {"run", "drilling", "--out", "{in}/file", "--no-report"},
-      {"Not a directory"}, Writes("file", "x"));
+      {"--out", "is a file, expected a folder"}, Writes("file", "x"));
 }
 
 void RecordingCases() {
