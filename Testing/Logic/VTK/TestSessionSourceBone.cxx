@@ -85,13 +85,14 @@ TEST(SessionSource, SavedBoneRoundTripsAndSessionsGoOnFromIt) {
 
   // History: one row per 10 ms of the 1.5 s ran, in time order.
   vtkTable* history = s->GetHistory();
-  ASSERT_EQ(history->GetNumberOfColumns(), 5);
+  ASSERT_EQ(history->GetNumberOfColumns(), 6);
   EXPECT_NEAR(double(history->GetNumberOfRows()), 150.0, 2.0);
   vtkDataArray* time = vtkDataArray::SafeDownCast(history->GetColumnByName("time_s"));
   ASSERT_NE(time, nullptr);
   for (vtkIdType i = 1; i < time->GetNumberOfTuples(); ++i)
     ASSERT_GT(time->GetTuple1(i), time->GetTuple1(i - 1));
   ASSERT_NE(history->GetColumnByName("thrust_N"), nullptr);
+  ASSERT_NE(history->GetColumnByName("feed_mm_per_rev"), nullptr);
 
   // Saving refuses a bad extension before writing anything.
   EXPECT_FALSE(s->SaveBone((dir / "cut.txt").string().c_str()));
