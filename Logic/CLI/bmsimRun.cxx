@@ -14,6 +14,7 @@
 #include "bmsimProgressBar.h"
 #include "bmsimRunSession.h"
 #include "bmsimRunSteps.h"
+#include "bmsimStagedOutput.h"
 
 namespace {
 
@@ -80,7 +81,8 @@ int RunCommand(const bm::cli::ParsedArgs& p) {
     bm::cli::ProgressBar bar("run " + scene.name);
     trial.Run([&](double f) { return bar.Update(f); });
   }
-  trial.WriteOutputs(out);
+  bm::cli::StagedOutput staged(out); // the outputs appear together (bmsimStagedOutput.h)
+  trial.WriteOutputs(staged.Path());
   const auto s = trial.Summary();
   std::cout << "scene " << scene.name << " (" << s["engine"].get<std::string>() << ", voxmap "
             << scene.voxmapResolution << ", shell " << scene.shellResolution << ", "
@@ -96,10 +98,14 @@ int RunCommand(const bm::cli::ParsedArgs& p) {
             << "wrote " << out << "/forces.csv and " << out << "/summary.json\n";
 #ifdef BM_WITH_REPORT
   if (!p.Has("no-report")) {
-    const bm::TrialReportFiles report = bm::WriteTrialReport(out, setup, trial);
-    std::cout << "report " << report.html << " (and " << report.markdown << ")\n";
+    const bm::TrialReportFiles report = bm::WriteTrialReport(staged.Path(), setup, trial);
+    const auto inOut = [&](const std::string& f) {
+      return (std::filesystem::path(out) / std::filesystem::path(f).filename()).string();
+    };
+    std::cout << "report " << inOut(report.html) << " (and " << inOut(report.markdown) << ")\n";
   }
 #endif
+  staged.Commit();
   for (const std::string& w : trial.Warnings())
     std::cerr << "bmsim run: warning: " << w << "\n";
   return trial.GuideBlocked() ? 1 : 0; // the feed stopped short of its depth

@@ -1,4 +1,5 @@
 #include "bmsimRunSession.h"
+#include "bmsimStagedOutput.h"
 
 #include <unistd.h>
 
@@ -248,11 +249,13 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
               {"scene_base_dir", scene.baseDir},
               {"session", SessionOptionsToJson(so, device->Limits())}};
   rec.frames = std::move(frames);
-  std::filesystem::create_directories(outDir);
-  WriteRecordingCsv((std::filesystem::path(outDir) / "session.csv").string(), rec);
+  StagedOutput staged(outDir); // the outputs appear together (bmsimStagedOutput.h)
+  WriteRecordingCsv((std::filesystem::path(staged.Path()) / "session.csv").string(), rec);
   if (record)
     WriteRecording(*record, rec);
-  WriteFileAtomic((std::filesystem::path(outDir) / "summary.json").string(), s.dump(2) + "\n");
+  WriteFileAtomic((std::filesystem::path(staged.Path()) / "summary.json").string(),
+                  s.dump(2) + "\n");
+  staged.Commit();
   std::cout << "  frames " << rec.frames.size() << ", frame p50 " << ts.p50Ms << " ms, p99 "
             << ts.p99Ms << " ms, max " << ts.maxMs << " ms, overruns " << ts.overruns << "\n"
             << "  thrust " << s["thrust_N"]["mean"].get<double>() << " N, torque "

@@ -5,7 +5,6 @@
 #include <filesystem>
 #include <iostream>
 #include <optional>
-#include <unistd.h>
 
 #include "bmAtomicFile.h"
 #include "bmFeedTrial.h"
@@ -18,6 +17,7 @@
 #endif
 #include "bmsimProgressBar.h"
 #include "bmsimRunSession.h"
+#include "bmsimStagedOutput.h"
 
 namespace bm::cli {
 namespace {
@@ -50,27 +50,13 @@ double PlanValue(const nlohmann::json& plan, const char* key, double def) {
              : def;
 }
 
-// Removes the staging folder unless released (a failed step leaves nothing behind).
-struct StagingFolder {
-  fs::path path;
-  bool keep = false;
-  ~StagingFolder() {
-    if (!keep) {
-      std::error_code ec;
-      fs::remove_all(path, ec);
-    }
-  }
-};
-
 } // namespace
 
 int RunSceneSteps(const bm::Scene& scene, const ParsedArgs& args, const std::string& outDir) {
   [[maybe_unused]] const bool report = !args.Has("no-report");
   CheckWritableOutput("output folder", outDir, true);
-  fs::create_directories(outDir);
-  StagingFolder stage{fs::path(outDir) / (".bmsim-steps-" + std::to_string(::getpid()))};
-  fs::remove_all(stage.path);
-  fs::create_directories(stage.path);
+  StagedOutput staged(outDir); // a failed step leaves nothing behind (bmsimStagedOutput.h)
+  const fs::path stagePath(staged.Path());
 
   Voxmap bone = SceneBone(scene);
   const Voxmap before = bone;
@@ -90,7 +76,7 @@ int RunSceneSteps(const bm::Scene& scene, const ParsedArgs& args, const std::str
       ProgressBar bar(folder);
       trial.Run([&](double f) { return bar.Update(f); });
     }
-    const fs::path dir = stage.path / folder;
+    const fs::path dir = stagePath / folder;
     trial.WriteOutputs(dir.string());
     nlohmann::json s = trial.Summary();
     std::cout << "  step " << i + 1 << " (" << scene.steps[i].name << ", " << setup.Tool().Kind()
@@ -156,31 +142,22 @@ int RunSceneSteps(const bm::Scene& scene, const ParsedArgs& args, const std::str
   }
 
   // The glenoid before and after, with the planned axis, face normal, rim and face plane drawn.
-  std::vector<std::string> pictures;
 #ifdef BM_WITH_REPORT
   if (report && scene.planning.is_object() && scene.planning.contains("entry_mm") &&
       scene.planning.contains("axis")) {
     const GlenoidPictureFiles files =
-        WriteGlenoidPictures(stage.path.string(), before, bone, scene.planning);
+        WriteGlenoidPictures(stagePath.string(), before, bone, scene.planning);
     summary["pictures"] = {{"before", files.before}, {"after", files.after}};
-    pictures = {files.before, files.after};
   }
 #endif
 
-  // Everything was written: move the step folders and pictures into place, then the summary
-  // (written last, it says the set is complete).
-  for (const std::string& folder : folders) {
-    const fs::path target = fs::path(outDir) / folder;
-    fs::remove_all(target);
-    fs::rename(stage.path / folder, target);
-  }
-  for (const std::string& picture : pictures)
-    fs::rename(stage.path / picture, fs::path(outDir) / picture);
+  // Everything was written: the step folders, pictures and results move into place together,
+  // the summary last (it says the set is complete).
   summary = WithFaceAngles(std::move(summary));
-  const fs::path d(outDir);
-  WriteFilesAtomic({{(d / "summary.json").string(), summary.dump(2) + "\n"},
-                    {(d / "plan_result.md").string(), PlanRunMarkdown(summary)},
-                    {(d / "plan_result.html").string(), PlanRunHtml(summary)}});
+  WriteFilesAtomic({{(stagePath / "summary.json").string(), summary.dump(2) + "\n"},
+                    {(stagePath / "plan_result.md").string(), PlanRunMarkdown(summary)},
+                    {(stagePath / "plan_result.html").string(), PlanRunHtml(summary)}});
+  staged.Commit("summary.json");
   std::cout << "wrote " << outDir << "/summary.json, plan_result.md/.html and " << folders.size()
             << " step folders\n";
   if (blocked)

@@ -6,6 +6,9 @@
 #   threads  --threads 1 and --threads 2 give identical thrust, torque and removed voxels
 #   zheng    --method zheng runs through the same command and reports positive forces
 #   badargs  bad arguments exit non-zero with a message and leave no output folder
+#   killed   a run killed (SIGKILL) while it works leaves the output folder as it was (an earlier
+#            run's set untouched, no new file; only its hidden staging folder), and the next run
+#            into that folder removes the staging folder and writes a complete set
 #   session  haptic sessions on scenes that are not blocks, at small resolutions: the glenoid
 #            phantom in force mode at the default force scale runs, records, and `bmsim replay`
 #            rebuilds its bone and reproduces the forces; the skull CT (when Debian's
@@ -136,6 +139,37 @@ elseif(MODE STREQUAL "zheng")
   expect_range(zheng_torque_Nmm "${torque}" 10 50)
   expect_range(zheng_reference_thrust_N "${ref}" 5 30)
 
+elseif(MODE STREQUAL "killed")
+  bmsim_run("${dir}/out" --voxmap-resolution 64 --shell-resolution 128)
+  file(SHA256 "${dir}/out/forces.csv" forcesBefore)
+  file(SHA256 "${dir}/out/summary.json" summaryBefore)
+  # A long run into the same folder, killed after 2 s (the trial takes tens of seconds).
+  execute_process(COMMAND sh -c "\"${BMSIM}\" run drilling --no-report --out \"${dir}/out\" \
+                                 --voxmap-resolution 256 --shell-resolution 1024 >/dev/null 2>&1 &
+                                 pid=$!; sleep 2; kill -9 $pid; wait $pid; echo $?"
+                  OUTPUT_VARIABLE killed OUTPUT_STRIP_TRAILING_WHITESPACE)
+  if(NOT killed STREQUAL "137")
+    message(FATAL_ERROR "the long run was not killed while it worked (status ${killed})")
+  endif()
+  file(SHA256 "${dir}/out/forces.csv" forcesAfter)
+  file(SHA256 "${dir}/out/summary.json" summaryAfter)
+  if(NOT forcesAfter STREQUAL forcesBefore OR NOT summaryAfter STREQUAL summaryBefore)
+    message(FATAL_ERROR "a killed run changed the earlier run's outputs")
+  endif()
+  file(GLOB staged LIST_DIRECTORIES true "${dir}/out/.run.tmp-*")
+  list(LENGTH staged nStaged)
+  file(GLOB visible RELATIVE "${dir}/out" "${dir}/out/*")
+  message(STATUS "after the kill: ${visible}; staging folders: ${nStaged}")
+  if(NOT visible STREQUAL "forces.csv;summary.json" OR nStaged GREATER 1)
+    message(FATAL_ERROR "a killed run left ${visible} and ${nStaged} staging folders")
+  endif()
+  bmsim_run("${dir}/out" --voxmap-resolution 64 --shell-resolution 128 --feed 0.03)
+  file(GLOB staged LIST_DIRECTORIES true "${dir}/out/.run.tmp-*")
+  file(SHA256 "${dir}/out/summary.json" summaryNext)
+  if(staged OR summaryNext STREQUAL summaryBefore)
+    message(FATAL_ERROR "the next run did not clean the staging folder (${staged}) or did not "
+                        "write its own summary")
+  endif()
 elseif(MODE STREQUAL "badargs")
   file(WRITE "${dir}/malformed.json" "{ \"name\": \"broken\", \"voxmap_resolution\": ")
   file(WRITE "${dir}/badfield.json" "{ \"name\": \"broken\", \"voxmap_resolutoin\": 64 }")
