@@ -115,6 +115,18 @@ def main():
     given = info(on_ct, "FriedmanVersionInfo")
     check(abs(given - truth["friedman_version_deg"]) < 1.0,
           "Friedman version with given landmarks %.2f deg" % given)
+
+    # With every bone kept, BM CT Bone's output holds the joint: the glenoid is found from the CT
+    # with no landmark given.
+    bone.KeepAllBones = 1
+    found = globals()["BMGlenoidPlan"](Input=bone)
+    found.UpdatePipeline()
+    check(info(found, "LastErrorInfo") == "", "all bones kept: the glenoid is found (%r)"
+          % info(found, "LastErrorInfo"))
+    detected = info(found, "FriedmanVersionInfo")
+    check(abs(detected - truth["friedman_version_deg"]) < 1.0,
+          "Friedman version from BM CT Bone with all bones %.2f deg (truth %.2f)"
+          % (detected, truth["friedman_version_deg"]))
     print("TestGlenoidPlanPlugin: all checks passed")
 
 

@@ -124,6 +124,8 @@ std::string vtkBMCTBoneSource::ImportOptionsJson() const {
     j["roi"] = {this->ROI[0], this->ROI[1], this->ROI[2], this->ROI[3], this->ROI[4], this->ROI[5]};
   if (this->UseSeed)
     j["seed"] = {this->Seed[0], this->Seed[1], this->Seed[2]};
+  if (this->KeepAllBones)
+    j["keepAllComponents"] = true;
   if (!this->ExcludePoints.empty()) {
     j["exclude"] = nlohmann::json::array();
     for (size_t i = 0; i + 2 < this->ExcludePoints.size(); i += 3)

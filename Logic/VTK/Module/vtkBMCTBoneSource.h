@@ -83,6 +83,14 @@ public:
   vtkGetVector3Macro(Seed, double);
   ///@}
   ///@{
+  /// Keep every bone component, not only the largest (or the seeded one): a shoulder's scapula
+  /// and humeral head together, for planning (vtkBMGlenoidPlanFilter finds the joint between
+  /// them). Default off (one bone: the bone a session machines). `bmsim import --keep-all`.
+  vtkSetMacro(KeepAllBones, bool);
+  vtkGetMacro(KeepAllBones, bool);
+  vtkBooleanMacro(KeepAllBones, bool);
+  ///@}
+  ///@{
   /// Exclude seeds (world mm): bones to drop, split from the kept bone across a joint space
   /// (Docs/Segmentation.md). A point off all bone is ignored (the import warns). Default none.
   void AddExcludePoint(double x, double y, double z);
@@ -171,6 +179,7 @@ protected:
   int Resolution = 96;
   double Axis[3] = {0, 0, 1};
   bool UseSeed = false;
+  bool KeepAllBones = false;
   double Seed[3] = {0, 0, 0};
   std::vector<double> ExcludePoints; ///< x, y, z per point, mm
   bool UseBox = false;
