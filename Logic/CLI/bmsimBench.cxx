@@ -86,15 +86,15 @@ double ThreadCpuMs() {
 }
 
 #ifndef BM_WITH_IO
-/// The glenoid phantom's bone (bmAnalyticGlenoid.h's shape, placed as bmPhantom.h places it: face centre (-60, 20, 40) mm,
-/// outward axis -x, elliptic face 40 x 29 mm, concave face of radius 35 mm, vault 25 mm deep,
-/// pilot hole r 4.0 mm x 10 mm) sampled straight into a voxmap, for builds without BMIO (no ITK:
-/// no CT import). Box: the bone's bounds plus 0.625 mm, `resolution` voxels along its longest
-/// side; fill = 0.5 + (signed distance to the surface) / spacing, clamped (partial volume, as the
-/// CT import's resampling gives), all cortical. Units: mm.
+/// The glenoid phantom's bone (bmAnalyticGlenoid.h's shape, placed as bmPhantom.h places it: face
+/// centre (-60, 20, 40) mm, outward axis -x, elliptic face 40 x 29 mm, concave face of radius 35
+/// mm, vault 25 mm deep, pilot hole r 4.0 mm x 10 mm) sampled straight into a voxmap, for builds
+/// without BMIO (no ITK: no CT import). Box: the bone's bounds plus 0.625 mm, `resolution` voxels
+/// along its longest side; fill = 0.5 + (signed distance to the surface) / spacing, clamped
+/// (partial volume, as the CT import's resampling gives), all cortical. Units: mm.
 bm::Voxmap AnalyticGlenoid(int resolution) {
-  const double a = bm::glenoid::kA, b = bm::glenoid::kB, Rc = bm::glenoid::kRc,
-               H = bm::glenoid::kH, rp = bm::glenoid::kRp, Dp = bm::glenoid::kDp, margin = 0.625;
+  const double a = bm::glenoid::kA, b = bm::glenoid::kB, Rc = bm::glenoid::kRc, H = bm::glenoid::kH,
+               rp = bm::glenoid::kRp, Dp = bm::glenoid::kDp, margin = 0.625;
   const double wTop = Rc - std::sqrt(Rc * Rc - a * a);
   // World x = -60 - w, y = 20 + v, z = 40 + u.
   const std::array<double, 3> lo{-60 - wTop - margin, 20 - b - margin, 40 - a - margin};
@@ -377,7 +377,7 @@ struct SessionRun {
 /// point; the session runs `seconds` (s) of frames; candidates: the proxy's contact candidates
 /// (the incremental path) or none (every query scans the shell: the full pass).
 SessionRun RunHandSession(const bm::Scene& scene, bool candidates, double pushN, double tremorN,
-                          double seconds, bool realTime) {
+                          double seconds, bool realTime, double viewIntervalMs) {
   // A hand on the device pushing through a unit coupling (force scale 1), counting its overruns.
   bm::SessionRequest req;
   req.mode = bm::ScriptMode::Hand;
@@ -397,7 +397,26 @@ SessionRun RunHandSession(const bm::Scene& scene, bool candidates, double pushN,
     o.proxy.candidateRadiusVoxels = 0;
   bm::HapticSession session(setup, device, o);
   session.Start();
-  if (!session.WaitUntilPaused(seconds * 20 + 600))
+  // The live view, as the BM Session source refreshes it: the cut bone's surface re-extracted
+  // from the live voxmap every viewIntervalMs (at most 8 ms per refresh) on its own thread.
+  std::atomic<bool> viewDone{false};
+  std::thread viewer;
+  if (viewIntervalMs > 0)
+    viewer = std::thread([&] {
+      bm::BoneSurface surface;
+      surface.SetTimeBudgetMs(8.0);
+      vtkNew<vtkPolyData> port;
+      while (!viewDone.load()) {
+        surface.Update(setup.Bone());
+        port->ShallowCopy(surface.GetOutput());
+        std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(viewIntervalMs));
+      }
+    });
+  const bool finished = session.WaitUntilPaused(seconds * 20 + 600);
+  viewDone.store(true);
+  if (viewer.joinable())
+    viewer.join();
+  if (!finished)
     throw std::runtime_error("session bench: the trial did not finish");
   session.Stop();
   std::vector<bm::FrameRecord> rec;
@@ -441,6 +460,9 @@ int SessionBench(const bm::cli::ParsedArgs& p) {
   const int repeats = int(p.GetInt("repeats", 1, 100).value_or(2));
   const bool realTime = !p.Has("back-to-back");
   const std::string out = p.Get("out", "out/bench-session");
+  // Without the view, and with it when asked (--with-view): the panel's session refreshes it.
+  const std::vector<bool> views =
+      p.Has("with-view") ? std::vector<bool>{false, true} : std::vector<bool>{false};
   bm::SceneOverrides overrides;
   if (auto t = p.GetInt("threads", 1, 64))
     overrides.threads = int(*t);
@@ -471,37 +493,41 @@ int SessionBench(const bm::cli::ParsedArgs& p) {
               << " Hz" << (realTime ? "" : " (frames back to back)") << "; machine: " << machine
               << "\n";
     for (int run = 1; run <= repeats; ++run)
-      for (bool incremental : {true, false}) {
-        const SessionRun r = RunHandSession(scene, incremental, push, tremor, seconds, realTime);
-        std::cout << "run " << run << (incremental ? " incremental" : " full pass  ") << ": "
-                  << r.frameMs.size() << " frames " << figures(r.frameMs) << "; "
-                  << r.contactMs.size() << " touching bone " << figures(r.contactMs) << "; over "
-                  << 1000.0 * scene.trial.frameS << " ms: " << r.over << ", overrun pauses "
-                  << r.rulePauses << "\n"
-                  << std::setprecision(9) << "  checksum: removed " << r.removedMm3
-                  << " mm^3, sum thrust " << r.sumThrustN << " N, sum proxy " << r.sumProxyMm
-                  << " mm, sum device force " << r.sumForceN << " N, last proxy ("
-                  << r.lastProxy(0) << ", " << r.lastProxy(1) << ", " << r.lastProxy(2)
-                  << ") mm\n"
-                  << std::setprecision(3) << std::flush;
-        bm::SessionBenchRow row;
-        row.scene = scene.name;
-        row.voxmap = scene.voxmapResolution;
-        row.shell = scene.shellResolution;
-        row.threads = scene.threads;
-        row.path = incremental ? "incremental" : "full";
-        row.run = run;
-        row.frames = (long long)r.frameMs.size();
-        row.p50Ms = bm::Percentile(r.frameMs, 50);
-        row.p99Ms = bm::Percentile(r.frameMs, 99);
-        row.maxMs = r.frameMs.empty() ? 0.0 : r.frameMs.back();
-        row.over = r.over;
-        row.overrunPauses = r.rulePauses;
-        row.seconds = double(r.frameMs.size()) * scene.trial.frameS;
-        row.machine = machine;
-        row.date = date;
-        csv += bm::SessionBenchCsvRecord(row) + "\n";
-      }
+      for (bool view : views)
+        for (bool incremental : {true, false}) {
+          const SessionRun r = RunHandSession(scene, incremental, push, tremor, seconds, realTime,
+                                              view ? 33.0 : 0.0);
+          std::cout << "run " << run << (incremental ? " incremental" : " full pass  ")
+                    << (view ? ", view on " : ", view off") << ": " << r.frameMs.size()
+                    << " frames " << figures(r.frameMs) << "; " << r.contactMs.size()
+                    << " touching bone " << figures(r.contactMs) << "; over "
+                    << 1000.0 * scene.trial.frameS << " ms: " << r.over << ", overrun pauses "
+                    << r.rulePauses << "\n"
+                    << std::setprecision(9) << "  checksum: removed " << r.removedMm3
+                    << " mm^3, sum thrust " << r.sumThrustN << " N, sum proxy " << r.sumProxyMm
+                    << " mm, sum device force " << r.sumForceN << " N, last proxy ("
+                    << r.lastProxy(0) << ", " << r.lastProxy(1) << ", " << r.lastProxy(2)
+                    << ") mm\n"
+                    << std::setprecision(3) << std::flush;
+          bm::SessionBenchRow row;
+          row.scene = scene.name;
+          row.voxmap = scene.voxmapResolution;
+          row.shell = scene.shellResolution;
+          row.threads = scene.threads;
+          row.path = incremental ? "incremental" : "full";
+          row.view = view;
+          row.run = run;
+          row.frames = (long long)r.frameMs.size();
+          row.p50Ms = bm::Percentile(r.frameMs, 50);
+          row.p99Ms = bm::Percentile(r.frameMs, 99);
+          row.maxMs = r.frameMs.empty() ? 0.0 : r.frameMs.back();
+          row.over = r.over;
+          row.overrunPauses = r.rulePauses;
+          row.seconds = double(r.frameMs.size()) * scene.trial.frameS;
+          row.machine = machine;
+          row.date = date;
+          csv += bm::SessionBenchCsvRecord(row) + "\n";
+        }
   }
   bm::WriteFileAtomic(out + "/session.csv", csv);
   std::cout << "wrote " << out << "/session.csv\n";
@@ -560,6 +586,8 @@ void BenchOptions(bm::cli::ParsedArgs& p) {
       .Real("tremor", 0, bm::DeviceLimits().maxForceN, "N",
             "--session: lateral tremor, N (default 0.1)")
       .Flag("back-to-back", "--session: no sleeping between frames")
+      .Flag("with-view", "--session: each run also with the live view refreshing the cut bone's "
+                         "surface every 33 ms on its own thread, as the BM Session source does")
       .Footer(
           "Default: sweeps the drilling scene with the lips fully engaged (block pre-cut to the "
           "tool's envelope): method x backend x point-shell resolution x voxmap resolution. Per "

@@ -17,9 +17,9 @@ namespace bm {
 
 namespace {
 
-const char* const kColumns[] = {"scene", "voxmap",         "shell",   "threads", "path",
-                                "run",   "frames",         "p50_ms",  "p99_ms",  "max_ms",
-                                "over",  "overrun_pauses", "seconds", "machine", "date"};
+const char* const kColumns[] = {
+    "scene",  "voxmap", "shell",  "threads", "path",           "view",    "run",     "frames",
+    "p50_ms", "p99_ms", "max_ms", "over",    "overrun_pauses", "seconds", "machine", "date"};
 
 std::string Quoted(const std::string& s) {
   std::string q = "\"";
@@ -41,9 +41,9 @@ std::string SessionBenchCsvRecord(const SessionBenchRow& r) {
   std::ostringstream os;
   os.precision(6);
   os << Quoted(r.scene) << "," << r.voxmap << "," << r.shell << "," << r.threads << "," << r.path
-     << "," << r.run << "," << r.frames << "," << r.p50Ms << "," << r.p99Ms << "," << r.maxMs << ","
-     << r.over << "," << r.overrunPauses << "," << r.seconds << "," << Quoted(r.machine) << ","
-     << r.date;
+     << "," << (r.view ? 1 : 0) << "," << r.run << "," << r.frames << "," << r.p50Ms << ","
+     << r.p99Ms << "," << r.maxMs << "," << r.over << "," << r.overrunPauses << "," << r.seconds
+     << "," << Quoted(r.machine) << "," << r.date;
   return os.str();
 }
 
@@ -91,6 +91,7 @@ std::vector<SessionBenchRow> ParseSessionBenchCsv(const std::string& text,
     if (r.path != "incremental" && r.path != "full")
       throw std::runtime_error(at + "column 'path' must be incremental or full, not '" + r.path +
                                "'");
+    r.view = number("view", 0, 1) != 0;
     r.run = int(number("run", 1, 1e6));
     r.frames = (long long)number("frames", 0, 1e12);
     r.p50Ms = number("p50_ms", 0, 1e9);
@@ -108,11 +109,12 @@ std::vector<SessionBenchRow> ParseSessionBenchCsv(const std::string& text,
 
 std::optional<SessionBenchRow> NearestSessionCell(const std::vector<SessionBenchRow>& rows,
                                                   const std::string& scene, int voxmap, int shell,
-                                                  const std::string& path, double maxRatio) {
+                                                  bool view, const std::string& path,
+                                                  double maxRatio) {
   const SessionBenchRow* best = nullptr;
   double bestDistance = std::numeric_limits<double>::infinity();
   for (const SessionBenchRow& r : rows) {
-    if (r.scene != scene || r.path != path)
+    if (r.scene != scene || r.path != path || r.view != view)
       continue;
     // Voxmap first: it sets the engine's and the contact's work; the shell second.
     const double d = std::abs(std::log(double(r.voxmap) / std::max(voxmap, 1))) * 1000.0 +
@@ -130,7 +132,8 @@ std::optional<SessionBenchRow> NearestSessionCell(const std::vector<SessionBench
   cell.seconds = cell.p99Ms = cell.maxMs = 0;
   std::vector<double> p50s;
   for (const SessionBenchRow& r : rows)
-    if (r.scene == scene && r.path == path && r.voxmap == best->voxmap && r.shell == best->shell) {
+    if (r.scene == scene && r.path == path && r.view == view && r.voxmap == best->voxmap &&
+        r.shell == best->shell) {
       cell.frames += r.frames;
       cell.over += r.over;
       cell.overrunPauses += r.overrunPauses;

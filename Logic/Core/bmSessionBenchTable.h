@@ -2,8 +2,9 @@
 // of `bmsim bench --session`, Docs/Performance.md): what the panel's expected cost reads for a
 // scene that has its own measurements, instead of the drilling bench's nearest cell.
 //
-// CSV columns (one row per scene, resolution, path and run): scene, voxmap, shell, threads,
-// path ("incremental": the proxy's contact candidates; "full": every query scans the shell), run,
+// CSV columns (one row per scene, resolution, path, view and run): scene, voxmap, shell, threads,
+// path ("incremental": the proxy's contact candidates; "full": every query scans the shell), view
+// (1: the live view refreshed the cut bone's surface every 33 ms meanwhile, 0: no view), run,
 // frames, p50_ms, p99_ms, max_ms, over (frames over the period), overrun_pauses (pauses the
 // default rule, > 5 of 100 frames over, would make), seconds (session time), machine, date.
 #pragma once
@@ -19,6 +20,7 @@ struct SessionBenchRow {
   int voxmap = 0, shell = 0;   ///< cells along the longest side
   int threads = 0;             ///< engine threads
   std::string path;            ///< "incremental" or "full"
+  bool view = false;           ///< the live view refreshed meanwhile
   int run = 0;                 ///< 1, 2, ... (repeats of the same cell)
   long long frames = 0;        ///< frames run
   double p50Ms = 0, p99Ms = 0; ///< frame time percentiles, ms
@@ -38,13 +40,14 @@ std::string SessionBenchCsvRecord(const SessionBenchRow& row);
 std::vector<SessionBenchRow> ParseSessionBenchCsv(const std::string& text,
                                                   const std::string& source);
 
-/// The measured cell of `scene` on `path` nearest to (voxmap, shell) (log distance, voxmap
-/// first), summarised over its runs: the worst p99 and max, the sums of frames, over and
-/// pauses, and the median of the p50s. None when the scene has no row on that path, or when the
-/// nearest cell's voxmap is more than `maxRatio` (default 1.5) times finer or coarser: frame time
-/// grows steeply with resolution, so a far cell says little.
+/// The measured cell of `scene` on `path` with or without the view (`view`) nearest to (voxmap,
+/// shell) (log distance, voxmap first), summarised over its runs: the worst p99 and max, the sums
+/// of frames, over and pauses, and the median of the p50s. None when the scene has no row on that
+/// path, or when the nearest cell's voxmap is more than `maxRatio` (default 1.5) times finer or
+/// coarser: frame time grows steeply with resolution, so a far cell says little.
 std::optional<SessionBenchRow> NearestSessionCell(const std::vector<SessionBenchRow>& rows,
                                                   const std::string& scene, int voxmap, int shell,
+                                                  bool view,
                                                   const std::string& path = "incremental",
                                                   double maxRatio = 1.5);
 

@@ -77,7 +77,8 @@ public:
   /// One line for the panel. For a scene with its own session measurements near the asked
   /// resolution (a hand-like trial of `bmsim bench --session`, on the scene's own method, voxmap
   /// within 1.5 x; bm::NearestSessionCell): "Expected (<scene> session, shell S /
-  /// voxmap V, nearest measured: s / v, hand-like trial on <machine>, <date>): frame <p50> ms
+  /// voxmap V, nearest measured: s / v, hand-like trial with the live view on <machine>, <date>)
+  /// (measurements with the view first, else "without the view"): frame <p50> ms
   /// median, <p99> ms p99, <max> ms max; <N> overrun pauses in <T> s; force error <e> %" (the
   /// force error from the bench's cell). Otherwise: "Expected (<method>, shell S / voxmap V,
   /// nearest measured: s / v): frame <median> ms median, <p99> ms p99; force error <e> %" from
