@@ -344,8 +344,17 @@ std::vector<BenchCell> ParseBenchCsv(const std::string& text, const std::string&
     c.status = f[column["status"]];
     if (column.count("engine"))
       c.engine = f[column["engine"]];
-    number("shell", c.shell);
-    number("voxmap", c.voxmap);
+    // Resolutions: whole numbers of cells in [8, 4096], as the bench accepts them.
+    auto resolution = [&](const char* name, int& out) {
+      double v = 0;
+      number(name, v);
+      if (v != std::floor(v) || v < 8 || v > 4096)
+        throw std::runtime_error(at + "column '" + name + "' is not a resolution in 8..4096: '" +
+                                 f[column[name]] + "'");
+      out = int(v);
+    };
+    resolution("shell", c.shell);
+    resolution("voxmap", c.voxmap);
     number("elements", c.elements);
     number("frames", c.frames);
     number("median_ms", c.medianMs);

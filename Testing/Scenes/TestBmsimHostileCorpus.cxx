@@ -925,6 +925,10 @@ void TableCases() {
   bench("nan-median.csv", {"nan-median.csv:2", "median_ms"}, bh + "lazar,cpu,128,128,ok,nan,1,0\n");
   bench("word-shell.csv", {"word-shell.csv:2", "shell"}, bh + "lazar,cpu,x,128,ok,1,1,0\n");
   bench("method.csv", {"method.csv:2", "method"}, bh + "bogus,cpu,128,128,ok,1,1,0\n");
+  bench("half-shell.csv", {"half-shell.csv:2", "shell", "8..4096"},
+        bh + "lazar,cpu,128.5,128,ok,1,1,0\n");
+  bench("huge-voxmap.csv", {"huge-voxmap.csv:2", "voxmap", "8..4096"},
+        bh + "lazar,cpu,128,1e300,ok,1,1,0\n");
   bench("columns.csv", {"columns.csv:2"}, bh + "lazar,cpu\n");
   bench("empty.csv", {"empty.csv"}, "");
   bench("deep-result.csv", {"deep-result.csv"},
