@@ -152,18 +152,29 @@ def check_frames(name, h, frames):
     return thrust.max()
 
 
+def wheel(start, stop, step):
+    """The mouse wheel over the depth: step(depth) at each 0.1 mm from start (exclusive) to stop.
+    Returns the last depth."""
+    depth = start
+    while depth < stop - 1e-9:
+        depth += 0.1
+        step(depth)
+    return depth
+
+
 def mouse_back_to_back():
     s = new_session("Mouse proxy", 0, ToolDepth=-1.0)
     s.SMProxy.InvokeCommand("Start")
     refresh(s)
     check(info(s, "LastErrorInfo") == "", "mouse: the session started")
     wait_frames(s, 300)
-    depth = -1.0
-    while depth < 0.6 - 1e-9:
-        depth += 0.1
+
+    def step(depth):
         s.ToolDepth = depth
         s.UpdatePipeline()
         wait_frames(s, info(s, "FrameInfo") + 100)
+
+    wheel(-1.0, 0.6, step)
     s.SMProxy.InvokeCommand("Pause")
     wait_paused(s)
     check(info(s, "PauseReasonInfo") == "user", "mouse: paused by the user ('%s')"
@@ -179,12 +190,7 @@ def mouse_back_to_back():
     wait_frames(s, paused_at + 300)
     check(info(s, "StateInfo") == RUNNING, "mouse: running after the resume (state %d, '%s')"
           % (info(s, "StateInfo"), info(s, "PauseReasonInfo")))
-    depth = 1.2
-    while depth < 1.4 - 1e-9:
-        depth += 0.1
-        s.ToolDepth = depth
-        s.UpdatePipeline()
-        wait_frames(s, info(s, "FrameInfo") + 100)
+    depth = wheel(1.2, 1.4, step)
     s.SMProxy.InvokeCommand("Pause")
     wait_paused(s)
     h = history(s)
@@ -269,10 +275,7 @@ def mouse_real_time():
             resume(s)
 
     wait_frames(s, 300)
-    depth = -1.0
-    while depth < 0.5 - 1e-9:
-        depth += 0.1
-        step_to(depth)
+    wheel(-1.0, 0.5, step_to)
     s.SMProxy.InvokeCommand("Pause")
     wait_paused(s)
     check(info(s, "PauseReasonInfo") in ("user", "overrun"),
@@ -281,10 +284,7 @@ def mouse_real_time():
     s.UpdatePipeline()
     resumed_at.append(info(s, "FrameInfo"))
     resume(s)
-    depth = 0.9
-    while depth < 1.2 - 1e-9:
-        depth += 0.1
-        step_to(depth)
+    wheel(0.9, 1.2, step_to)
     s.SMProxy.InvokeCommand("Pause")
     wait_paused(s)
     h = history(s)
