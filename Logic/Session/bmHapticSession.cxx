@@ -91,6 +91,7 @@ void HapticSession::Start() {
       expect.MaxForce() != Proxy_->Coupling().MaxForce())
     Proxy_ = std::make_unique<Proxy>(Setup_, l, Period_, O_.proxy);
   Proxy_->Prepare(SpeedRpm_.load());
+  WarmupLeft_ = std::max(0, O_.startWarmupFrames); // before the thread: it reads it first
   State_.store(int(SessionState::Running));
   Work_.state = SessionState::Running;
   Publish(true);

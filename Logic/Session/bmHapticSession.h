@@ -19,7 +19,8 @@
 // proxy more than runawayMarginMm outside the bone's box), the session sends zero force in that
 // same frame (the force is gone within one frame) and pauses; the cut, the proxy and the records
 // are kept and Resume() goes on from them. A device error is final: Resume() refuses it and no
-// non-zero force is sent again. After a resume the overrun window starts empty and the first
+// non-zero force is sent again. The first startWarmupFrames frames after Start() do not count
+// toward the overrun rule; after a resume the overrun window starts empty and the first
 // resumeWarmupFrames frames do not count toward the rule; the proxy's target moves from where the
 // proxy is toward the device at no more than catchUpSpeedMmPerS (a device moved while paused is
 // followed, swept, over frames, never in one jump).
@@ -71,6 +72,10 @@ struct SessionOptions {
   /// Frames after a resume whose overruns do not count toward the pause rule (they still count in
   /// the timing statistics); the window itself starts empty. Default 200 (0.2 s at 1 kHz).
   int resumeWarmupFrames = 200;
+  /// Frames after Start() whose overruns do not count toward the pause rule (they still count in
+  /// the timing statistics): the first frames pay for the thread's start, cold caches and the
+  /// view's first full surface extraction. Default 200 (0.2 s at 1 kHz); 0 = none.
+  int startWarmupFrames = 200;
   /// After a resume, the proxy's target moves toward the device at most this fast, world mm/s
   /// (default 20); once it reaches the device it follows it directly again. <= 0: no limit.
   double catchUpSpeedMmPerS = 20;

@@ -131,6 +131,7 @@ TEST(HapticSession, RepeatedOverrunsPauseTheSession) {
   o.rateHz = 10000000; // a 0.1 us budget: every frame overruns
   o.overrunLimit = 5;
   o.overrunWindow = 100;
+  o.startWarmupFrames = 0;
   bm::HapticSession session(setup, std::make_shared<bm::ScriptedDevice>(PlungeOptions(0.5)), o);
   session.Start();
   ASSERT_TRUE(session.WaitUntilPaused(30.0));
@@ -140,6 +141,25 @@ TEST(HapticSession, RepeatedOverrunsPauseTheSession) {
   EXPECT_EQ(s.deviceForceN, Eigen::Vector3d::Zero());
   session.Stop();
   EXPECT_EQ(session.Timing().overruns, 6);
+}
+
+// The first frames after Start (thread start, cold caches, the view's first extraction) do not
+// count toward the rule: with a 30-frame start warm-up the 6th counted overrun is frame 36.
+TEST(HapticSession, StartWarmUpFramesDoNotCountTowardTheOverrunRule) {
+  const bm::Scene scene = BurrScene(0.5, {3, 3, 1.5}, 48, 64, 1000);
+  bm::MachiningSetup setup(scene, bm::MakeSceneBlock(scene));
+  bm::SessionOptions o;
+  o.rateHz = 10000000; // every frame overruns
+  o.overrunLimit = 5;
+  o.overrunWindow = 100;
+  o.startWarmupFrames = 30;
+  bm::HapticSession session(setup, std::make_shared<bm::ScriptedDevice>(PlungeOptions(0.5)), o);
+  session.Start();
+  ASSERT_TRUE(session.WaitUntilPaused(30.0));
+  EXPECT_EQ(session.Snapshot().pauseReason, bm::PauseReason::Overrun);
+  EXPECT_EQ(session.Snapshot().frame, 36);
+  session.Stop();
+  EXPECT_EQ(session.Timing().overruns, 36); // every frame still counts in the statistics
 }
 
 TEST(HapticSession, ForceModeDrillingFeedsWhereThrustBalancesTheAppliedForce) {

@@ -60,6 +60,7 @@ TEST(SessionSafety, ResumeReArmsTheOverrunRuleAfterAWarmUp) {
   o.overrunLimit = 5;
   o.overrunWindow = 100;
   o.resumeWarmupFrames = 40;
+  o.startWarmupFrames = 0;
   bm::HapticSession session(setup, std::make_shared<bm::ScriptedDevice>(Plunge(0.5)), o);
   session.Start();
   ASSERT_TRUE(session.WaitUntilPaused(30.0));
