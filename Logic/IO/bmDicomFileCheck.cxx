@@ -84,6 +84,21 @@ bool CheckDicomElements(const fs::path& file) {
       if (pos + (implicit || group == 0xfffe ? 8 : 12) > size) // GDCM asserts on a cut header
         throw std::runtime_error(cut + " (it ends at byte " + std::to_string(size) +
                                  ", inside an element's header)");
+      // GDCM asserts on pixel data whose explicit VR is not one of its own or whose reserved
+      // bytes are not zero.
+      if (group == 0x7fe0 && !implicit && pos + 12 <= limit) {
+        const std::string vr{buf[pos + 4], buf[pos + 5]};
+        if (vr != "OB" && vr != "OW" && vr != "UN")
+          throw std::runtime_error(cut +
+                                   ": the pixel data (7fe0,0010) has no valid VR (OB or "
+                                   "OW) at byte " +
+                                   std::to_string(pos + 4));
+        if (buf[pos + 6] != 0 || buf[pos + 7] != 0)
+          throw std::runtime_error(cut +
+                                   ": the pixel data (7fe0,0010) has non-zero reserved "
+                                   "bytes at byte " +
+                                   std::to_string(pos + 6));
+      }
       return true; // the pixel data (checked after parsing), or an item: GDCM's checks
     }
     uint64_t header = 8, length = 0;
@@ -119,6 +134,13 @@ bool CheckDicomElements(const fs::path& file) {
           throw std::runtime_error(cut + " (it ends at byte " + std::to_string(size) + ")");
         if (pos + 12 > limit)
           return true;
+        if (buf[pos + 6] != 0 || buf[pos + 7] != 0) { // GDCM asserts on non-zero reserved bytes
+          char tag[16];
+          std::snprintf(tag, sizeof tag, "(%04x,%04x)", unsigned(group), unsigned(element));
+          throw std::runtime_error(cut + ": element " + tag + " (VR " + std::string{v0, v1} +
+                                   ") has non-zero reserved bytes at byte " +
+                                   std::to_string(pos + 6));
+        }
         length = u32(pos + 8);
       } else {
         length = u16(pos + 6);

@@ -14,6 +14,7 @@
 #include <sys/stat.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -469,6 +470,36 @@ TEST(HostileInput, SavedVoxmapCorpus) {
     } catch (const std::runtime_error& e) {
       EXPECT_NE(std::string(e.what()).find(needle), std::string::npos)
           << name << ": message: " << e.what();
+    }
+  }
+}
+
+// A mutant bmfuzz_dicom found (3000 mutants, seed 1): pixel data whose explicit VR bytes are not a
+// VR made GDCM abort on an assertion ("dummy[0] == 0 && dummy[1] == 0"); the element walk now
+// refuses it, as it refuses a long VR with non-zero reserved bytes.
+TEST(HostileInput, DicomPixelDataWithoutAValidVR) {
+  bmtest::ScratchDir d("pixel-vr");
+  WriteBlock(d / "ct");
+  std::vector<fs::path> slices;
+  for (const auto& e : fs::directory_iterator(d / "ct"))
+    slices.push_back(e.path());
+  std::sort(slices.begin(), slices.end());
+  ASSERT_FALSE(slices.empty());
+  std::string bytes = bmtest::ReadFile(slices[0]);
+  const std::string pixelTag("\xe0\x7f\x10\x00", 4);
+  const size_t at = bytes.rfind(pixelTag);
+  ASSERT_NE(at, std::string::npos);
+  const fs::path file = d / "one.dcm";
+  for (const std::string& mangled : {std::string("\x99\x01", 2), std::string("OB\x05\x00", 4)}) {
+    std::string b = bytes;
+    b.replace(at + 4, mangled.size(), mangled);
+    bmtest::WriteFile(file, b);
+    try {
+      bm::ReadCT(file.string());
+      ADD_FAILURE() << "accepted pixel data with a damaged VR";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("pixel data (7fe0,0010)"), std::string::npos)
+          << e.what();
     }
   }
 }
