@@ -124,14 +124,21 @@ TEST(HapticSession, DeviceFaultsRampTheForceToZeroAndPauseKeepingTheCut) {
   silent.Stop();
 }
 
+/// Session options under which every frame overruns (a 0.1 us budget), with the default rule
+/// (more than 5 of 100 frames) and `startWarmupFrames` frames after Start not counted.
+bm::SessionOptions EveryFrameOverruns(int startWarmupFrames) {
+  bm::SessionOptions o;
+  o.rateHz = 10000000;
+  o.overrunLimit = 5;
+  o.overrunWindow = 100;
+  o.startWarmupFrames = startWarmupFrames;
+  return o;
+}
+
 TEST(HapticSession, RepeatedOverrunsPauseTheSession) {
   const bm::Scene scene = BurrScene(0.5, {3, 3, 1.5}, 48, 64, 1000);
   bm::MachiningSetup setup(scene, bm::MakeSceneBlock(scene));
-  bm::SessionOptions o;
-  o.rateHz = 10000000; // a 0.1 us budget: every frame overruns
-  o.overrunLimit = 5;
-  o.overrunWindow = 100;
-  o.startWarmupFrames = 0;
+  const bm::SessionOptions o = EveryFrameOverruns(0);
   bm::HapticSession session(setup, std::make_shared<bm::ScriptedDevice>(PlungeOptions(0.5)), o);
   session.Start();
   ASSERT_TRUE(session.WaitUntilPaused(30.0));
@@ -148,11 +155,7 @@ TEST(HapticSession, RepeatedOverrunsPauseTheSession) {
 TEST(HapticSession, StartWarmUpFramesDoNotCountTowardTheOverrunRule) {
   const bm::Scene scene = BurrScene(0.5, {3, 3, 1.5}, 48, 64, 1000);
   bm::MachiningSetup setup(scene, bm::MakeSceneBlock(scene));
-  bm::SessionOptions o;
-  o.rateHz = 10000000; // every frame overruns
-  o.overrunLimit = 5;
-  o.overrunWindow = 100;
-  o.startWarmupFrames = 30;
+  const bm::SessionOptions o = EveryFrameOverruns(30);
   bm::HapticSession session(setup, std::make_shared<bm::ScriptedDevice>(PlungeOptions(0.5)), o);
   session.Start();
   ASSERT_TRUE(session.WaitUntilPaused(30.0));
