@@ -371,24 +371,31 @@ struct SessionRun {
   int64_t rulePauses = 0; ///< pauses the default overrun rule (> 5 of 100 frames) would make
   double removedMm3 = 0, sumThrustN = 0, sumProxyMm = 0, sumForceN = 0;
   Eigen::Vector3d lastProxy = Eigen::Vector3d::Zero();
+  bm::Scene used;         ///< the scene at the resolutions and threads the session ran
+  std::string gridReason; ///< how they were chosen ("" when given)
 };
 
-/// The scripted hand pushes pushN (N) along -axis from the scene's clearance above its entry
-/// point; the session runs `seconds` (s) of frames; candidates: the proxy's contact candidates
-/// (the incremental path) or none (every query scans the shell: the full pass).
-SessionRun RunHandSession(const bm::Scene& scene, bool candidates, double pushN, double tremorN,
-                          double seconds, bool realTime, double viewIntervalMs) {
-  // A hand on the device pushing through a unit coupling (force scale 1), counting its overruns.
+/// The scripted hand pushes pushN (N, at the device, scaled by the session's default force scale)
+/// along -axis from the scene's clearance above its entry point; the session runs `seconds` (s)
+/// of frames; candidates: the proxy's contact candidates (the incremental path) or none (every
+/// query scans the shell: the full pass); choose: the resolutions and threads a session chooses
+/// (bmSessionGrid.h), else the scene's.
+SessionRun RunHandSession(const bm::Scene& scene, bool choose, bool candidates, double pushN,
+                          double tremorN, double seconds, bool realTime, double viewIntervalMs,
+                          int64_t checksumFrames) {
+  // A hand on a Touch pushing through the session's default force scale, counting its overruns.
   bm::SessionRequest req;
   req.mode = bm::ScriptMode::Hand;
   req.appliedForceN = pushN;
   req.handTremorN = tremorN;
-  req.forceScale = 1.0;
   req.realTime = realTime;
+  req.chooseGrid = choose && bm::CanImportSceneBones();
+  req.liveView = viewIntervalMs > 0;
   req.overrunLimit = -1;
   req.rateHz = 1.0 / scene.trial.frameS;
   req.maxFrames = int64_t(std::llround(seconds / scene.trial.frameS));
-  bm::BuiltSession built = bm::BuildSession(scene, SceneBone(scene), req);
+  bm::BuiltSession built = req.chooseGrid ? bm::BuildSession(scene, req)
+                                          : bm::BuildSession(scene, SceneBone(scene), req);
   const std::shared_ptr<bm::Device>& device = built.device;
   bm::MachiningSetup& setup = *built.setup;
   bm::SessionOptions o = built.options;
@@ -422,6 +429,8 @@ SessionRun RunHandSession(const bm::Scene& scene, bool candidates, double pushN,
   std::vector<bm::FrameRecord> rec;
   session.DrainRecords(rec);
   SessionRun r;
+  r.used = setup.GetScene();
+  r.gridReason = built.gridReason;
   const double periodMs = 1000.0 * scene.trial.frameS;
   std::vector<uint8_t> window(100, 0);
   int inWindow = 0;
@@ -441,6 +450,8 @@ SessionRun RunHandSession(const bm::Scene& scene, bool candidates, double pushN,
       std::fill(window.begin(), window.end(), uint8_t(0));
       inWindow = 0;
     }
+    if (int64_t(k) >= checksumFrames)
+      continue;
     r.removedMm3 += f.removedVolumeMm3;
     r.sumThrustN += f.thrustN;
     r.sumProxyMm += f.proxyPos[0] + f.proxyPos[1] + f.proxyPos[2];
@@ -455,7 +466,8 @@ SessionRun RunHandSession(const bm::Scene& scene, bool candidates, double pushN,
 int SessionBench(const bm::cli::ParsedArgs& p) {
   const std::string sceneName = p.Get("session", "glenoid");
   const double seconds = p.GetDouble("seconds", 0.01, 3600).value_or(20.0);
-  const double push = p.GetDouble("push", 0.01, bm::DeviceLimits().maxForceN).value_or(3.0);
+  const double push = p.GetDouble("push", 0.01, bm::DeviceLimits().maxForceN).value_or(2.5);
+  const double fullSeconds = p.GetDouble("full-seconds", 0.01, 3600).value_or(seconds);
   const double tremor = p.GetDouble("tremor", 0, bm::DeviceLimits().maxForceN).value_or(0.1);
   const int repeats = int(p.GetInt("repeats", 1, 100).value_or(2));
   const bool realTime = !p.Has("back-to-back");
@@ -470,6 +482,8 @@ int SessionBench(const bm::cli::ParsedArgs& p) {
   // The scene's own resolutions, or each voxmap asked for with the shell scaled alike (as the
   // BM Session source does for a voxmap set alone).
   std::vector<bm::Scene> scenes;
+  // Without --voxmaps (or --threads): the resolutions and threads a session chooses.
+  const bool choose = !p.Has("voxmaps") && !p.Has("threads");
   for (int v : Resolutions(p, "voxmaps", {0}))
     scenes.push_back(v > 0 ? base.WithVoxmapResolution(v) : base);
   std::filesystem::create_directories(out);
@@ -486,34 +500,43 @@ int SessionBench(const bm::cli::ParsedArgs& p) {
     return s.str();
   };
   for (const bm::Scene& scene : scenes) {
-    std::cout << "session bench, scene " << scene.name << " (voxmap " << scene.voxmapResolution
-              << ", shell " << scene.shellResolution << ", " << scene.threads
-              << " engine threads): scripted hand pushing " << push << " N with " << tremor
-              << " N of lateral tremor, " << seconds << " s at " << 1.0 / scene.trial.frameS
-              << " Hz" << (realTime ? "" : " (frames back to back)") << "; machine: " << machine
-              << "\n";
+    const int64_t checksumFrames =
+        std::llround(std::min(seconds, fullSeconds) / scene.trial.frameS);
+    std::cout << "session bench, scene " << scene.name << " (";
+    if (choose)
+      std::cout << "the resolutions a session chooses";
+    else
+      std::cout << "voxmap " << scene.voxmapResolution << ", shell " << scene.shellResolution
+                << ", " << scene.threads << " engine threads";
+    std::cout << "): scripted hand pushing " << push << " N (force scale "
+              << bm::kDefaultSessionForceScale << ") with " << tremor << " N of lateral tremor, "
+              << seconds << " s at " << 1.0 / scene.trial.frameS << " Hz"
+              << (realTime ? "" : " (frames back to back)") << "; machine: " << machine << "\n";
     for (int run = 1; run <= repeats; ++run)
       for (bool view : views)
         for (bool incremental : {true, false}) {
-          const SessionRun r = RunHandSession(scene, incremental, push, tremor, seconds, realTime,
-                                              view ? 33.0 : 0.0);
+          const SessionRun r = RunHandSession(scene, choose, incremental, push, tremor,
+                                              incremental ? seconds : fullSeconds, realTime,
+                                              view ? 33.0 : 0.0, checksumFrames);
+          if (!r.gridReason.empty() && incremental)
+            std::cout << "resolutions chosen: " << r.gridReason << "\n";
           std::cout << "run " << run << (incremental ? " incremental" : " full pass  ")
                     << (view ? ", view on " : ", view off") << ": " << r.frameMs.size()
                     << " frames " << figures(r.frameMs) << "; " << r.contactMs.size()
                     << " touching bone " << figures(r.contactMs) << "; over "
                     << 1000.0 * scene.trial.frameS << " ms: " << r.over << ", overrun pauses "
                     << r.rulePauses << "\n"
-                    << std::setprecision(9) << "  checksum: removed " << r.removedMm3
-                    << " mm^3, sum thrust " << r.sumThrustN << " N, sum proxy " << r.sumProxyMm
-                    << " mm, sum device force " << r.sumForceN << " N, last proxy ("
-                    << r.lastProxy(0) << ", " << r.lastProxy(1) << ", " << r.lastProxy(2)
-                    << ") mm\n"
+                    << std::setprecision(9) << "  checksum of the first " << checksumFrames
+                    << " frames: removed " << r.removedMm3 << " mm^3, sum thrust " << r.sumThrustN
+                    << " N, sum proxy " << r.sumProxyMm << " mm, sum device force " << r.sumForceN
+                    << " N, last proxy (" << r.lastProxy(0) << ", " << r.lastProxy(1) << ", "
+                    << r.lastProxy(2) << ") mm\n"
                     << std::setprecision(3) << std::flush;
           bm::SessionBenchRow row;
           row.scene = scene.name;
-          row.voxmap = scene.voxmapResolution;
-          row.shell = scene.shellResolution;
-          row.threads = scene.threads;
+          row.voxmap = r.used.voxmapResolution;
+          row.shell = r.used.shellResolution;
+          row.threads = r.used.threads;
           row.path = incremental ? "incremental" : "full";
           row.view = view;
           row.run = run;
@@ -548,14 +571,14 @@ void BenchOptions(bm::cli::ParsedArgs& p) {
              "the scene's shell scaled with each voxmap)")
       .Value("voxmaps", "LIST",
              "voxmap resolutions, each in [8, 4096] (default 128,256,512,1024; --view: 192,512; "
-             "--session: the scene's, the shell scaled alike)")
+             "--session: those a session chooses; each given: the shell scaled alike)")
       .Int("frames", 1, 100000000,
            "timed frames per cell, at most 1000000 (default 1000); --view: stop after N haptic "
            "frames (default: the scene's whole trial)")
       .Int("warmup", 0, 1000000, "untimed frames first (default 100)")
       .Int("threads", 1, 64,
            "CPU backend threads (default 2; --view: engine threads, default 1; --session: "
-           "default the scene's)")
+           "default those a session chooses, else the scene's)")
       .Value("cl-device", "D", "the OpenCL device, its number or part of its name (bmsim devices)")
       .Real("cell-limit", 1, 86400, "S", "stop a cell after S seconds (default 600)")
       .Value("replot", "CSV,...",
@@ -581,8 +604,11 @@ void BenchOptions(bm::cli::ParsedArgs& p) {
       .Value("session", "NAME|FILE",
              "instead: the haptic session's frame time on a scene in a hand-like trial (below)")
       .Real("seconds", 0.01, 3600, "S", "--session: seconds of session time (default 20)")
+      .Real("full-seconds", 0.01, 3600, "S",
+            "--session: seconds of session time of the full pass (default: --seconds)")
       .Real("push", 0.01, bm::DeviceLimits().maxForceN, "N",
-            "--session: the hand's steady push, N (default 3), rising over 0.5 s")
+            "--session: the hand's steady push at the device, N (default 2.5), rising over 0.5 "
+            "s; the tool gets the session's default force scale times it")
       .Real("tremor", 0, bm::DeviceLimits().maxForceN, "N",
             "--session: lateral tremor, N (default 0.1)")
       .Flag("back-to-back", "--session: no sleeping between frames")

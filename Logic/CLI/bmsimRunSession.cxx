@@ -173,8 +173,18 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
     throw UsageError(e.what());
   }
 
-  BuiltSession built = BuildSession(scene, SceneBone(scene), req);
+  // Unless resolutions or threads were given, the session models no more than it needs
+  // (bmSessionGrid.h): no finer than the CT's spacing and this machine's measured limit.
+  req.chooseGrid =
+      !args.Has("voxmap-resolution") && !args.Has("shell-resolution") && !args.Has("threads");
+  BuiltSession built = [&] {
+    if (scene.bone.type == "block" || !CanImportSceneBones())
+      return BuildSession(scene, req);
+    ProgressBar bar("import bone");
+    return BuildSession(scene, req, [&](double f, const std::string&) { return bar.Update(f); });
+  }();
   MachiningSetup& setup = *built.setup;
+  const Scene& used = setup.GetScene(); // the scene at the resolutions the session runs
   const std::shared_ptr<Device>& device = built.device;
   const SessionOptions& so = built.options;
   const double duration = built.durationS;
@@ -187,6 +197,8 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
             << ToString(so.proxy.method) << "/" << ToString(so.proxy.rendering) << ", " << so.rateHz
             << " Hz, " << duration << " s, force scale " << so.proxy.coupling.forceScale
             << " (tool N per device N)\n";
+  if (!built.gridReason.empty())
+    std::cout << "  resolutions chosen for the session: " << built.gridReason << "\n";
   while (!session.WaitUntilPaused(0.05))
     session.DrainRecords(frames);
   const SessionSnapshot last = session.Snapshot();
@@ -242,10 +254,13 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
       {"removed_voxels", last.removedVoxels},
       {"final_depth_mm", depth},
       {"dropped_records", last.droppedRecords},
-      {"voxmap_resolution", scene.voxmapResolution},
-      {"shell_resolution", scene.shellResolution}};
+      {"voxmap_resolution", used.voxmapResolution},
+      {"shell_resolution", used.shellResolution},
+      {"threads", used.threads},
+      {"resolutions_chosen",
+       built.gridReason.empty() ? nlohmann::json(nullptr) : nlohmann::json(built.gridReason)}};
   Recording rec;
-  rec.meta = {{"scene", scene.ToJson()},
+  rec.meta = {{"scene", used.ToJson()},
               {"scene_base_dir", scene.baseDir},
               {"session", SessionOptionsToJson(so, device->Limits())}};
   rec.frames = std::move(frames);

@@ -110,11 +110,15 @@ std::vector<SessionBenchRow> ParseSessionBenchCsv(const std::string& text,
 std::optional<SessionBenchRow> NearestSessionCell(const std::vector<SessionBenchRow>& rows,
                                                   const std::string& scene, int voxmap, int shell,
                                                   bool view, const std::string& path,
-                                                  double maxRatio) {
+                                                  double maxRatio, int threads) {
+  auto wanted = [&](const SessionBenchRow& r) {
+    return r.scene == scene && r.path == path && r.view == view &&
+           (threads <= 0 || r.threads == threads);
+  };
   const SessionBenchRow* best = nullptr;
   double bestDistance = std::numeric_limits<double>::infinity();
   for (const SessionBenchRow& r : rows) {
-    if (r.scene != scene || r.path != path || r.view != view)
+    if (!wanted(r))
       continue;
     // Voxmap first: it sets the engine's and the contact's work; the shell second.
     const double d = std::abs(std::log(double(r.voxmap) / std::max(voxmap, 1))) * 1000.0 +
@@ -132,8 +136,8 @@ std::optional<SessionBenchRow> NearestSessionCell(const std::vector<SessionBench
   cell.seconds = cell.p99Ms = cell.maxMs = 0;
   std::vector<double> p50s;
   for (const SessionBenchRow& r : rows)
-    if (r.scene == scene && r.path == path && r.view == view && r.voxmap == best->voxmap &&
-        r.shell == best->shell) {
+    if (wanted(r) && r.voxmap == best->voxmap && r.shell == best->shell &&
+        r.threads == best->threads) {
       cell.frames += r.frames;
       cell.over += r.over;
       cell.overrunPauses += r.overrunPauses;

@@ -44,12 +44,13 @@ std::vector<SessionBenchRow> ParseSessionBenchCsv(const std::string& text,
 /// shell) (log distance, voxmap first), summarised over its runs: the worst p99 and max, the sums
 /// of frames, over and pauses, and the median of the p50s. None when the scene has no row on that
 /// path, or when the nearest cell's voxmap is more than `maxRatio` (default 1.5) times finer or
-/// coarser: frame time grows steeply with resolution, so a far cell says little.
+/// coarser: frame time grows steeply with resolution, so a far cell says little. threads > 0:
+/// only rows measured with that many engine threads (default 0: any).
 std::optional<SessionBenchRow> NearestSessionCell(const std::vector<SessionBenchRow>& rows,
                                                   const std::string& scene, int voxmap, int shell,
                                                   bool view,
                                                   const std::string& path = "incremental",
-                                                  double maxRatio = 1.5);
+                                                  double maxRatio = 1.5, int threads = 0);
 
 /// $BM_SESSION_BENCHMARK_CSV, else the resources' Benchmark/session.csv.
 std::string DefaultSessionBenchPath();

@@ -53,10 +53,13 @@ CTImage ToCTImage(const CTVolumeView& v) {
 } // namespace
 
 Voxmap MakeCTVoxmap(const nlohmann::json& ct, const std::string& baseDir, int resolution,
-                    const std::function<bool(double, const std::string&)>& progress) {
+                    const std::function<bool(double, const std::string&)>& progress,
+                    bool noFinerThanCT) {
   nlohmann::json bone = ct;
   if (resolution > 0)
     bone["resolution"] = resolution;
+  if (noFinerThanCT)
+    bone["noFinerThanCT"] = true;
   return VoxmapFromScene(bone, baseDir, progress ? Progress(progress) : Progress());
 }
 

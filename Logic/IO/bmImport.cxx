@@ -173,7 +173,20 @@ ImportResult ImportVoxmap(CTImage ct, const ImportOptions& optIn, const Progress
     }
   }
 
-  VoxmapGrid grid = GridForBox(r.roi, opt.resolution);
+  int resolution = opt.resolution;
+  if (opt.noFinerThanCT) {
+    const double finest = std::min({r.ctSpacing[0], r.ctSpacing[1], r.ctSpacing[2]});
+    const double longest =
+        std::max({r.roi.hi[0] - r.roi.lo[0], r.roi.hi[1] - r.roi.lo[1], r.roi.hi[2] - r.roi.lo[2]});
+    if (const int cells = CellsNoFinerThan(longest, finest); cells > 0 && cells < resolution) {
+      resolution = cells;
+      std::ostringstream note;
+      note << std::setprecision(4) << "voxmap at " << cells << " cells along " << longest
+           << " mm: no finer than the CT's " << finest << " mm spacing";
+      r.notes.push_back(note.str());
+    }
+  }
+  VoxmapGrid grid = GridForBox(r.roi, resolution);
   const uint64_t segBytes = ctVoxels * 2 * sizeof(float);
   // The voxmap, plus a same-size copy when it is saved.
   CheckMemoryBudget(segBytes + 2 * VoxmapBytes(grid), opt.read.maxMemoryBytes,
@@ -391,6 +404,8 @@ ImportOptions ImportOptionsFromJson(const nlohmann::json& j) {
   }
   if (j.contains("keepAllComponents"))
     o.segmentation.keepAllComponents = flag("keepAllComponents");
+  if (j.contains("noFinerThanCT"))
+    o.noFinerThanCT = flag("noFinerThanCT");
   if (j.contains("fillHoles"))
     o.segmentation.fillHoles = flag("fillHoles");
   if (j.contains("maxHoleVolume"))

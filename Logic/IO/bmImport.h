@@ -31,6 +31,10 @@ struct ImportOptions {
   /// Voxmap resolution: cells along the ROI's longest axis (Docs/CostModel.md section 1).
   /// Default 256.
   int resolution = 256;
+  /// Fewer cells when the CT's finest spacing is coarser than the voxel: at most floor(longest
+  /// side / finest spacing) cells (bmVoxmapResampler.h CellsNoFinerThan), so the voxmap models no
+  /// detail the CT did not resolve (a haptic session's grid). Default false.
+  bool noFinerThanCT = false;
   MaterialMapping material;
   int threads = 0; ///< resampling threads (0 = all cores)
 };
@@ -89,7 +93,8 @@ OrientedBox OrientedBoxFromText(const std::string& text, const std::string& what
 ///   (bones to drop, separated from the kept one across joint spaces), "roi": [x0, y0, z0, x1,
 ///   y1, z1] mm (inverted: an error), "box": {"centre": [x, y, z] mm, "halfSizes": [a, b, c]
 ///   mm, "rotation": [rx, ry, rz] deg} (an oriented box, bmBoxROI.h), "resolution": N, "series":
-///   SeriesInstanceUID, "keepAllComponents": bool, "fillHoles": bool (cavities, default true),
+///   SeriesInstanceUID, "noFinerThanCT": bool (fewer cells where the CT's spacing
+///   is coarser), "keepAllComponents": bool, "fillHoles": bool (cavities, default true),
 ///   "closingRadius": voxels (default 1), "maxHoleVolume": mm^3, "separationDepth": mm (default 8),
 ///   "maxMemoryMB": MiB, "corticalHU": HU, "rawThreshold": value in the file's units (values
 ///   not HU), "huMapping": [slope, intercept] (HU = slope x value + intercept),

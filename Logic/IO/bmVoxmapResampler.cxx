@@ -15,6 +15,13 @@ float MaterialScaleFromHU(float hu, const MaterialMapping& m) {
   return std::clamp(hu / m.corticalHU, m.minScale, 1.0f);
 }
 
+int CellsNoFinerThan(double longestMm, double spacingMm) {
+  if (!(spacingMm > 0) || !std::isfinite(spacingMm) || !(longestMm > 0) ||
+      !std::isfinite(longestMm))
+    return 0;
+  return std::max(8, int(std::min(std::floor(longestMm / spacingMm + 1e-9), 1e9)));
+}
+
 VoxmapGrid GridForBox(const Box3& box, int resolution) {
   if (resolution < 1)
     throw std::invalid_argument("voxmap resolution must be at least 1");

@@ -55,6 +55,10 @@ struct VoxmapGrid {
 /// Throws std::invalid_argument on an empty box or N < 1.
 VoxmapGrid GridForBox(const Box3& boxMm, int resolution);
 
+/// Cells along longestMm (mm) whose voxel is no finer than spacingMm (mm): floor(longest /
+/// spacing), at least 8; 0 (no limit) when spacingMm or longestMm is not a positive number.
+int CellsNoFinerThan(double longestMm, double spacingMm);
+
 /// Bytes a voxmap of `grid` needs (fill + material + brick occupancy).
 uint64_t VoxmapBytes(const VoxmapGrid& grid);
 

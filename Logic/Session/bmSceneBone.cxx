@@ -18,13 +18,15 @@ bool CanImportSceneBones() {
 #endif
 }
 
-Voxmap MakeSceneBone(const Scene& scene, const BoneProgress& progress) {
+Voxmap MakeSceneBone(const Scene& scene, const BoneProgress& progress, bool noFinerThanCT) {
   if (scene.bone.type == "block")
     return MakeSceneBlock(scene);
 #ifdef BM_WITH_IO
-  return MakeCTVoxmap(scene.bone.ct, scene.baseDir, scene.voxmapResolution, progress);
+  return MakeCTVoxmap(scene.bone.ct, scene.baseDir, scene.voxmapResolution, progress,
+                      noFinerThanCT);
 #else
   (void)progress;
+  (void)noFinerThanCT;
   throw std::runtime_error("scene '" + scene.name +
                            "' needs CT import, which this build leaves out");
 #endif

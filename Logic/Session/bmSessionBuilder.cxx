@@ -1,6 +1,7 @@
 // bmSessionBuilder.cxx - see bmSessionBuilder.h.
 #include "bmSessionBuilder.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -104,7 +105,32 @@ void ValidateSessionRequest(const SessionRequest& r) {
 BuiltSession BuildSession(const Scene& scene, const SessionRequest& r,
                           const BoneProgress& progress) {
   ValidateSessionRequest(r);
-  return BuildSession(scene, MakeSceneBone(scene, progress), r);
+  if (!r.chooseGrid)
+    return BuildSession(scene, MakeSceneBone(scene, progress), r);
+  // The measured limit first (it caps the import's resolution), then the CT's spacing where the
+  // CT is read; the shell follows the voxmap the import made.
+  const SessionGridPlan plan =
+      PlanSessionGrid(scene, LoadDefaultSessionTable(), r.liveView, r.rateHz);
+  Voxmap bone = MakeSceneBone(plan.scene, progress, true);
+  Scene chosen = plan.scene;
+  std::string reason = plan.reason;
+  const auto& d = bone.Dims();
+  const int cells = std::max({d[0], d[1], d[2]});
+  if (scene.bone.type != "block" && cells < chosen.voxmapResolution) {
+    const int threads = chosen.threads;
+    chosen = chosen.WithVoxmapResolution(cells);
+    chosen.threads = threads;
+    std::ostringstream why;
+    why << "; the bone as imported has " << cells << " cells of " << bone.Spacing()
+        << " mm (no finer than the CT's spacing)";
+    reason += why.str();
+  }
+  BuiltSession b = BuildSession(chosen, std::move(bone), r);
+  std::ostringstream head;
+  head << "voxmap " << chosen.voxmapResolution << ", shell " << chosen.shellResolution << ", "
+       << chosen.threads << " engine thread" << (chosen.threads == 1 ? "" : "s") << ": ";
+  b.gridReason = head.str() + reason;
+  return b;
 }
 
 BuiltSession BuildSession(const Scene& scene, Voxmap bone, const SessionRequest& r) {

@@ -31,6 +31,7 @@
 #include "bmMachiningSetup.h"
 #include "bmProgrammableDevice.h"
 #include "bmSceneBone.h"
+#include "bmSessionGrid.h"
 #include "bmScriptedDevice.h"
 
 namespace bm {
@@ -74,6 +75,14 @@ struct SessionRequest {
   /// Mouse device: the foremost cutting point's starting depth below the entry point, mm
   /// (negative: above; default -2), finite.
   double mouseDepthMm = -2.0;
+  /// Choose the session's resolutions and engine threads (bmSessionGrid.h): the voxmap no finer
+  /// than the scene's, this machine's measured limit (the session table) and, for a CT bone, the
+  /// CT's finest spacing; the shell scaled alike. false (default): the scene's. Only where the
+  /// session builds its bone (BuildSession(scene, request, progress)).
+  bool chooseGrid = false;
+  /// With chooseGrid: the live view refreshes the cut bone meanwhile (the table's view rows;
+  /// default false).
+  bool liveView = false;
 };
 
 /// A built session's parts: construct bm::HapticSession(*setup, device, options).
@@ -85,6 +94,8 @@ struct BuiltSession {
   SessionOptions options;
   /// Session time the frame limit stands for, s; < 0: no limit.
   double durationS = -1;
+  /// How the resolutions were chosen, in words (empty: the scene's, not chosen).
+  std::string gridReason;
 };
 
 /// Checks the request's values without building anything; throws std::invalid_argument naming
@@ -92,7 +103,8 @@ struct BuiltSession {
 void ValidateSessionRequest(const SessionRequest& r);
 
 /// The session for the scene: checks the request, builds the bone (MakeSceneBone, with
-/// progress), the setup and the device. Throws std::invalid_argument for a bad request (before
+/// progress; with chooseGrid at the chosen resolutions: the setup's scene holds them), the setup
+/// and the device. Throws std::invalid_argument for a bad request (before
 /// the bone is built) and std::runtime_error for an import or setup failure.
 BuiltSession BuildSession(const Scene& scene, const SessionRequest& r,
                           const BoneProgress& progress = {});

@@ -5,6 +5,7 @@
 #include "bmHapticSession.h"
 #include "bmScene.h"
 #include "bmSessionBenchTable.h"
+#include "bmSessionGrid.h"
 #include "bmVirtualCoupling.h"
 #include "vtkBMSessionSource.h"
 
@@ -187,6 +188,21 @@ std::string ExpectedCost::Line(const std::string& sceneName, int voxmap, int she
   } catch (const std::exception& e) {
     return std::string("Expected cost unknown: ") + e.what();
   }
+  // Neither set: the resolutions and threads the session chooses (bmSessionGrid.h) from the
+  // measurements with the live view, else those without; a CT bone's spacing may lower them.
+  int threads = 0;
+  std::string chosen;
+  if (voxmap <= 0 && shell <= 0)
+    for (bool view : {true, false}) {
+      const SessionGridPlan plan = PlanSessionGrid(scene, this->Sessions_, view, 1000.0 / periodMs);
+      if (plan.limit) {
+        scene = plan.scene;
+        threads = plan.scene.threads;
+        chosen = ", chosen for the session (" + std::to_string(threads) + " engine thread" +
+                 (threads == 1 ? "" : "s") + "; a CT bone's spacing may lower it)";
+        break;
+      }
+    }
   const int v = voxmap > 0 ? voxmap : scene.voxmapResolution;
   const int s = shell > 0 ? shell : scene.shellResolution;
   const std::string name = method == vtkBMSessionSource::LAZAR   ? "lazar"
@@ -198,17 +214,19 @@ std::string ExpectedCost::Line(const std::string& sceneName, int voxmap, int she
   // The panel's session refreshes the live view: its measurements first, else those without.
   bool withView = true;
   auto session = name == ToString(scene.method)
-                     ? NearestSessionCell(this->Sessions_, scene.name, v, s, withView)
+                     ? NearestSessionCell(this->Sessions_, scene.name, v, s, withView,
+                                          "incremental", 1.5, threads)
                      : std::nullopt;
   if (!session && name == ToString(scene.method)) {
     withView = false;
-    session = NearestSessionCell(this->Sessions_, scene.name, v, s, withView);
+    session = NearestSessionCell(this->Sessions_, scene.name, v, s, withView, "incremental", 1.5,
+                                 threads);
   }
   if (session) {
     const bool overruns = session->p99Ms > periodMs || session->overrunPauses > 0;
     return "Expected (" + scene.name + " session, shell " + std::to_string(s) + " / voxmap " +
-           std::to_string(v) + ", nearest measured: " + std::to_string(session->shell) + " / " +
-           std::to_string(session->voxmap) + ", hand-like trial" +
+           std::to_string(v) + chosen + ", nearest measured: " + std::to_string(session->shell) +
+           " / " + std::to_string(session->voxmap) + ", hand-like trial" +
            (withView ? " with the live view" : " without the view") + " on " + session->machine +
            ", " + session->date + "): frame " + Format("%.3g", session->p50Ms) + " ms median, " +
            Format("%.3g", session->p99Ms) + " ms p99, " + Format("%.3g", session->maxMs) +

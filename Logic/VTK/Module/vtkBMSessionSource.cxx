@@ -55,6 +55,7 @@ public:
   std::unique_ptr<bm::MachiningSetup> Setup;
   std::shared_ptr<bm::ProgrammableDevice> Mouse;
   std::unique_ptr<bm::HapticSession> Session;
+  std::string GridReason; ///< BuiltSession::gridReason of the session last started
   /// The cut bone's surface, in BoneSurface's default bricks of 8 voxels (one per voxmap
   /// generation brick: a cut re-extracts only the thin layer it changed).
   bm::BoneSurface Surface;
@@ -202,6 +203,15 @@ int vtkBMSessionSource::GetSessionShellResolution() {
   return setup ? setup->GetScene().shellResolution : 0;
 }
 
+int vtkBMSessionSource::GetSessionThreads() {
+  const auto& setup = this->Internals->Setup;
+  return setup ? setup->GetScene().threads : 0;
+}
+
+const char* vtkBMSessionSource::GetSessionGridReason() {
+  return this->Internals->GridReason.c_str();
+}
+
 bool vtkBMSessionSource::Start() {
   vtkInternals& in = *this->Internals;
   this->Stop();
@@ -234,7 +244,11 @@ bool vtkBMSessionSource::Start() {
     request.maxFrames = this->MaxFrames >= 0 ? this->MaxFrames : -1;
     request.mouseDepthMm = this->ToolDepth;
     request.forceScale = this->ForceScale;
+    // Resolutions left to the session: what it needs with the live view this source refreshes.
+    request.chooseGrid = this->VoxmapResolution == 0 && this->ShellResolution == 0;
+    request.liveView = true;
     bm::BuiltSession built = bm::BuildSession(scene, request);
+    in.GridReason = built.gridReason;
     in.Setup = std::move(built.setup);
     in.Mouse = built.mouse;
     in.Session = std::make_unique<bm::HapticSession>(*in.Setup, built.device, built.options);

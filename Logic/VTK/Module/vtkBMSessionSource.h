@@ -66,7 +66,9 @@ public:
   vtkGetStringMacro(Scene);
   ///@}
   ///@{
-  /// Voxmap and shell resolutions (cells along the longest side); 0 (default) keeps the scene's.
+  /// Voxmap and shell resolutions (cells along the longest side). Both 0 (default): chosen for
+  /// the session (bmSessionGrid.h: no finer than the scene's, this machine's measured limit with
+  /// the live view, and a CT bone's spacing; the engine's threads from the same measurement).
   /// A voxmap resolution set without a shell resolution scales the scene's shell alike
   /// (bm::Scene::WithVoxmapResolution: the grids keep their ratio, 2:1 in the built-in scenes).
   vtkSetClampMacro(VoxmapResolution, int, 0, 4096);
@@ -165,6 +167,10 @@ public:
   /// started: what the scene, VoxmapResolution and ShellResolution came to. 0 before Start().
   int GetSessionVoxmapResolution();
   int GetSessionShellResolution();
+  /// Engine threads of the session last started (0 before Start()).
+  int GetSessionThreads();
+  /// How the session last started chose its resolutions, in words ("" when they were set).
+  const char* GetSessionGridReason();
 
   /// Builds the scene (imports its bone), starts the session. Errors go to vtkErrorMacro and
   /// GetLastError(); returns false then.

@@ -5,6 +5,9 @@
 #include "bmVoxmapFile.h"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 using namespace bmtest;
@@ -55,4 +58,49 @@ TEST(SceneBone, SkullVaultRegion) {
   EXPECT_GT(v.GetFill(v.Index(ijk[0], ijk[1], ijk[2])), 0);
   ASSERT_TRUE(v.VoxelAt({122.5, 105, 158}, ijk)); // above it: air
   EXPECT_EQ(v.GetFill(v.Index(ijk[0], ijk[1], ijk[2])), 0);
+}
+
+TEST(SceneBone, NoFinerThanTheCTsSpacing) {
+  // The glenoid phantom's CT has 0.5 mm pixels and 0.625 mm slices: asked for 192 cells (0.21 mm
+  // voxels), a session's import stops at the cells whose voxel is no finer than 0.5 mm.
+  bm::ImportOptions opt;
+  opt.resolution = 192;
+  opt.noFinerThanCT = true;
+  const bm::ImportResult r = bm::ImportVoxmap(bm::MakePhantomCT("glenoid"), opt);
+  ASSERT_DOUBLE_EQ(std::min({r.ctSpacing[0], r.ctSpacing[1], r.ctSpacing[2]}), 0.5);
+  const double longest =
+      std::max({r.roi.hi[0] - r.roi.lo[0], r.roi.hi[1] - r.roi.lo[1], r.roi.hi[2] - r.roi.lo[2]});
+  const auto& d = r.voxmap.Dims();
+  const int cells = std::max({d[0], d[1], d[2]});
+  EXPECT_EQ(cells, bm::CellsNoFinerThan(longest, 0.5));
+  EXPECT_GT(cells, 60);
+  EXPECT_LT(cells, 100);
+  EXPECT_GE(r.voxmap.Spacing(), 0.5 - 1e-12); // no finer than the CT
+  EXPECT_LT(longest / (cells + 1), 0.5);      // and no coarser than it needs
+  bool noted = false;
+  for (const std::string& n : r.notes)
+    noted = noted || n.find("no finer than the CT's 0.5 mm spacing") != std::string::npos;
+  EXPECT_TRUE(noted);
+  // A coarser request is kept; without the option the request is kept too.
+  opt.resolution = 48;
+  EXPECT_EQ(bm::ImportVoxmap(bm::MakePhantomCT("glenoid"), opt).voxmap.Dims(),
+            bm::ImportVoxmap(bm::MakePhantomCT("glenoid"),
+                             [] {
+                               bm::ImportOptions o;
+                               o.resolution = 48;
+                               return o;
+                             }())
+                .voxmap.Dims());
+  // The scene key, checked by type.
+  const bm::Voxmap viaScene = bm::VoxmapFromScene(
+      {{"phantom", "glenoid"}, {"resolution", 192}, {"noFinerThanCT", true}}, "");
+  EXPECT_EQ(viaScene.Dims(), d);
+  EXPECT_THROW(bm::VoxmapFromScene({{"phantom", "block"}, {"noFinerThanCT", "yes"}}, ""),
+               std::runtime_error);
+  // The rule itself.
+  EXPECT_EQ(bm::CellsNoFinerThan(41.25, 0.5), 82);
+  EXPECT_EQ(bm::CellsNoFinerThan(41.0, 0.5), 82);
+  EXPECT_EQ(bm::CellsNoFinerThan(2.0, 0.5), 8); // at least 8 cells
+  EXPECT_EQ(bm::CellsNoFinerThan(10.0, 0.0), 0);
+  EXPECT_EQ(bm::CellsNoFinerThan(10.0, std::nan("")), 0);
 }

@@ -4,10 +4,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
+#include <unistd.h>
+
 #include "bmEdgeQuadrature.h"
+#include "bmSessionBenchTable.h"
 #include "bmSceneOverrides.h"
 #include "bmSessionBuilder.h"
 #include "bmVirtualCoupling.h"
@@ -146,6 +151,67 @@ TEST(SessionBuilder, CommandLineAndSourceFeedsStartAtTheSamePoseAndRunTheSameFra
   EXPECT_DOUBLE_EQ(b.device->Limits().maxForceN, bm::PositionSourceLimits().maxForceN);
   EXPECT_EQ(a.options.overrunLimit, -1); // a scripted run reports overruns, never pauses on them
   EXPECT_EQ(b.options.overrunLimit, -1);
+}
+
+TEST(SessionBuilder, AChosenGridFollowsTheMeasurementsAndTheCTsSpacing) {
+  // A session table where voxmap 128 holds 1 kHz with one engine thread and 192 does not.
+  const std::filesystem::path table =
+      std::filesystem::temp_directory_path() / ("bm-grid-" + std::to_string(::getpid()) + ".csv");
+  auto row = [](int voxmap, int threads, double p99) {
+    bm::SessionBenchRow r;
+    r.scene = "glenoid";
+    r.voxmap = voxmap;
+    r.shell = voxmap * 340 / 192;
+    r.threads = threads;
+    r.path = "incremental";
+    r.run = 1;
+    r.frames = 1000;
+    r.p50Ms = p99 / 2;
+    r.p99Ms = p99;
+    r.seconds = 1;
+    r.machine = "test machine";
+    r.date = "2026-11-26";
+    return bm::SessionBenchCsvRecord(r) + "\n";
+  };
+  auto write = [&](const std::string& rows) {
+    std::ofstream(table) << bm::SessionBenchCsvHeader() << "\n" << rows;
+  };
+  ::setenv("BM_SESSION_BENCHMARK_CSV", table.c_str(), 1);
+  bm::SessionRequest req;
+  req.realTime = false;
+  req.maxFrames = 1;
+  req.chooseGrid = true;
+  const bm::Scene glenoid = bm::ResolveScene("glenoid");
+  ASSERT_EQ(glenoid.voxmapResolution, 192);
+
+  // 128 holds: the phantom CT's 0.5 mm pixels allow fewer cells still; the shell follows.
+  write(row(128, 1, 0.8) + row(192, 2, 2.5));
+  bm::BuiltSession b = bm::BuildSession(glenoid, req);
+  const bm::Scene& used = b.setup->GetScene();
+  EXPECT_GE(b.setup->Bone().Spacing(), 0.5 - 1e-12);
+  EXPECT_GT(used.voxmapResolution, 60);
+  EXPECT_LT(used.voxmapResolution, 100);
+  EXPECT_EQ(used.shellResolution, int(std::lround(340.0 * used.voxmapResolution / 192)));
+  EXPECT_EQ(used.threads, 1);
+  EXPECT_NE(b.gridReason.find("no finer than the CT's spacing"), std::string::npos) << b.gridReason;
+  const int ctCells = used.voxmapResolution;
+
+  // Only 64 holds: the measurement caps it below the CT's spacing.
+  write(row(64, 2, 0.7) + row(128, 1, 1.3));
+  b = bm::BuildSession(glenoid, req);
+  EXPECT_EQ(b.setup->GetScene().voxmapResolution, 64);
+  EXPECT_EQ(b.setup->GetScene().shellResolution, 113);
+  EXPECT_EQ(b.setup->GetScene().threads, 2);
+  EXPECT_EQ(b.gridReason.find("no finer than the CT's spacing"), std::string::npos) << b.gridReason;
+  EXPECT_LT(64, ctCells);
+
+  // Not chosen: the scene's, whatever the table says.
+  req.chooseGrid = false;
+  b = bm::BuildSession(SmallDrilling(), req);
+  EXPECT_EQ(b.setup->GetScene().voxmapResolution, 32);
+  EXPECT_TRUE(b.gridReason.empty());
+  ::unsetenv("BM_SESSION_BENCHMARK_CSV");
+  std::filesystem::remove(table);
 }
 
 TEST(SessionBuilder, DurationsFramesAndTouchPlacementFollowTheDevice) {

@@ -128,6 +128,15 @@ TEST(PanelLogic, ExpectedCostOfASceneWithSessionMeasurements) {
             "Expected (zheng, shell 177");
   // A scene without session rows: the bench.
   EXPECT_EQ(cost.Line("drilling", 64, 113, 0).substr(0, 26), "Expected (lazar, shell 113");
+  // Neither resolution set: those the session chooses. With the view, 96 / 170 holds 1 kHz with
+  // one thread at 0.9 ms p99 (its worse run), 192 was not measured with the view: 96 / 170.
+  EXPECT_EQ(cost.Line("glenoid", 0, 0, 0).substr(0, 152),
+            "Expected (glenoid session, shell 170 / voxmap 96, chosen for the session (1 engine "
+            "thread; a CT bone's spacing may lower it), nearest measured: 170 / 96");
+  // A 0.5 ms period: nothing holds, the coarsest measured is chosen and the line warns.
+  const std::string fast = cost.Line("glenoid", 0, 0, 0, 0.5);
+  EXPECT_NE(fast.find("voxmap 96, chosen for the session"), std::string::npos) << fast;
+  EXPECT_NE(fast.find("expect overrun pauses"), std::string::npos) << fast;
   // A damaged table names the line and column.
   try {
     bm::ParseSessionBenchCsv(bm::SessionBenchCsvHeader() +
