@@ -24,12 +24,14 @@ void RunOptions(bm::cli::ParsedArgs& p) {
       .Real("feed", 1e-5, 1.0, "MM_PER_REV", "feed per revolution, mm/rev (default: the scene's)")
       .Real("speed", 1.0, 100000.0, "RPM", "spindle speed, rpm (default: the scene's)")
       .Int("voxmap-resolution", 8, 4096,
-           "cells along the bone's longest side (default: the scene's); alone, it scales the "
-           "scene's shell alike (the grids keep their ratio)")
+           "cells along the bone's longest side (default: the scene's; a session run chooses "
+           "its own when none of the resolutions or threads is given: no finer than the CT's "
+           "spacing and this machine's measured limit); alone, it scales the scene's shell "
+           "alike (the grids keep their ratio)")
       .Int("shell-resolution", 8, 4096,
-           "cells along the tool's longest side (default: the scene's)")
+           "cells along the tool's longest side (default: the scene's, or a session's choice)")
       .Choice("method", {"lazar", "zheng"}, "force model and pipeline (default: the scene's)")
-      .Int("threads", 1, 64, "CPU threads (default: the scene's)")
+      .Int("threads", 1, 64, "CPU threads (default: the scene's, or a session's choice)")
       .Choice("backend", {"cpu", "opencl"}, "compute backend (default cpu)")
       .Value("cl-device", "D",
              "with --backend opencl: the OpenCL device, its number or part of its name (bmsim "

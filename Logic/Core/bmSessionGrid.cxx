@@ -94,4 +94,8 @@ SessionGridPlan PlanSessionGrid(const Scene& scene, const std::vector<SessionBen
   return p;
 }
 
+double ToolVoxelMm(double toolRadiusMm) {
+  return 2.0 * toolRadiusMm / kVoxelsAcrossTool;
+}
+
 } // namespace bm

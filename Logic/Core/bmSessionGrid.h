@@ -7,7 +7,8 @@
 //    table (bmSessionBenchTable.h, `bmsim bench --session`) whose frame p99 on the incremental
 //    path is within the haptic period, with or without the live view as the session will run;
 //  - for a CT bone, no finer than the CT's finest spacing (the import's "noFinerThanCT", applied
-//    where the CT is read: bmImport.h, bmVoxmapResampler.h CellsNoFinerThan);
+//    where the CT is read: bmImport.h, bmVoxmapResampler.h CellsNoFinerThan), unless the tool
+//    needs finer voxels (ToolVoxelMm: kVoxelsAcrossTool across its diameter);
 // and the point shell keeps the scene's grid ratio (Scene::WithVoxmapResolution). The engine's
 // threads are those with the lowest measured p99 at that voxmap.
 #pragma once
@@ -51,5 +52,12 @@ struct SessionGridPlan {
 /// Plans the grid of a session on `scene` at rateHz (Hz, > 0) with or without the live view.
 SessionGridPlan PlanSessionGrid(const Scene& scene, const std::vector<SessionBenchRow>& table,
                                 bool view, double rateHz);
+
+/// Voxels a session keeps across the tool's diameter even on a coarse CT: the engine samples
+/// removal and force per voxel, so a tool a few voxels wide cuts a jagged hole with aliased forces.
+constexpr int kVoxelsAcrossTool = 8;
+/// The coarsest voxel (mm) that resolves a tool of outer radius toolRadiusMm (mm):
+/// 2 x radius / kVoxelsAcrossTool (a 2 mm burr: 0.5 mm; the 36.5 mm reamer: 4.6 mm).
+double ToolVoxelMm(double toolRadiusMm);
 
 } // namespace bm

@@ -54,12 +54,14 @@ CTImage ToCTImage(const CTVolumeView& v) {
 
 Voxmap MakeCTVoxmap(const nlohmann::json& ct, const std::string& baseDir, int resolution,
                     const std::function<bool(double, const std::string&)>& progress,
-                    bool noFinerThanCT) {
+                    bool noFinerThanCT, double toolVoxelMm) {
   nlohmann::json bone = ct;
   if (resolution > 0)
     bone["resolution"] = resolution;
   if (noFinerThanCT)
     bone["noFinerThanCT"] = true;
+  if (noFinerThanCT && toolVoxelMm > 0)
+    bone["toolVoxelMm"] = toolVoxelMm;
   return VoxmapFromScene(bone, baseDir, progress ? Progress(progress) : Progress());
 }
 

@@ -16,11 +16,12 @@ namespace bm {
 /// see bmImport.h VoxmapFromScene), paths relative to baseDir, resampled to `resolution` cells
 /// along the region's longest side (0 = the description's own "resolution" or the importer's
 /// default). progress(fraction, stage) may return false to cancel (throws bm::Cancelled).
-/// noFinerThanCT: fewer cells where the CT's finest spacing is coarser than the voxel (bmImport.h
-/// ImportOptions::noFinerThanCT; default false). Throws std::runtime_error naming the problem.
+/// noFinerThanCT: fewer cells where the CT's finest spacing is coarser than the voxel, though
+/// voxels of at most toolVoxelMm (mm; 0: no such limit) (bmImport.h ImportOptions::noFinerThanCT;
+/// default false). Throws std::runtime_error naming the problem.
 Voxmap MakeCTVoxmap(const nlohmann::json& ct, const std::string& baseDir, int resolution,
                     const std::function<bool(double, const std::string&)>& progress = {},
-                    bool noFinerThanCT = false);
+                    bool noFinerThanCT = false, double toolVoxelMm = 0);
 
 /// A CT volume held in memory as plain arrays (a VTK image's point scalars): values[i + nx (j +
 /// ny k)], HU unless the import options say otherwise. World position (mm) of voxel (i, j, k):

@@ -175,14 +175,17 @@ ImportResult ImportVoxmap(CTImage ct, const ImportOptions& optIn, const Progress
 
   int resolution = opt.resolution;
   if (opt.noFinerThanCT) {
-    const double finest = std::min({r.ctSpacing[0], r.ctSpacing[1], r.ctSpacing[2]});
+    const double ct = std::min({r.ctSpacing[0], r.ctSpacing[1], r.ctSpacing[2]});
+    const double finest = opt.toolVoxelMm > 0 ? std::min(ct, opt.toolVoxelMm) : ct;
     const double longest =
         std::max({r.roi.hi[0] - r.roi.lo[0], r.roi.hi[1] - r.roi.lo[1], r.roi.hi[2] - r.roi.lo[2]});
     if (const int cells = CellsNoFinerThan(longest, finest); cells > 0 && cells < resolution) {
       resolution = cells;
       std::ostringstream note;
       note << std::setprecision(4) << "voxmap at " << cells << " cells along " << longest
-           << " mm: no finer than the CT's " << finest << " mm spacing";
+           << " mm: no finer than the CT's " << ct << " mm spacing";
+      if (finest < ct)
+        note << " or than the tool needs (" << finest << " mm)";
       r.notes.push_back(note.str());
     }
   }
@@ -406,6 +409,11 @@ ImportOptions ImportOptionsFromJson(const nlohmann::json& j) {
     o.segmentation.keepAllComponents = flag("keepAllComponents");
   if (j.contains("noFinerThanCT"))
     o.noFinerThanCT = flag("noFinerThanCT");
+  if (j.contains("toolVoxelMm")) {
+    o.toolVoxelMm = num("toolVoxelMm");
+    if (!(o.toolVoxelMm > 0) || !std::isfinite(o.toolVoxelMm))
+      throw std::runtime_error("bone: 'toolVoxelMm' must be > 0 mm");
+  }
   if (j.contains("fillHoles"))
     o.segmentation.fillHoles = flag("fillHoles");
   if (j.contains("maxHoleVolume"))

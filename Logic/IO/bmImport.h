@@ -35,6 +35,9 @@ struct ImportOptions {
   /// side / finest spacing) cells (bmVoxmapResampler.h CellsNoFinerThan), so the voxmap models no
   /// detail the CT did not resolve (a haptic session's grid). Default false.
   bool noFinerThanCT = false;
+  /// With noFinerThanCT: voxels of at most this size (mm) even where the CT's are coarser, so a
+  /// small tool is still resolved (bmSessionGrid.h ToolVoxelMm). 0 (default): no such limit.
+  double toolVoxelMm = 0;
   MaterialMapping material;
   int threads = 0; ///< resampling threads (0 = all cores)
 };
@@ -94,7 +97,8 @@ OrientedBox OrientedBoxFromText(const std::string& text, const std::string& what
 ///   y1, z1] mm (inverted: an error), "box": {"centre": [x, y, z] mm, "halfSizes": [a, b, c]
 ///   mm, "rotation": [rx, ry, rz] deg} (an oriented box, bmBoxROI.h), "resolution": N, "series":
 ///   SeriesInstanceUID, "noFinerThanCT": bool (fewer cells where the CT's spacing
-///   is coarser), "keepAllComponents": bool, "fillHoles": bool (cavities, default true),
+///   is coarser), "toolVoxelMm": mm (> 0; with it, voxels no coarser than this),
+///   "keepAllComponents": bool, "fillHoles": bool (cavities, default true),
 ///   "closingRadius": voxels (default 1), "maxHoleVolume": mm^3, "separationDepth": mm (default 8),
 ///   "maxMemoryMB": MiB, "corticalHU": HU, "rawThreshold": value in the file's units (values
 ///   not HU), "huMapping": [slope, intercept] (HU = slope x value + intercept),

@@ -18,15 +18,17 @@ bool CanImportSceneBones() {
 #endif
 }
 
-Voxmap MakeSceneBone(const Scene& scene, const BoneProgress& progress, bool noFinerThanCT) {
+Voxmap MakeSceneBone(const Scene& scene, const BoneProgress& progress, bool noFinerThanCT,
+                     double toolVoxelMm) {
   if (scene.bone.type == "block")
     return MakeSceneBlock(scene);
 #ifdef BM_WITH_IO
-  return MakeCTVoxmap(scene.bone.ct, scene.baseDir, scene.voxmapResolution, progress,
-                      noFinerThanCT);
+  return MakeCTVoxmap(scene.bone.ct, scene.baseDir, scene.voxmapResolution, progress, noFinerThanCT,
+                      toolVoxelMm);
 #else
   (void)progress;
   (void)noFinerThanCT;
+  (void)toolVoxelMm;
   throw std::runtime_error("scene '" + scene.name +
                            "' needs CT import, which this build leaves out");
 #endif

@@ -20,10 +20,11 @@ bool CanImportSceneBones();
 /// The scene's bone: MakeSceneBlock for a block; for bone.type "ct" the CT, phantom or voxmap file
 /// it names (relative paths from scene.baseDir) at scene.voxmapResolution cells along the region's
 /// longest side (a voxmap file keeps its own); with noFinerThanCT (default false) fewer where the
-/// CT's finest spacing is coarser than that voxel (a session's grid, bmSessionGrid.h). Throws
-/// std::runtime_error naming the scene when the bone needs the IO library and this build has none,
-/// or naming the import's problem.
+/// CT's finest spacing is coarser than that voxel, though voxels of at most toolVoxelMm (mm; 0:
+/// no such limit) (a session's grid, bmSessionGrid.h). Throws std::runtime_error naming the
+/// scene when the bone needs the IO library and this build has none, or naming the import's
+/// problem.
 Voxmap MakeSceneBone(const Scene& scene, const BoneProgress& progress = {},
-                     bool noFinerThanCT = false);
+                     bool noFinerThanCT = false, double toolVoxelMm = 0);
 
 } // namespace bm

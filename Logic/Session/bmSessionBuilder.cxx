@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "bmEdgeQuadrature.h"
+#include "bmToolModel.h"
 #include "bmTouchDevice.h"
 #include "bmVirtualCoupling.h"
 #include "bmCheckRange.h"
@@ -111,7 +112,8 @@ BuiltSession BuildSession(const Scene& scene, const SessionRequest& r,
   // CT is read; the shell follows the voxmap the import made.
   const SessionGridPlan plan =
       PlanSessionGrid(scene, LoadDefaultSessionTable(), r.liveView, r.rateHz);
-  Voxmap bone = MakeSceneBone(plan.scene, progress, true);
+  const double toolVoxel = ToolVoxelMm(MakeTool(scene.tool)->OuterRadius());
+  Voxmap bone = MakeSceneBone(plan.scene, progress, true, toolVoxel);
   Scene chosen = plan.scene;
   std::string reason = plan.reason;
   const auto& d = bone.Dims();
@@ -122,7 +124,7 @@ BuiltSession BuildSession(const Scene& scene, const SessionRequest& r,
     chosen.threads = threads;
     std::ostringstream why;
     why << "; the bone as imported has " << cells << " cells of " << bone.Spacing()
-        << " mm (no finer than the CT's spacing)";
+        << " mm (no finer than the CT's spacing, unless the tool needs " << toolVoxel << " mm)";
     reason += why.str();
   }
   BuiltSession b = BuildSession(chosen, std::move(bone), r);

@@ -106,3 +106,8 @@ TEST(SessionGrid, TheNearestCellForOneThreadCount) {
   EXPECT_DOUBLE_EQ(two->p99Ms, 1.3);
   EXPECT_FALSE(bm::NearestSessionCell(rows, "glenoid", 96, 170, false, "incremental", 1.5, 4));
 }
+
+TEST(SessionGrid, ASmallToolKeepsEightVoxelsAcrossIt) {
+  EXPECT_DOUBLE_EQ(bm::ToolVoxelMm(2.0), 0.5);      // the skull scene's 2 mm burr
+  EXPECT_DOUBLE_EQ(bm::ToolVoxelMm(18.25), 4.5625); // the 36.5 mm glenoid reamer
+}

@@ -91,6 +91,14 @@ TEST(SceneBone, NoFinerThanTheCTsSpacing) {
                                return o;
                              }())
                 .voxmap.Dims());
+  // A small tool keeps voxels it can cut with (here 0.4 mm) where the CT's are coarser.
+  opt.resolution = 192;
+  opt.toolVoxelMm = 0.4;
+  const bm::ImportResult t = bm::ImportVoxmap(bm::MakePhantomCT("glenoid"), opt);
+  const auto& td = t.voxmap.Dims();
+  EXPECT_EQ(std::max({td[0], td[1], td[2]}), bm::CellsNoFinerThan(longest, 0.4));
+  EXPECT_THROW(bm::VoxmapFromScene({{"phantom", "block"}, {"toolVoxelMm", 0}}, ""),
+               std::runtime_error);
   // The scene key, checked by type.
   const bm::Voxmap viaScene = bm::VoxmapFromScene(
       {{"phantom", "glenoid"}, {"resolution", 192}, {"noFinerThanCT", true}}, "");

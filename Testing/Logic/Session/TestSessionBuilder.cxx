@@ -205,6 +205,14 @@ TEST(SessionBuilder, AChosenGridFollowsTheMeasurementsAndTheCTsSpacing) {
   EXPECT_EQ(b.gridReason.find("no finer than the CT's spacing"), std::string::npos) << b.gridReason;
   EXPECT_LT(64, ctCells);
 
+  // A 1 mm burr on the same CT needs 0.25 mm voxels: the measured limit (128) wins over the CT.
+  write(row(128, 1, 0.8));
+  bm::Scene burr = glenoid;
+  burr.tool = {{"type", "burr"}, {"radius_mm", 1.0}};
+  b = bm::BuildSession(burr, req);
+  EXPECT_EQ(b.setup->GetScene().voxmapResolution, 128);
+  EXPECT_LT(b.setup->Bone().Spacing(), 0.5);
+
   // Not chosen: the scene's, whatever the table says.
   req.chooseGrid = false;
   b = bm::BuildSession(SmallDrilling(), req);
