@@ -1,0 +1,168 @@
+# BMDockReamMouse.py - the numeric checks of the BMDockReamMouse GUI test, run in paraview's
+# Python shell by Testing/GUI/BMDockReamMouse.xml (ParaView's XML checks compare text exactly, so
+# bounds on the dock's numbers are checked here). They read the dock's "BM Session" source
+# (BMSession1: the same information properties the dock's session labels show, and its History
+# table, the rows the dock's charts draw). A failed check writes "BMDockReamMouse: ..." to stderr
+# and ends paraview with status 1, which fails the test.
+#
+# Units: mm, mm^3, N, ms, s.
+import functools
+import os
+import traceback
+
+from paraview import simple
+
+# The reamer's thrust is linear in the frame's feed with no edge term: at most the fully engaged
+# reamer's 532.8 N at 0.1 mm/rev (the glenoid scene's reference), 10 % more for voxmap 64's
+# discretisation (Docs/Session.md, "Tests of a reaming session"), N per mm/rev.
+BM_THRUST_PER_FEED = 1.1 * 532.8 / 0.1
+# Whatever the feed, no frame above this, N: the stiff mouse proxy reams at up to about 1600 N
+# after a move (Docs/Session.md); a proxy jump gives 3 000 - 24 000 N.
+BM_MAX_THRUST_N = 3000.0
+# Less thrust than this in every row means the reamer never met bone, N.
+BM_MIN_PEAK_THRUST_N = 20.0
+
+bm_ream = {"removed": 0.0, "frame": 0}
+
+
+def bm_ream_fail(message):
+    os.write(2, ("BMDockReamMouse: " + message + "\n").encode())
+    os._exit(1)
+
+
+def bm_ream_check(fn):
+    """The shell prints a check's exception and goes on: an exception fails the test instead."""
+
+    @functools.wraps(fn)
+    def checked(*args):
+        try:
+            fn(*args)
+        except Exception:
+            bm_ream_fail(fn.__name__ + " raised:\n" + traceback.format_exc())
+
+    return checked
+
+
+def bm_ream_source():
+    source = simple.FindSource("BMSession1")
+    if source is None:
+        bm_ream_fail("no BMSession1 source: the dock did not start a session")
+    source.SMProxy.UpdatePropertyInformation()
+    return source
+
+
+def bm_ream_value(source, name):
+    return source.SMProxy.GetProperty(name).GetElement(0)
+
+
+def bm_ream_history(source):
+    """The History table's columns as lists (name -> values), oldest row first."""
+    # The source runs in paraview (the built-in server): its History output port (2) is here.
+    table = source.SMProxy.GetClientSideObject().GetOutputDataObject(2)
+    columns = {}
+    for name in ("time_s", "thrust_N", "frame_ms", "depth_mm", "feed_mm_per_rev"):
+        array = table.GetColumnByName(name)
+        if array is None:
+            bm_ream_fail("the History table has no column " + name)
+        columns[name] = [array.GetValue(i) for i in range(array.GetNumberOfTuples())]
+    return columns
+
+
+def bm_ream_timing(history):
+    """The History rows' haptic frame times: count, p50, p99, max, how many overran 1 ms and
+    the session times (s) of the last ten that did."""
+    ms = history["frame_ms"]
+    if not ms:
+        return "no frames"
+    frames = sorted(ms)
+    over = [history["time_s"][i] for i in range(len(ms)) if ms[i] > 1.0]
+    return "%d frames: p50 %.3f ms, p99 %.3f ms, max %.2f ms, %d over 1 ms (last at %s s)" % (
+        len(frames), frames[len(frames) // 2], frames[min(len(frames) - 1,
+                                                          (99 * len(frames)) // 100)],
+        frames[-1], len(over), ", ".join("%.3f" % t for t in over[-10:]))
+
+
+def bm_ream_state(source):
+    return bm_ream_value(source, "StateInfo"), bm_ream_value(source, "PauseReasonInfo")
+
+
+@bm_ream_check
+def bm_ream_started():
+    """Right after Start: every frame into History (1 ms rows) and all of it kept, so that no
+    spike falls between two rows; nothing removed yet (the reamer starts above the bone)."""
+    source = bm_ream_source()
+    source.HistoryStepS = 0.001
+    source.HistorySeconds = 600
+    state, reason = bm_ream_state(source)
+    if state != 1:
+        bm_ream_fail("after Start the state is %d (%s), not running (1)" % (state, reason))
+    removed = bm_ream_value(source, "RemovedVolumeInfo")
+    if removed != 0:
+        bm_ream_fail("%g mm^3 removed with the reamer above the bone" % removed)
+
+
+@bm_ream_check
+def bm_ream_running(depth_at_least_mm, removed_more_than_mm3):
+    """Running, not paused on overruns; the reamer at least depth_at_least_mm below the entry;
+    more than removed_more_than_mm3 more removed than at the last check; every History row's
+    thrust within BM_MAX_THRUST_N and within what the engaged reamer gives at that row's feed,
+    and some row's above BM_MIN_PEAK_THRUST_N."""
+    source = bm_ream_source()
+    simple.UpdatePipeline(proxy=source)
+    source.SMProxy.UpdatePropertyInformation()
+    state, reason = bm_ream_state(source)
+    history = bm_ream_history(source)
+    if state != 1:
+        bm_ream_fail("the state is %d (paused: %s), not running (1); %s" %
+                     (state, reason, bm_ream_timing(history)))
+    depth = bm_ream_value(source, "DepthInfo")
+    if depth < depth_at_least_mm:
+        bm_ream_fail("the reamer is %.3f mm deep, expected at least %g mm" %
+                     (depth, depth_at_least_mm))
+    removed = bm_ream_value(source, "RemovedVolumeInfo")
+    if not removed > bm_ream["removed"] + removed_more_than_mm3:
+        bm_ream_fail("removed %.3f mm^3, expected more than %.3f + %g mm^3" %
+                     (removed, bm_ream["removed"], removed_more_than_mm3))
+    thrust = history["thrust_N"]
+    if not thrust:
+        bm_ream_fail("the History table is empty")
+    peak = max(abs(t) for t in thrust)
+    worst = max(range(len(thrust)), key=lambda i: abs(thrust[i]))
+    if peak > BM_MAX_THRUST_N:
+        bm_ream_fail("thrust %.1f N at t = %.3f s, above the %g N spike bound" %
+                     (thrust[worst], history["time_s"][worst], BM_MAX_THRUST_N))
+    feed = history["feed_mm_per_rev"]
+    for i, t in enumerate(thrust):
+        if abs(t) > BM_THRUST_PER_FEED * abs(feed[i]) + 1.0:
+            bm_ream_fail("thrust %.1f N at t = %.3f s, more than the engaged reamer's %.1f N at "
+                         "that frame's feed %.4f mm/rev" % (t, history["time_s"][i],
+                                                            BM_THRUST_PER_FEED * abs(feed[i]),
+                                                            feed[i]))
+    if peak < BM_MIN_PEAK_THRUST_N:
+        bm_ream_fail("peak thrust %.1f N: the reamer never met bone" % peak)
+    os.write(2, ("BMDockReamMouse: running at %.2f mm, removed %.1f mm^3, peak thrust %.1f N; "
+                 "%s\n" % (depth, removed, peak, bm_ream_timing(history))).encode())
+    bm_ream["removed"] = removed
+    bm_ream["frame"] = bm_ream_value(source, "FrameInfo")
+
+
+@bm_ream_check
+def bm_ream_paused():
+    """Paused by the user; once paused, no frame runs and nothing more is removed (called twice:
+    at the pause and after the depth moved while paused)."""
+    source = bm_ream_source()
+    simple.UpdatePipeline(proxy=source)
+    source.SMProxy.UpdatePropertyInformation()
+    state, reason = bm_ream_state(source)
+    if state != 2 or reason != "user":
+        bm_ream_fail("the state is %d (%s), not paused (2) by the user" % (state, reason))
+    removed = bm_ream_value(source, "RemovedVolumeInfo")
+    frame = bm_ream_value(source, "FrameInfo")
+    if "paused_frame" in bm_ream:
+        if frame != bm_ream["paused_frame"] or removed != bm_ream["paused_removed"]:
+            bm_ream_fail("while paused the session ran on: frame %d -> %d, removed %.3f -> "
+                         "%.3f mm^3" % (bm_ream["paused_frame"], frame, bm_ream["paused_removed"],
+                                        removed))
+    bm_ream["paused_frame"] = frame
+    bm_ream["paused_removed"] = removed
+    bm_ream["removed"] = removed
