@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include "bmFrameGeometry.h"
+#include "bmIncrementalPass.h"
 #include "bmMorton.h"
 
 namespace bm {
@@ -62,6 +63,22 @@ template <class T> void StoreRelaxed(T& v, T x) {
 
 } // namespace
 
+bool BlockVisible(const ShellBlock& blk, const FrameGeometry& G, const Voxmap& bone,
+                  const CullingOptions& culling) {
+  if (culling.motion && !blk.hasCutting) {
+    double up = 0;
+    for (int a = 0; a < 3; ++a)
+      up += std::max(blk.nLo[a] * G.motionTool(a), blk.nHi[a] * G.motionTool(a));
+    if (up <= 0 || !G.remove)
+      return false;
+  }
+  if (!culling.blocks)
+    return true;
+  std::array<int, 3> lo, hi;
+  G.VoxelBox(blk.lo, blk.hi, lo, hi);
+  return bone.AnyBoneIn(lo, hi);
+}
+
 double MaxRemovalUnits(const Eigen::Vector3d& d, double voxelMm, double unitsPerMm3) {
   // Projected area of a voxel along d times |d|: h^2 (|dx| + |dy| + |dz|).
   const double swept = voxelMm * voxelMm * (std::abs(d(0)) + std::abs(d(1)) + std::abs(d(2)));
@@ -101,6 +118,17 @@ CpuEngine::CpuEngine(Voxmap& bone, const ToolModel& tool, const PointShell& shel
   RemovalCounts_.resize(size_t(RemovalParts_));
   Touched_.resize(size_t(RemovalParts_));
   Pool_.ReserveRedoable(int(NumTasks(shell)));
+  if (Pool_.Threads() == 1 && Culling_.incremental)
+    Incremental_ = std::make_unique<IncrementalPass>(shell);
+}
+
+int64_t CpuEngine::IncrementalFrames() const {
+  return Incremental_ ? Incremental_->FramesRun() : 0;
+}
+
+void CpuEngine::ForgetIncremental() {
+  if (Incremental_)
+    Incremental_->Forget();
 }
 
 int CpuEngine::ValidThreads(int threads) {
@@ -165,11 +193,28 @@ FrameResult CpuEngine::Step(const FrameInput& in) {
   if (G.cutting)
     UpdateForceTable(in.feedMmPerRev, in.speedRpm);
   const int nTasks = int(PrevWinner_.size());
-  Pool_.RunRedoable(nTasks,
-                    std::make_shared<const WorkerPool::RedoableFn>(
-                        [this, job](int task, int thread) { RunPassTask(*job, task, thread); }));
-  for (int t = 0; t < nTasks; ++t)
-    PrevWinner_[size_t(t)] = uint8_t(Pool_.Winner(t));
+  if (Incremental_ && Incremental_->Accepts(G)) {
+    // One thread: one residency buffer, every task's winner thread 0; the frame's requests and
+    // sums in task 0's partial.
+    for (FramePartial& p : Partials_)
+      p.Clear();
+    std::fill(PrevWinner_.begin(), PrevWinner_.end(), uint8_t(0));
+    IncrementalPass::Frame f{&G,
+                             frameNo,
+                             in.envelopeRemoves,
+                             Table_.data(),
+                             State_[0].words.data(),
+                             State_[0].blockFrame.data()};
+    Incremental_->Run(f, Bone_, Culling_, Partials_[0]);
+  } else {
+    Pool_.RunRedoable(nTasks,
+                      std::make_shared<const WorkerPool::RedoableFn>(
+                          [this, job](int task, int thread) { RunPassTask(*job, task, thread); }));
+    for (int t = 0; t < nTasks; ++t)
+      PrevWinner_[size_t(t)] = uint8_t(Pool_.Winner(t));
+    if (Incremental_)
+      Incremental_->FullPassRan(G);
+  }
 
   const bool remove = G.remove;
   if (remove) {
@@ -208,7 +253,6 @@ void CpuEngine::RunPassTask(const PassJob& job, int task, int thread) {
   const FrameGeometry& G = job.G;
   const uint32_t frameNo = job.frame;
   const bool cutting = G.cutting, remove = G.remove, envelope = job.envelopeRemoves;
-  const Eigen::Vector3d& d = G.motionTool;
   const Voxmap::Fill* fill = Bone_.FillData();
   const float* material = Bone_.MaterialData();
   const uint64_t* codes = Shell_.Codes().data();
@@ -231,21 +275,6 @@ void CpuEngine::RunPassTask(const PassJob& job, int task, int thread) {
   int64_t thrust = 0, torque = 0, fx = 0, fy = 0;
   int64_t visited = 0, engagedCount = 0, engagedCutting = 0, requested = 0;
 
-  auto blockVisible = [&](const ShellBlock& blk) {
-    if (Culling_.motion && !blk.hasCutting) {
-      double up = 0;
-      for (int a = 0; a < 3; ++a)
-        up += std::max(blk.nLo[a] * d(a), blk.nHi[a] * d(a));
-      if (up <= 0 || !remove)
-        return false;
-    }
-    if (!Culling_.blocks)
-      return true;
-    std::array<int, 3> lo, hi;
-    G.VoxelBox(blk.lo, blk.hi, lo, hi);
-    return Bone_.AnyBoneIn(lo, hi);
-  };
-
   // The batch's voxels and bricks (on the stack, in L1).
   alignas(64) float gx[kBatch], gy[kBatch], gz[kBatch];
   alignas(64) int64_t vox[kBatch];
@@ -256,7 +285,7 @@ void CpuEngine::RunPassTask(const PassJob& job, int task, int thread) {
   const int bEnd = std::min(nBlocks, (task + 1) * kBlocksPerTask);
   for (int bi = task * kBlocksPerTask; bi < bEnd; ++bi) {
     const ShellBlock& blk = blocks[size_t(bi)];
-    if (!blockVisible(blk))
+    if (!BlockVisible(blk, G, Bone_, Culling_))
       continue;
     // Whether the residency words of this block are the previous frame's (its elements were all
     // visited then); this frame visits them all.

@@ -37,6 +37,9 @@
 // transform, loops the compiler vectorises) and the prefetches, then one loop for engagement,
 // removal requests and forces, with the sums in registers. Same arithmetic, order and precision
 // as the kernels (bmVpsFrame.cl).
+// An engine on one thread runs the incremental pass (bmIncrementalPass.h: only the elements whose
+// voxel can have changed are recomputed, the engaged ones summed from a list; same results) when
+// the previous frame ran and the tool's rotation is unchanged, this full pass otherwise.
 #pragma once
 
 #include <memory>
@@ -55,7 +58,16 @@ namespace bm {
 struct CullingOptions {
   bool blocks = true; ///< rule 1
   bool motion = true; ///< rule 2
+  /// The incremental pass (bmIncrementalPass.h) where it applies (one engine thread, the tool's
+  /// rotation unchanged since the previous frame); false: the full pass every frame. Same results.
+  bool incremental = true;
 };
+
+/// Whether the pass visits block `blk` this frame (the culling rules above, those enabled).
+bool BlockVisible(const ShellBlock& blk, const FrameGeometry& G, const Voxmap& bone,
+                  const CullingOptions& culling);
+
+class IncrementalPass;
 
 /// A pass task's removal requests for one removal part: an array that a batch first makes room
 /// in (Reserve) and then appends to through a pointer, with no check per request. A sentinel
@@ -105,6 +117,12 @@ public:
   std::string Name() const override { return "cpu/" + ToString(Model_.GetMethod()); }
   FrameResult Step(const FrameInput& in) override;
   int Threads() const { return Pool_.Threads(); }
+  /// Frames the incremental pass ran (the others ran the full pass).
+  int64_t IncrementalFrames() const;
+  /// Makes the next frame run the full pass. Call it after raising fills of the bone in place
+  /// (loading bone into the same voxmap): the incremental pass relies on fills only decreasing
+  /// between frames.
+  void ForgetIncremental();
 
 private:
   /// What one frame's pass tasks read, shared with the workers that run them (kept alive by
@@ -133,7 +151,8 @@ private:
   static constexpr int kBlocksPerTask = 4; // shell blocks per pass task
   int RemovalParts_ = 1;                   // power of two >= threads
   bool SmallCodes_ = false; // every element code decodes in 32-bit lanes (ElementCoordsOfSmall)
-  std::vector<FramePartial> Partials_; // per (pass task, thread)
+  std::vector<FramePartial> Partials_;           // per (pass task, thread)
+  std::unique_ptr<IncrementalPass> Incremental_; // one-thread engines with culling.incremental
   /// Element residency (PackedResidency words) and, per block, the frame of its last visit.
   struct ResidencyBuffer {
     std::vector<uint64_t> words;      ///< per element

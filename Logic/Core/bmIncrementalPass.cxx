@@ -1,0 +1,275 @@
+#include "bmIncrementalPass.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "bmCpuEngine.h"
+#include "bmElementResidency.h"
+#include "bmMorton.h"
+
+namespace bm {
+
+namespace {
+
+constexpr int kBatch = 64; // elements decoded and transformed at a time
+
+/// Margin (in voxels) for float rounding around a window edge on an axis whose values |g| stay
+/// below m: fl(t + b) and fl(g + 0.5f) round by at most an ulp each; 16 ulps, plus the key's own
+/// rounding to float.
+double RoundingMargin(double m) {
+  return 16.0 * std::ldexp(m + 1.0, -23) + std::ldexp(1.0, -23);
+}
+
+} // namespace
+
+IncrementalPass::IncrementalPass(const PointShell& shell)
+    : Shell_(shell), Lists_(shell.Blocks().size()), ListFrame_(shell.Blocks().size(), 0),
+      KeysGen_(shell.Blocks().size(), 0), MaxAbsT_(shell.Blocks().size()), Pos_(shell.Size(), -1),
+      Stamp_(shell.Size(), 0) {
+  for (int a = 0; a < 3; ++a) {
+    Key_[size_t(a)].resize(shell.Size());
+    Id_[size_t(a)].resize(shell.Size());
+  }
+}
+
+void IncrementalPass::FullPassRan(const FrameGeometry& G) {
+  HavePrev_ = true;
+  PrevA_ = G.A;
+  PrevB_ = G.b;
+}
+
+void IncrementalPass::EnsureKeys(size_t bi, const FrameGeometry& G) {
+  if (KeysGen_[bi] == AGen_ + 1)
+    return;
+  const ShellBlock& blk = Shell_.Blocks()[bi];
+  const uint64_t* codes = Shell_.Codes().data();
+  const float* A = G.A.data();
+  alignas(64) float x[kBatch], y[kBatch], z[kBatch];
+  std::array<float, 3> maxT{0, 0, 0};
+  for (uint32_t base = blk.begin; base < blk.end; base += kBatch) {
+    const int n = int(std::min<uint32_t>(blk.end - base, kBatch));
+    ElementCoordsOf(codes + base, n, x, y, z);
+    for (int q = 0; q < n; ++q)
+      for (int a = 0; a < 3; ++a) {
+        // VoxelsOf's sum before "+ b", in its order (no FMA: -ffp-contract=off, -mno-fma).
+        const float t = A[3 * a] * x[q] + A[3 * a + 1] * y[q] + A[3 * a + 2] * z[q];
+        const double u = double(t) + 0.5; // exact
+        const uint32_t e = base + uint32_t(q);
+        Key_[size_t(a)][e] = float(u - std::floor(u));
+        Id_[size_t(a)][e] = e;
+        maxT[size_t(a)] = std::max(maxT[size_t(a)], std::abs(t));
+      }
+  }
+  for (int a = 0; a < 3; ++a) {
+    float* key = Key_[size_t(a)].data();
+    uint32_t* id = Id_[size_t(a)].data();
+    std::vector<uint32_t> order(blk.end - blk.begin);
+    std::iota(order.begin(), order.end(), blk.begin);
+    std::sort(order.begin(), order.end(), [&](uint32_t p, uint32_t q) { return key[p] < key[q]; });
+    std::vector<float> sorted(order.size());
+    for (size_t k = 0; k < order.size(); ++k)
+      sorted[k] = key[order[k]];
+    std::copy(sorted.begin(), sorted.end(), key + blk.begin);
+    std::copy(order.begin(), order.end(), id + blk.begin);
+  }
+  MaxAbsT_[bi] = maxT;
+  KeysGen_[bi] = AGen_ + 1;
+}
+
+void IncrementalPass::VisitAll(size_t bi, const Frame& f, const Voxmap& bone, bool fresh) {
+  const ShellBlock& blk = Shell_.Blocks()[bi];
+  const uint64_t* codes = Shell_.Codes().data();
+  const Voxmap::Fill* fill = bone.FillData();
+  std::vector<Engaged>& list = Lists_[bi];
+  for (const Engaged& g : list)
+    Pos_[g.e] = -1;
+  list.clear();
+  alignas(64) float gx[kBatch], gy[kBatch], gz[kBatch];
+  alignas(64) int64_t vox[kBatch];
+  alignas(64) int32_t brick[kBatch];
+  for (uint32_t base = blk.begin; base < blk.end; base += kBatch) {
+    const int n = int(std::min<uint32_t>(blk.end - base, kBatch));
+    ElementCoordsOf(codes + base, n, gx, gy, gz);
+    f.G->VoxelsOf(gx, gy, gz, n, vox, brick);
+    for (int q = 0; q < n; ++q) {
+      const uint32_t e = base + uint32_t(q);
+      const int64_t idx = vox[q];
+      const bool stays = PackedResidency::Stays(f.words[e], fresh, idx);
+      const bool engaged = idx >= 0 && (stays || fill[idx] > 0);
+      f.words[e] = PackedResidency::Word(idx, engaged);
+      if (engaged) {
+        Pos_[e] = int32_t(list.size());
+        list.push_back({e, brick[q], idx});
+      }
+    }
+  }
+}
+
+void IncrementalPass::Update(uint32_t e, int64_t idx, int32_t brick, bool fresh,
+                             const Voxmap::Fill* fill, std::vector<Engaged>& list,
+                             uint64_t* words) {
+  const bool stays = PackedResidency::Stays(words[e], fresh, idx);
+  const bool engaged = idx >= 0 && (stays || fill[idx] > 0);
+  words[e] = PackedResidency::Word(idx, engaged);
+  int32_t& p = Pos_[e];
+  if (engaged) {
+    if (p >= 0) {
+      list[size_t(p)] = {e, brick, idx};
+    } else {
+      p = int32_t(list.size());
+      list.push_back({e, brick, idx});
+    }
+  } else if (p >= 0) {
+    const Engaged last = list.back();
+    list[size_t(p)] = last;
+    Pos_[last.e] = p;
+    list.pop_back();
+    p = -1;
+  }
+}
+
+void IncrementalPass::VisitWindows(size_t bi, const Frame& f, const Voxmap& bone) {
+  const ShellBlock& blk = Shell_.Blocks()[bi];
+  const FrameGeometry& G = *f.G;
+  Candidates_.clear();
+  for (int a = 0; a < 3; ++a) {
+    const double bOld = PrevB_[size_t(a)], bNew = G.b[size_t(a)];
+    const double db = bNew - bOld; // exact: both floats
+    if (db == 0)
+      continue; // every g_a is the same float as before
+    // The boundary of the voxel steps sits at key == -b (mod 1); from b_old to b_new it sweeps
+    // the circular window of width |db| centred at -(b_old + db / 2).
+    const double m = double(MaxAbsT_[bi][size_t(a)]) + std::max(std::abs(bOld), std::abs(bNew));
+    const double half = std::abs(db) / 2 + RoundingMargin(m);
+    if (half >= 0.5) { // the window covers every key
+      VisitAll(bi, f, bone, true);
+      Recomputed_ += blk.end - blk.begin;
+      return;
+    }
+    double centre = -(bOld + db / 2);
+    centre -= std::floor(centre);
+    const double lo = centre - half, hi = centre + half;
+    const float* k0 = Key_[size_t(a)].data() + blk.begin;
+    const float* k1 = Key_[size_t(a)].data() + blk.end;
+    const uint32_t* id = Id_[size_t(a)].data();
+    auto take = [&](const float* from, const float* to) {
+      for (const float* k = from; k < to; ++k) {
+        const uint32_t e = id[size_t(k - Key_[size_t(a)].data())];
+        if (Stamp_[e] != f.frameNo) {
+          Stamp_[e] = f.frameNo;
+          Candidates_.push_back(e);
+        }
+      }
+    };
+    // Keys in [lo, hi] taken circularly (a key that rounded up to 1.0f is taken with the keys
+    // near 1, from lower_bound to the end: its true value is within the margin of them).
+    auto upTo = [&](double x) { return std::upper_bound(k0, k1, float(x)); };
+    auto from = [&](double x) { return std::lower_bound(k0, k1, float(x)); };
+    // float(x) rounds by at most 2^-24, inside the margin.
+    if (lo < 0) {
+      take(k0, upTo(hi));
+      take(from(lo + 1), k1);
+    } else if (hi >= 1) {
+      take(from(lo), k1);
+      take(k0, upTo(hi - 1));
+    } else {
+      take(from(lo), upTo(hi));
+    }
+  }
+  Recomputed_ += int64_t(Candidates_.size());
+  const uint64_t* codes = Shell_.Codes().data();
+  const Voxmap::Fill* fill = bone.FillData();
+  std::vector<Engaged>& list = Lists_[bi];
+  alignas(64) uint64_t c[kBatch];
+  alignas(64) float gx[kBatch], gy[kBatch], gz[kBatch];
+  alignas(64) int64_t vox[kBatch];
+  alignas(64) int32_t brick[kBatch];
+  for (size_t base = 0; base < Candidates_.size(); base += kBatch) {
+    const int n = int(std::min<size_t>(Candidates_.size() - base, kBatch));
+    for (int q = 0; q < n; ++q)
+      c[q] = codes[Candidates_[base + size_t(q)]];
+    ElementCoordsOf(c, n, gx, gy, gz);
+    G.VoxelsOf(gx, gy, gz, n, vox, brick);
+    for (int q = 0; q < n; ++q)
+      Update(Candidates_[base + size_t(q)], vox[q], brick[q], true, fill, list, f.words);
+  }
+}
+
+void IncrementalPass::Run(const Frame& f, const Voxmap& bone, const CullingOptions& culling,
+                          FramePartial& P) {
+  const FrameGeometry& G = *f.G;
+  if (G.A != KeysA_) { // the keys of every block are another A's
+    ++AGen_;
+    KeysA_ = G.A;
+  }
+  P.Clear();
+  const bool cutting = G.cutting, remove = G.remove, envelope = f.envelopeRemoves;
+  const float* material = bone.MaterialData();
+  const uint64_t* codes = Shell_.Codes().data();
+  const std::array<float, 3>* an = Shell_.AreaNormals().data();
+  const uint16_t* bins = Shell_.Bins().data();
+  const float* deltas = Shell_.Deltas().data();
+  const std::array<double, 2>* radial = Shell_.RadialDirs().data();
+  const BinForce* table = f.table;
+  RequestList& requests = P.removals[0]; // one thread: one removal part
+  int64_t thrust = 0, torque = 0, fx = 0, fy = 0;
+  int64_t visited = 0, engagedCount = 0, engagedCutting = 0, requested = 0;
+  const auto& blocks = Shell_.Blocks();
+  for (size_t bi = 0; bi < blocks.size(); ++bi) {
+    const ShellBlock& blk = blocks[bi];
+    if (!BlockVisible(blk, G, bone, culling))
+      continue; // its list is dropped: ListFrame_ falls behind
+    const bool fresh = f.blockFrame[bi] + 1 == f.frameNo;
+    f.blockFrame[bi] = f.frameNo;
+    if (fresh && ListFrame_[bi] + 1 == f.frameNo) {
+      EnsureKeys(bi, G);
+      VisitWindows(bi, f, bone);
+    } else {
+      VisitAll(bi, f, bone, fresh);
+    }
+    ListFrame_[bi] = f.frameNo;
+    visited += blk.end - blk.begin;
+    const std::vector<Engaged>& list = Lists_[bi];
+    engagedCount += int64_t(list.size());
+    if (remove)
+      requests.Reserve(list.size());
+    Voxmap::RemovalRequest* w = requests.End();
+    // Each engaged element's contribution, as CpuEngine::RunPassTask computes it.
+    for (const Engaged& g : list) {
+      const uint32_t e = g.e;
+      const uint64_t code = codes[e];
+      if (remove && (envelope || ElementIsCutting(code)))
+        if (const int32_t u = G.RemovalUnits(an[e]); u > 0) {
+          *w++ = {g.idx, u, g.brick};
+          requested += u;
+        }
+      if (cutting && ElementIsCutting(code)) {
+        ++engagedCutting;
+        const double wt = deltas[e] * (material ? material[g.idx] : 1.0f);
+        const BinForce& tb = table[bins[e]];
+        const double c = radial[e][0], s = radial[e][1];
+        thrust += int64_t(wt * tb.fz);
+        torque += int64_t(wt * tb.torque);
+        fx += int64_t(wt * (tb.fx * c - tb.fy * s));
+        fy += int64_t(wt * (tb.fx * s + tb.fy * c));
+      }
+    }
+    if (remove)
+      requests.SetEnd(w);
+  }
+  P.thrust = thrust;
+  P.torque = torque;
+  P.fx = fx;
+  P.fy = fy;
+  P.visited = visited;
+  P.engaged = engagedCount;
+  P.engagedCutting = engagedCutting;
+  P.requested = requested;
+  PrevA_ = G.A;
+  PrevB_ = G.b;
+  HavePrev_ = true;
+  ++FramesRun_;
+}
+
+} // namespace bm
