@@ -76,10 +76,25 @@ def bm_ream_timing(history):
         return "no frames"
     frames = sorted(ms)
     over = [history["time_s"][i] for i in range(len(ms)) if ms[i] > 1.0]
-    return "%d frames: p50 %.3f ms, p99 %.3f ms, max %.2f ms, %d over 1 ms (last at %s s)" % (
-        len(frames), frames[len(frames) // 2], frames[min(len(frames) - 1,
-                                                          (99 * len(frames)) // 100)],
-        frames[-1], len(over), ", ".join("%.3f" % t for t in over[-10:]))
+    return ("%d frames: p50 %.3f ms, p99 %.3f ms, max %.2f ms, %d over 1 ms (last at %s s); "
+            "%d SCHED_FIFO thread(s)" % (
+                len(frames), frames[len(frames) // 2],
+                frames[min(len(frames) - 1, (99 * len(frames)) // 100)], frames[-1], len(over),
+                ", ".join("%.3f" % t for t in over[-10:]), bm_ream_fifo_threads()))
+
+
+def bm_ream_fifo_threads():
+    """How many of paraview's threads run under SCHED_FIFO (the haptic thread asks for it; without
+    CAP_SYS_NICE or RLIMIT_RTPRIO it stays at the ordinary priority and overruns under load)."""
+    count = 0
+    for tid in os.listdir("/proc/self/task"):
+        try:
+            with open("/proc/self/task/%s/stat" % tid) as f:
+                fields = f.read().rsplit(")", 1)[1].split()
+        except OSError:
+            continue  # the thread ended
+        count += int(fields[38]) == 1  # field 41, policy: 1 = SCHED_FIFO
+    return count
 
 
 def bm_ream_state(source):
