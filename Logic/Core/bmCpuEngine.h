@@ -119,9 +119,9 @@ public:
   int Threads() const { return Pool_.Threads(); }
   /// Frames the incremental pass ran (the others ran the full pass).
   int64_t IncrementalFrames() const;
-  /// Makes the next frame run the full pass. Call it after raising fills of the bone in place
-  /// (loading bone into the same voxmap): the incremental pass relies on fills only decreasing
-  /// between frames.
+  /// Makes the next frame run the full pass. Call it after raising fills or changing materials
+  /// of the bone in place (loading bone into the same voxmap): the incremental pass relies on
+  /// fills only decreasing between frames and reads an element's material when it enters a voxel.
   void ForgetIncremental();
 
 private:

@@ -77,6 +77,13 @@ void IncrementalPass::EnsureKeys(size_t bi, const FrameGeometry& G) {
   KeysGen_[bi] = AGen_ + 1;
 }
 
+IncrementalPass::Engaged IncrementalPass::Entry(uint32_t e, int64_t idx, int32_t brick,
+                                                const float* material) const {
+  // The full pass's weight: float delta x float material, widened to double where it is used.
+  const float w = Shell_.Deltas()[e] * (material ? material[idx] : 1.0f);
+  return {idx, brick, e, w, Shell_.Bins()[e], uint8_t(ElementIsCutting(Shell_.Codes()[e]))};
+}
+
 void IncrementalPass::VisitAll(size_t bi, const Frame& f, const Voxmap& bone, bool fresh) {
   const ShellBlock& blk = Shell_.Blocks()[bi];
   const uint64_t* codes = Shell_.Codes().data();
@@ -100,25 +107,24 @@ void IncrementalPass::VisitAll(size_t bi, const Frame& f, const Voxmap& bone, bo
       f.words[e] = PackedResidency::Word(idx, engaged);
       if (engaged) {
         Pos_[e] = int32_t(list.size());
-        list.push_back({e, brick[q], idx});
+        list.push_back(Entry(e, idx, brick[q], bone.MaterialData()));
       }
     }
   }
 }
 
-void IncrementalPass::Update(uint32_t e, int64_t idx, int32_t brick, bool fresh,
-                             const Voxmap::Fill* fill, std::vector<Engaged>& list,
-                             uint64_t* words) {
+void IncrementalPass::Update(uint32_t e, int64_t idx, int32_t brick, bool fresh, const Voxmap& bone,
+                             std::vector<Engaged>& list, uint64_t* words) {
   const bool stays = PackedResidency::Stays(words[e], fresh, idx);
-  const bool engaged = idx >= 0 && (stays || fill[idx] > 0);
+  const bool engaged = idx >= 0 && (stays || bone.FillData()[idx] > 0);
   words[e] = PackedResidency::Word(idx, engaged);
   int32_t& p = Pos_[e];
   if (engaged) {
     if (p >= 0) {
-      list[size_t(p)] = {e, brick, idx};
+      list[size_t(p)] = Entry(e, idx, brick, bone.MaterialData());
     } else {
       p = int32_t(list.size());
-      list.push_back({e, brick, idx});
+      list.push_back(Entry(e, idx, brick, bone.MaterialData()));
     }
   } else if (p >= 0) {
     const Engaged last = list.back();
@@ -179,7 +185,6 @@ void IncrementalPass::VisitWindows(size_t bi, const Frame& f, const Voxmap& bone
   }
   Recomputed_ += int64_t(Candidates_.size());
   const uint64_t* codes = Shell_.Codes().data();
-  const Voxmap::Fill* fill = bone.FillData();
   std::vector<Engaged>& list = Lists_[bi];
   alignas(64) uint64_t c[kBatch];
   alignas(64) float gx[kBatch], gy[kBatch], gz[kBatch];
@@ -192,7 +197,7 @@ void IncrementalPass::VisitWindows(size_t bi, const Frame& f, const Voxmap& bone
     ElementCoordsOf(c, n, gx, gy, gz);
     G.VoxelsOf(gx, gy, gz, n, vox, brick);
     for (int q = 0; q < n; ++q)
-      Update(Candidates_[base + size_t(q)], vox[q], brick[q], true, fill, list, f.words);
+      Update(Candidates_[base + size_t(q)], vox[q], brick[q], true, bone, list, f.words);
   }
 }
 
@@ -205,11 +210,7 @@ void IncrementalPass::Run(const Frame& f, const Voxmap& bone, const CullingOptio
   }
   P.Clear();
   const bool cutting = G.cutting, remove = G.remove, envelope = f.envelopeRemoves;
-  const float* material = bone.MaterialData();
-  const uint64_t* codes = Shell_.Codes().data();
   const std::array<float, 3>* an = Shell_.AreaNormals().data();
-  const uint16_t* bins = Shell_.Bins().data();
-  const float* deltas = Shell_.Deltas().data();
   const std::array<double, 2>* radial = Shell_.RadialDirs().data();
   const BinForce* table = f.table;
   RequestList& requests = P.removals[0]; // one thread: one removal part
@@ -238,16 +239,21 @@ void IncrementalPass::Run(const Frame& f, const Voxmap& bone, const CullingOptio
     // Each engaged element's contribution, as CpuEngine::RunPassTask computes it.
     for (const Engaged& g : list) {
       const uint32_t e = g.e;
-      const uint64_t code = codes[e];
-      if (remove && (envelope || ElementIsCutting(code)))
+      if (remove && (envelope || g.cutting))
         if (const int32_t u = G.RemovalUnits(an[e]); u > 0) {
-          *w++ = {g.idx, u, g.brick};
+          // Into the last request when it is this voxel's (the list keeps the elements' order,
+          // so runs share voxels; the clamped decrement telescopes), branch-free as in the full
+          // pass; RequestList's sentinel makes w[-1] always valid.
+          const int32_t same = w[-1].voxel == g.idx;
+          const int32_t before = w[-1].units & -same;
+          w -= same;
+          *w++ = {g.idx, before + u, g.brick};
           requested += u;
         }
-      if (cutting && ElementIsCutting(code)) {
+      if (cutting && g.cutting) {
         ++engagedCutting;
-        const double wt = deltas[e] * (material ? material[g.idx] : 1.0f);
-        const BinForce& tb = table[bins[e]];
+        const double wt = g.w;
+        const BinForce& tb = table[g.bin];
         const double c = radial[e][0], s = radial[e][1];
         thrust += int64_t(wt * tb.fz);
         torque += int64_t(wt * tb.torque);

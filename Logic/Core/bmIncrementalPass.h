@@ -28,8 +28,9 @@
 //
 // Runs when: one engine thread, CullingOptions::incremental, the previous frame ran and A is that
 // frame's. Otherwise the engine runs the full pass and this pass starts again from it. Fills
-// raised in place between frames (a bone loaded into the same voxmap) break the "fills only
-// decrease" premise: call Forget() (CpuEngine::ForgetIncremental) after doing so.
+// raised or materials changed in place between frames (a bone loaded into the same voxmap) break
+// the premises (fills only decrease; an engaged element's material is read when it enters its
+// voxel): call Forget() (CpuEngine::ForgetIncremental) after doing so.
 #pragma once
 
 #include <array>
@@ -76,18 +77,24 @@ public:
   int64_t Recomputed() const { return Recomputed_; }
 
 private:
+  /// An engaged element with what its contribution reads that does not change while it stays
+  /// in its voxel (so the frame's sum reads no voxmap array).
   struct Engaged {
-    uint32_t e;    ///< element
-    int32_t brick; ///< its voxel's occupancy brick
-    int64_t idx;   ///< its voxel
+    int64_t idx;     ///< its voxel
+    int32_t brick;   ///< its voxel's occupancy brick
+    uint32_t e;      ///< element
+    float w;         ///< delta (mm) x the voxel's material, as the full pass forms it
+    uint16_t bin;    ///< force bin
+    uint8_t cutting; ///< ElementIsCutting
   };
+  Engaged Entry(uint32_t e, int64_t idx, int32_t brick, const float* material) const;
   void EnsureKeys(size_t bi, const FrameGeometry& G);
   /// Every element of block bi: voxel, residency, list (fresh: visited in the previous frame).
   void VisitAll(size_t bi, const Frame& f, const Voxmap& bone, bool fresh);
   /// The elements in block bi's windows only.
   void VisitWindows(size_t bi, const Frame& f, const Voxmap& bone);
   /// Residency and list update for element e visiting voxel idx (brick) this frame.
-  void Update(uint32_t e, int64_t idx, int32_t brick, bool fresh, const Voxmap::Fill* fill,
+  void Update(uint32_t e, int64_t idx, int32_t brick, bool fresh, const Voxmap& bone,
               std::vector<Engaged>& list, uint64_t* words);
 
   const PointShell& Shell_;
