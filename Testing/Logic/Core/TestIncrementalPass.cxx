@@ -4,7 +4,8 @@
 // fills, frame by frame: a reamer on the analytic glenoid fed along its axis with a lateral wobble
 // of fractions of a voxel, a frame without motion, a jump across several voxels, cutting off (feed
 // 0), a rotation change (the full pass, then the incremental pass again), a retraction that culls
-// every block and a return; a drill on the bone block.
+// every block and a return; a drill on the bone block, also with materials varying per voxel;
+// and the frames where the full pass runs instead.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -200,6 +201,40 @@ TEST(IncrementalPass, DrillOnTheBlockGivesTheFullPassResults) {
     EXPECT_EQ(incremental, feed.frames - 1);
     EXPECT_GT(t.removedVoxels, 100);
   }
+}
+
+// Materials varying voxel by voxel (the weight an engaged element keeps in its list entry is
+// delta x its voxel's material): the tilted entry of a drill into a block of three materials.
+TEST(IncrementalPass, MaterialPerVoxelGivesTheFullPassResults) {
+  const bm::TwistDrill drill;
+  const bm::PointShell shell = bm::PointShell::Build(drill, 256);
+  bm::Voxmap bone = bm::MakeBoneBlock({5.0, 5.0, 1.5}, 64);
+  const auto dims = bone.Dims();
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i)
+        bone.SetMaterial(bone.Index(i, j, k), 0.5f + 0.25f * float((i + 2 * j + 3 * k) % 3));
+  bm::test::Feed tilted;
+  tilted.frames = 120;
+  tilted.axis = Eigen::Vector3d(0.25, 0.1, 1.0).normalized();
+  tilted.entry = Eigen::Vector3d(0.3, -0.2, 0.0);
+  const Eigen::Matrix3d rot = bm::test::FeedRotation(tilted);
+  const double zf = bm::ForemostCuttingZ(drill);
+  std::vector<bm::FrameInput> in;
+  for (int k = 0; k < tilted.frames; ++k) {
+    const double depth = tilted.startDepthMm + tilted.stepMm * (k + 1);
+    bm::FrameInput f;
+    f.rotation = rot;
+    f.position = tilted.entry - tilted.axis * depth - rot * Eigen::Vector3d(0, 0, zf);
+    f.motion = -tilted.axis * tilted.stepMm;
+    f.feedMmPerRev = tilted.feedMmPerRev;
+    f.speedRpm = tilted.speedRpm;
+    in.push_back(f);
+  }
+  Totals t;
+  EXPECT_EQ(ExpectSameFrames(bone, drill, shell, in, "materials", t), tilted.frames - 1);
+  EXPECT_GT(t.removedVoxels, 100);
+  EXPECT_GT(t.engaged, 1000);
 }
 
 // An instantaneous shell turns with the spindle: A changes every frame, so every frame runs the
