@@ -25,13 +25,7 @@ double RoundingMargin(double m) {
 
 IncrementalPass::IncrementalPass(const PointShell& shell)
     : Shell_(shell), Lists_(shell.Blocks().size()), ListFrame_(shell.Blocks().size(), 0),
-      KeysGen_(shell.Blocks().size(), 0), MaxAbsT_(shell.Blocks().size()), Pos_(shell.Size(), -1),
-      Stamp_(shell.Size(), 0) {
-  for (int a = 0; a < 3; ++a) {
-    Key_[size_t(a)].resize(shell.Size());
-    Id_[size_t(a)].resize(shell.Size());
-  }
-}
+      Keys_(shell.Blocks().size()), Pos_(shell.Size(), -1), Stamp_(shell.Size(), 0) {}
 
 void IncrementalPass::FullPassRan(const FrameGeometry& G) {
   HavePrev_ = true;
@@ -40,41 +34,44 @@ void IncrementalPass::FullPassRan(const FrameGeometry& G) {
 }
 
 void IncrementalPass::EnsureKeys(size_t bi, const FrameGeometry& G) {
-  if (KeysGen_[bi] == AGen_ + 1)
+  BlockKeys& K = Keys_[bi];
+  if (K.gen == AGen_ + 1)
     return;
   const ShellBlock& blk = Shell_.Blocks()[bi];
+  const size_t size = blk.end - blk.begin;
   const uint64_t* codes = Shell_.Codes().data();
   const float* A = G.A.data();
+  std::array<std::vector<float>, 3> unsorted;
+  for (auto& u : unsorted)
+    u.resize(size);
   alignas(64) float x[kBatch], y[kBatch], z[kBatch];
   std::array<float, 3> maxT{0, 0, 0};
   for (uint32_t base = blk.begin; base < blk.end; base += kBatch) {
     const int n = int(std::min<uint32_t>(blk.end - base, kBatch));
     ElementCoordsOf(codes + base, n, x, y, z);
     for (int q = 0; q < n; ++q)
-      for (int a = 0; a < 3; ++a) {
+      for (size_t a = 0; a < 3; ++a) {
         // VoxelsOf's sum before "+ b", in its order (no FMA: -ffp-contract=off, -mno-fma).
         const float t = A[3 * a] * x[q] + A[3 * a + 1] * y[q] + A[3 * a + 2] * z[q];
         const double u = double(t) + 0.5; // exact
-        const uint32_t e = base + uint32_t(q);
-        Key_[size_t(a)][e] = float(u - std::floor(u));
-        Id_[size_t(a)][e] = e;
-        maxT[size_t(a)] = std::max(maxT[size_t(a)], std::abs(t));
+        unsorted[a][base - blk.begin + uint32_t(q)] = float(u - std::floor(u));
+        maxT[a] = std::max(maxT[a], std::abs(t));
       }
   }
-  for (int a = 0; a < 3; ++a) {
-    float* key = Key_[size_t(a)].data();
-    uint32_t* id = Id_[size_t(a)].data();
-    std::vector<uint32_t> order(blk.end - blk.begin);
-    std::iota(order.begin(), order.end(), blk.begin);
-    std::sort(order.begin(), order.end(), [&](uint32_t p, uint32_t q) { return key[p] < key[q]; });
-    std::vector<float> sorted(order.size());
-    for (size_t k = 0; k < order.size(); ++k)
-      sorted[k] = key[order[k]];
-    std::copy(sorted.begin(), sorted.end(), key + blk.begin);
-    std::copy(order.begin(), order.end(), id + blk.begin);
+  for (size_t a = 0; a < 3; ++a) {
+    const std::vector<float>& key = unsorted[a];
+    std::vector<uint32_t>& id = K.id[a];
+    id.resize(size);
+    std::iota(id.begin(), id.end(), 0u);
+    std::sort(id.begin(), id.end(), [&](uint32_t p, uint32_t q) { return key[p] < key[q]; });
+    K.key[a].resize(size);
+    for (size_t k = 0; k < size; ++k) {
+      K.key[a][k] = key[id[k]];
+      id[k] += blk.begin;
+    }
   }
-  MaxAbsT_[bi] = maxT;
-  KeysGen_[bi] = AGen_ + 1;
+  K.maxAbsT = maxT;
+  K.gen = AGen_ + 1;
 }
 
 IncrementalPass::Engaged IncrementalPass::Entry(uint32_t e, int64_t idx, int32_t brick,
@@ -146,7 +143,8 @@ void IncrementalPass::VisitWindows(size_t bi, const Frame& f, const Voxmap& bone
       continue; // every g_a is the same float as before
     // The boundary of the voxel steps sits at key == -b (mod 1); from b_old to b_new it sweeps
     // the circular window of width |db| centred at -(b_old + db / 2).
-    const double m = double(MaxAbsT_[bi][size_t(a)]) + std::max(std::abs(bOld), std::abs(bNew));
+    const BlockKeys& K = Keys_[bi];
+    const double m = double(K.maxAbsT[size_t(a)]) + std::max(std::abs(bOld), std::abs(bNew));
     const double half = std::abs(db) / 2 + RoundingMargin(m);
     if (half >= 0.5) { // the window covers every key
       VisitAll(bi, f, bone, true);
@@ -156,12 +154,12 @@ void IncrementalPass::VisitWindows(size_t bi, const Frame& f, const Voxmap& bone
     double centre = -(bOld + db / 2);
     centre -= std::floor(centre);
     const double lo = centre - half, hi = centre + half;
-    const float* k0 = Key_[size_t(a)].data() + blk.begin;
-    const float* k1 = Key_[size_t(a)].data() + blk.end;
-    const uint32_t* id = Id_[size_t(a)].data();
+    const float* k0 = K.key[size_t(a)].data();
+    const float* k1 = k0 + K.key[size_t(a)].size();
+    const uint32_t* id = K.id[size_t(a)].data();
     auto take = [&](const float* from, const float* to) {
       for (const float* k = from; k < to; ++k) {
-        const uint32_t e = id[size_t(k - Key_[size_t(a)].data())];
+        const uint32_t e = id[k - k0];
         if (Stamp_[e] != f.frameNo) {
           Stamp_[e] = f.frameNo;
           Candidates_.push_back(e);

@@ -106,14 +106,19 @@ private:
   std::array<float, 9> KeysA_{};
   // Per block
   std::vector<std::vector<Engaged>> Lists_;
-  std::vector<uint32_t> ListFrame_;           ///< frame the list was last made current (0: never)
-  std::vector<uint32_t> KeysGen_;             ///< AGen_ + 1 of the keys (0: none)
-  std::vector<std::array<float, 3>> MaxAbsT_; ///< per axis, the largest |t_a| of its elements
+  std::vector<uint32_t> ListFrame_; ///< frame the list was last made current (0: never)
+  /// A block's elements sorted by key per axis, made when the block first takes the windows
+  /// under an A (only blocks near bone hold them).
+  struct BlockKeys {
+    std::array<std::vector<float>, 3> key;   ///< frac(t_a + 0.5), ascending
+    std::array<std::vector<uint32_t>, 3> id; ///< the element of each key
+    std::array<float, 3> maxAbsT{};          ///< the largest |t_a| of the block's elements
+    uint32_t gen = 0;                        ///< AGen_ + 1 of the keys (0: none)
+  };
+  std::vector<BlockKeys> Keys_;
   // Per element
-  std::vector<int32_t> Pos_;                ///< position in its block's list, -1 when not in it
-  std::vector<uint32_t> Stamp_;             ///< frame it was last recomputed in a window
-  std::array<std::vector<float>, 3> Key_;   ///< per axis, frac(t_a + 0.5), sorted per block
-  std::array<std::vector<uint32_t>, 3> Id_; ///< per axis, the element of each sorted key
+  std::vector<int32_t> Pos_;    ///< position in its block's list, -1 when not in it
+  std::vector<uint32_t> Stamp_; ///< frame it was last recomputed in a window
   std::vector<uint32_t> Candidates_;
   int64_t FramesRun_ = 0, Recomputed_ = 0;
 };
