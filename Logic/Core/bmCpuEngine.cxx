@@ -126,6 +126,10 @@ int64_t CpuEngine::IncrementalFrames() const {
   return Incremental_ ? Incremental_->FramesRun() : 0;
 }
 
+int64_t CpuEngine::IncrementalRecomputed() const {
+  return Incremental_ ? Incremental_->Recomputed() : 0;
+}
+
 void CpuEngine::ForgetIncremental() {
   if (Incremental_)
     Incremental_->Forget();

@@ -119,6 +119,9 @@ public:
   int Threads() const { return Pool_.Threads(); }
   /// Frames the incremental pass ran (the others ran the full pass).
   int64_t IncrementalFrames() const;
+  /// Elements whose voxel the incremental pass recomputed in blocks visible in consecutive frames
+  /// (its windows), over all its frames; blocks newly visible are visited in full besides.
+  int64_t IncrementalRecomputed() const;
   /// Makes the next frame run the full pass. Call it after raising fills or changing materials
   /// of the bone in place (loading bone into the same voxmap): the incremental pass relies on
   /// fills only decreasing between frames and reads an element's material when it enters a voxel.

@@ -73,7 +73,7 @@ public:
   void Forget() { HavePrev_ = false; }
   /// Frames this pass has run.
   int64_t FramesRun() const { return FramesRun_; }
-  /// Elements whose voxel was recomputed in window blocks, over all frames run (for benchmarks).
+  /// Elements whose voxel was recomputed in window blocks, over all frames run.
   int64_t Recomputed() const { return Recomputed_; }
 
 private:

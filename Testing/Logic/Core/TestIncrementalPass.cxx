@@ -51,6 +51,7 @@ bm::Voxmap GlenoidVoxmap(double spacing) {
 struct Totals {
   int frames = 0, removingFrames = 0;
   int64_t removedVoxels = 0, engaged = 0, visited = 0;
+  int64_t recomputed = 0; ///< elements the incremental pass's windows took
 };
 
 // Runs `inputs` through an incremental and a full-pass engine in lockstep, asserting identical
@@ -92,6 +93,7 @@ int64_t ExpectSameFrames(const bm::Voxmap& start, const bm::ToolModel& tool,
   }
   EXPECT_TRUE(boneInc == boneFull) << what << ": final voxmaps differ";
   EXPECT_EQ(full.IncrementalFrames(), 0);
+  totals.recomputed = inc.IncrementalRecomputed();
   return inc.IncrementalFrames();
 }
 
@@ -154,11 +156,16 @@ TEST(IncrementalPass, ReamerOnTheGlenoidGivesTheFullPassResults) {
   Totals t;
   const int64_t incremental = ExpectSameFrames(bone, *reamer, shell, in, "reamer", t);
   std::printf("reamer on the glenoid: %d frames identical, %lld incremental, %lld voxels removed, "
-              "%lld engaged cutting element visits\n",
-              t.frames, (long long)incremental, (long long)t.removedVoxels, (long long)t.engaged);
+              "%lld engaged cutting element visits, %lld of %lld element visits recomputed in "
+              "windows\n",
+              t.frames, (long long)incremental, (long long)t.removedVoxels, (long long)t.engaged,
+              (long long)t.recomputed, (long long)t.visited);
   // Every frame but the first and the tilt's ran incrementally (the three frames away from the
   // bone too: every block culled; the return visits its blocks in full).
   EXPECT_EQ(incremental, int64_t(in.size()) - 2);
+  // The windows took a few elements (moves of 0.01-0.05 voxel), not every visited one.
+  EXPECT_GT(t.recomputed, 0);
+  EXPECT_LT(t.recomputed, t.visited / 10);
   EXPECT_GT(t.removedVoxels, 500); // the reamer cut: identical results prove something
   EXPECT_GT(t.engaged, 10000);
   EXPECT_GT(t.removingFrames, 150);
