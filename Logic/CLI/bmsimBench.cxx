@@ -23,6 +23,7 @@
 #include "bmAtomicFile.h"
 #include "bmBenchmark.h"
 #include "bmBoneSurface.h"
+#include "bmCpuEngine.h"
 #include "bmEdgeQuadrature.h"
 #include "bmFeedTrial.h"
 #include "bmHapticSession.h"
@@ -377,8 +378,9 @@ struct SessionRun {
 
 /// The scripted hand pushes pushN (N, at the device, scaled by the session's default force scale)
 /// along -axis from the scene's clearance above its entry point; the session runs `seconds` (s)
-/// of frames; candidates: the proxy's contact candidates (the incremental path) or none (every
-/// query scans the shell: the full pass); choose: the resolutions and threads a session chooses
+/// of frames; candidates: the incremental path (the proxy's contact candidates and the engine's
+/// incremental pass) or the full pass (every contact query scans the shell, the engine visits
+/// every element of the blocks not culled); choose: the resolutions and threads a session chooses
 /// (bmSessionGrid.h), else the scene's.
 SessionRun RunHandSession(const bm::Scene& scene, bool choose, bool candidates, double pushN,
                           double tremorN, double seconds, bool realTime, double viewIntervalMs,
@@ -400,8 +402,11 @@ SessionRun RunHandSession(const bm::Scene& scene, bool choose, bool candidates, 
   bm::MachiningSetup& setup = *built.setup;
   bm::SessionOptions o = built.options;
   o.recordCapacity = size_t(o.maxFrames) + 16;
-  if (!candidates)
+  if (!candidates) { // the full pass: every contact query scans the shell, the engine visits all
     o.proxy.candidateRadiusVoxels = 0;
+    if (auto* cpu = dynamic_cast<bm::CpuEngine*>(&setup.GetEngine()))
+      cpu->SetIncremental(false);
+  }
   bm::HapticSession session(setup, device, o);
   session.Start();
   // The live view, as the BM Session source refreshes it: the cut bone's surface re-extracted
@@ -627,9 +632,11 @@ void BenchOptions(bm::cli::ParsedArgs& p) {
           "and without the view; writes view.csv.\n"
           "--session: the scripted hand on the scene's trial axis from its clearance, at 1 kHz; "
           "runs alternate between the incremental path (contact candidates that follow the "
-          "shell's changes) and the full pass; prints frame p50 / p99 / max (ms), frames over "
-          "the period, the pauses the overrun rule (more than 5 of 100 frames) would have made, "
-          "and a checksum of forces and path that is the same for both when exact.");
+          "shell's changes, the engine's incremental pass) and the full pass; prints frame p50 "
+          "/ p99 / max (ms), frames over the period, the pauses the overrun rule (more than 5 of "
+          "100 frames) would have made, and a checksum of forces and path over the frames both "
+          "ran, the same for both when exact. Without --voxmaps and --threads it runs the "
+          "resolutions and threads a session chooses (Docs/RealTime.md).");
 }
 
 int BenchCommand(const bm::cli::ParsedArgs& p) {

@@ -135,6 +135,14 @@ void CpuEngine::ForgetIncremental() {
     Incremental_->Forget();
 }
 
+void CpuEngine::SetIncremental(bool on) {
+  Culling_.incremental = on;
+  if (!on)
+    Incremental_.reset();
+  else if (!Incremental_ && Pool_.Threads() == 1)
+    Incremental_ = std::make_unique<IncrementalPass>(Shell_); // starts with a full pass
+}
+
 int CpuEngine::ValidThreads(int threads) {
   if (threads > kMaxThreads)
     throw std::invalid_argument("CpuEngine: " + std::to_string(threads) + " threads, at most " +

@@ -126,6 +126,10 @@ public:
   /// of the bone in place (loading bone into the same voxmap): the incremental pass relies on
   /// fills only decreasing between frames and reads an element's material when it enters a voxel.
   void ForgetIncremental();
+  /// Turns the incremental pass on (where it applies) or off (the full pass every frame), from
+  /// the next frame; the results are the same (benchmarks compare the two). Turning it on again
+  /// starts with a full pass and its counters (IncrementalFrames, IncrementalRecomputed) at 0.
+  void SetIncremental(bool on);
 
 private:
   /// What one frame's pass tasks read, shared with the workers that run them (kept alive by

@@ -3,7 +3,8 @@
 // scene that has its own measurements, instead of the drilling bench's nearest cell.
 //
 // CSV columns (one row per scene, resolution, path, view and run): scene, voxmap, shell, threads,
-// path ("incremental": the proxy's contact candidates; "full": every query scans the shell), view
+// path ("incremental": the proxy's contact candidates and the engine's incremental pass; "full":
+// every contact query scans the shell and the engine visits every element not culled), view
 // (1: the live view refreshed the cut bone's surface every 33 ms meanwhile, 0: no view), run,
 // frames, p50_ms, p99_ms, max_ms, over (frames over the period), overrun_pauses (pauses the
 // default rule, > 5 of 100 frames over, would make), seconds (session time), machine, date.

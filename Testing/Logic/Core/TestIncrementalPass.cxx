@@ -274,6 +274,16 @@ TEST(IncrementalPass, FallsBackWhereItDoesNotApply) {
     feed.startDepthMm += feed.stepMm * feed.frames;
     bm::test::RunFeed(engine, drill, feed);
     EXPECT_EQ(engine.IncrementalFrames(), 2 * (feed.frames - 1));
+    // Turned off (a benchmark's full pass): no more incremental frames; on again: a full pass
+    // first, then incremental frames.
+    engine.SetIncremental(false);
+    feed.startDepthMm += feed.stepMm * feed.frames;
+    bm::test::RunFeed(engine, drill, feed);
+    EXPECT_EQ(engine.IncrementalFrames(), 0);
+    engine.SetIncremental(true);
+    feed.startDepthMm += feed.stepMm * feed.frames;
+    bm::test::RunFeed(engine, drill, feed);
+    EXPECT_EQ(engine.IncrementalFrames(), feed.frames - 1);
   }
 }
 
