@@ -35,6 +35,19 @@ void FramePartial::Clear() {
     r.Clear();
 }
 
+void FramePartial::SetSums(int64_t thrustSum, int64_t torqueSum, int64_t fxSum, int64_t fySum,
+                           int64_t visitedCount, int64_t engagedCount, int64_t engagedCuttingCount,
+                           int64_t requestedUnits) {
+  thrust = thrustSum;
+  torque = torqueSum;
+  fx = fxSum;
+  fy = fySum;
+  visited = visitedCount;
+  engaged = engagedCount;
+  engagedCutting = engagedCuttingCount;
+  requested = requestedUnits;
+}
+
 void FramePartial::Add(const FramePartial& o) {
   thrust += o.thrust;
   torque += o.torque;
@@ -368,14 +381,7 @@ void CpuEngine::RunPassTask(const PassJob& job, int task, int thread) {
           lists[p].SetEnd(ends[p]);
     }
   }
-  P.thrust = thrust;
-  P.torque = torque;
-  P.fx = fx;
-  P.fy = fy;
-  P.visited = visited;
-  P.engaged = engagedCount;
-  P.engagedCutting = engagedCutting;
-  P.requested = requested;
+  P.SetSums(thrust, torque, fx, fy, visited, engagedCount, engagedCutting, requested);
 }
 
 } // namespace bm

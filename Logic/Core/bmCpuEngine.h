@@ -102,6 +102,10 @@ struct alignas(64) FramePartial {
   void Clear();
   /// Adds o's counts and sums (not its removals).
   void Add(const FramePartial& o);
+  /// Stores a pass's sums and counts (kept in registers while it runs).
+  void SetSums(int64_t thrustSum, int64_t torqueSum, int64_t fxSum, int64_t fySum,
+               int64_t visitedCount, int64_t engagedCount, int64_t engagedCuttingCount,
+               int64_t requestedUnits);
 };
 
 class CpuEngine final : public Engine {

@@ -262,14 +262,7 @@ void IncrementalPass::Run(const Frame& f, const Voxmap& bone, const CullingOptio
     if (remove)
       requests.SetEnd(w);
   }
-  P.thrust = thrust;
-  P.torque = torque;
-  P.fx = fx;
-  P.fy = fy;
-  P.visited = visited;
-  P.engaged = engagedCount;
-  P.engagedCutting = engagedCutting;
-  P.requested = requested;
+  P.SetSums(thrust, torque, fx, fy, visited, engagedCount, engagedCutting, requested);
   PrevA_ = G.A;
   PrevB_ = G.b;
   HavePrev_ = true;

@@ -22,31 +22,11 @@
 #include "bmCpuEngine.h"
 #include "bmEdgeQuadrature.h"
 #include "bmPointShell.h"
+#include "../Session/bmTestGlenoid.h"
 #include "bmTestFeed.h"
 #include "bmToolModel.h"
 
 namespace {
-
-// The phantom's glenoid (vault cut 12 mm behind the face) at voxel spacing `spacing` (mm).
-bm::Voxmap GlenoidVoxmap(double spacing) {
-  using namespace bm::glenoid;
-  const double rim = kRc - std::sqrt(kRc * kRc - kA * kA);
-  const std::array<double, 3> lo{-kA - spacing, -kB - spacing, -12.0 - spacing};
-  const std::array<double, 3> hi{kA + spacing, kB + spacing, rim + spacing};
-  std::array<int, 3> dims{};
-  for (size_t a = 0; a < 3; ++a)
-    dims[a] = int(std::ceil((hi[a] - lo[a]) / spacing)) + 1;
-  bm::Voxmap v(dims, spacing, lo);
-  for (int k = 0; k < dims[2]; ++k)
-    for (int j = 0; j < dims[1]; ++j)
-      for (int i = 0; i < dims[0]; ++i) {
-        const auto w = v.GridToWorld({double(i), double(j), double(k)});
-        if (IsBone(w[0], w[1], w[2], 12.0))
-          v.SetFill(v.Index(i, j, k), bm::Voxmap::kFull);
-      }
-  v.RebuildOccupancy();
-  return v;
-}
 
 struct Totals {
   int frames = 0, removingFrames = 0;
@@ -112,7 +92,8 @@ bm::FrameInput Pose(const Eigen::Matrix3d& rot, const Eigen::Vector3d& pos,
 TEST(IncrementalPass, ReamerOnTheGlenoidGivesTheFullPassResults) {
   const auto reamer = bm::MakeTool(nlohmann::json{{"type", "reamer"}});
   const bm::PointShell shell = bm::PointShell::Build(*reamer, 128);
-  const bm::Voxmap bone = GlenoidVoxmap(41.25 / 96); // the glenoid scene's voxmap 96
+  const bm::Voxmap bone =
+      bmtest::AnalyticGlenoidVoxmap(41.25 / 96); // the glenoid scene's voxmap 96
   const double zf = bm::ForemostCuttingZ(*reamer);
   // Along the glenoid's axis (world z out of the face): the lips' foremost point 0.1 mm above the
   // face centre, then down 0.004 mm a frame (0.01 voxel) with a lateral wobble of 0.02 mm.
