@@ -100,8 +100,10 @@ void qBMSessionWidgetPrivate::init() {
 
 void qBMSessionWidgetPrivate::initDevice() {
   Q_Q(qBMSessionWidget);
-  this->DeviceComboBox->addItem(qBMSessionWidget::tr("Scripted"),
+  this->DeviceComboBox->addItem(qBMSessionWidget::tr("Scripted robot"),
                                 int(vtkBMSessionSource::SCRIPTED));
+  this->DeviceComboBox->addItem(qBMSessionWidget::tr("Scripted hand"),
+                                int(vtkBMSessionSource::HAND));
   this->DeviceComboBox->addItem(qBMSessionWidget::tr("Mouse proxy"),
                                 int(vtkBMSessionSource::MOUSE));
   this->DeviceComboBox->addItem(qBMSessionWidget::tr("Touch (OpenHaptics)"),

@@ -228,6 +228,7 @@ ContactResult KimParkContact::Query(const Eigen::Matrix3d& R, const Eigen::Vecto
   const double kPoint = KA_ * h * h;
   const Eigen::Matrix3d Rt = R.transpose();
   Eigen::Vector3d nsum = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d jacobianT = Eigen::Matrix3d::Zero(); // sum k_i N_i grad d_i^T, grad in T
   const double unknown = -std::numeric_limits<double>::infinity();
   // Adds the point's push; returns its distance (mm) where the field interpolated it, else -inf.
   auto visit = [&](const Eigen::Vector3d& position, const Eigen::Vector3d& normal, float material) {
@@ -242,7 +243,7 @@ ContactResult KimParkContact::Query(const Eigen::Matrix3d& R, const Eigen::Vecto
       return d == Sdf_.Far() ? unknown : d;
     const double k = kPoint * material;
     out.force += k * pen * normal;
-    out.jacobian += k * normal * (R * g).transpose();
+    jacobianT += (k * normal) * g.transpose();
     nsum += pen * normal;
     out.maxDepthMm = std::max(out.maxDepthMm, pen);
     ++out.points;
@@ -300,6 +301,7 @@ ContactResult KimParkContact::Query(const Eigen::Matrix3d& R, const Eigen::Vecto
     Shell_.ForEachIn(lo, hi,
                      [&](const SurfacePoint& sp) { visit(sp.position, sp.normal, sp.material); });
   }
+  out.jacobian = jacobianT * Rt; // (R grad)^T = grad^T R^T: R applied once, not per point
   const double n = nsum.norm();
   if (n > 0)
     out.normal = nsum / n;

@@ -122,7 +122,7 @@ Eigen::Vector3d Proxy::Relax(Eigen::Vector3d p, const Eigen::Vector3d& xd,
     if (n > maxStep)
       dx *= maxStep / n;
     p += dx;
-    if (n < 1e-9)
+    if (n < O_.relaxToleranceMm)
       break;
   }
   return p;

@@ -61,9 +61,13 @@ struct ProxyOptions {
   Rendering rendering = Rendering::Coupled;
   CouplingOptions coupling;              ///< K, B (defaults: device nominal K, B = K T)
   double contactStiffnessPerArea = 2000; ///< k_A of the rigid contact, N/mm^3
-  int sdfResolution = 256;     ///< tool distance field: cells along the tool's longest side
-  double maxStepVoxels = 0.5;  ///< longest proxy step toward bone, voxels
-  int maxIterations = 24;      ///< equilibrium iterations per frame
+  int sdfResolution = 256;    ///< tool distance field: cells along the tool's longest side
+  double maxStepVoxels = 0.5; ///< longest proxy step toward bone, voxels
+  int maxIterations = 24;     ///< equilibrium iterations per frame
+  /// The equilibrium solve stops once its step is shorter than this, mm (default 1e-6: a
+  /// nanometre moves the device force by micronewtons; a seated reamer's solve then takes two
+  /// contact queries where it took three, each over thousands of points in contact).
+  double relaxToleranceMm = 1e-6;
   double deadBandVoxels = 1.0; ///< Cutting: lateral contact dead band, voxels
   /// Cutting: the largest feed the proxy cuts at, mm/rev (default 1.0, the top of the feed-balance
   /// table). It bounds the advance per frame to f n T / 60, so that a device far ahead of the proxy

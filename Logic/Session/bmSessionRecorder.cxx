@@ -32,6 +32,7 @@ nlohmann::json SessionOptionsToJson(const SessionOptions& o, const DeviceLimits&
           {"sdf_resolution", p.sdfResolution},
           {"max_step_voxels", p.maxStepVoxels},
           {"max_iterations", p.maxIterations},
+          {"relax_tolerance_mm", p.relaxToleranceMm},
           {"dead_band_voxels", p.deadBandVoxels},
           {"kim_cut_depth_voxels", p.kimCutDepthVoxels},
           {"lateral_average_revolutions", p.lateralAverageRevolutions},
@@ -101,6 +102,8 @@ SessionOptions SessionOptionsFromJson(const nlohmann::json& j, DeviceLimits& l) 
   p.sdfResolution = int(Field(j, "sdf_resolution", p.sdfResolution, 8, 512, where));
   p.maxStepVoxels = Field(j, "max_step_voxels", p.maxStepVoxels, 0, 100, where, true);
   p.maxIterations = int(Field(j, "max_iterations", p.maxIterations, 1, 1000, where));
+  // Older recordings: the solve stopped at steps under 1e-9 mm.
+  p.relaxToleranceMm = Field(j, "relax_tolerance_mm", 1e-9, 0, 1, where);
   p.deadBandVoxels = Field(j, "dead_band_voxels", p.deadBandVoxels, 0, 100, where);
   p.kimCutDepthVoxels = Field(j, "kim_cut_depth_voxels", p.kimCutDepthVoxels, 0, 100, where);
   // Older recordings: the lateral force acted frame by frame.

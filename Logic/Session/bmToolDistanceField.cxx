@@ -51,9 +51,9 @@ ToolDistanceField::ToolDistanceField(const ToolModel& tool, int resolution, int 
     LeadLo_ = Eigen::Vector3d(-leadRho - Far_, -leadRho - Far_, leadZLo - Far_);
     LeadHi_ = Eigen::Vector3d(leadRho + Far_, leadRho + Far_, leadZHi + Far_);
   }
-  // 2D table over (rho, z) at half the 3D spacing.
+  // The table over (rho, z) at half the box's spacing, read by bilinear interpolation.
   const double h2 = H_ / 2;
-  const double rMax = R * std::sqrt(2.0) + 2 * Far_;
+  const double rMax = (R + Far_ + H_) * std::sqrt(2.0) + H_; // the box's corners, and a cell
   const int nr = int(std::ceil(rMax / h2)) + 2;
   const double z0 = zr[0] - Far_ - H_;
   const int nz = int(std::ceil((zr[1] - zr[0] + 2 * Far_ + 2 * H_) / h2)) + 2;
@@ -66,52 +66,35 @@ ToolDistanceField::ToolDistanceField(const ToolModel& tool, int resolution, int 
       LeadingTable_[size_t(k) * nr + i] = Leading_[seg] ? int32_t(seg) : -1;
     }
   TableStep_ = h2;
+  InvStep_ = 1 / h2;
   TableZ0_ = z0;
   TableNr_ = nr;
   TableNz_ = nz;
-  auto table = [&](double rho, double z) {
-    const double u = rho / h2, w = (z - z0) / h2;
-    const int i = std::clamp(int(u), 0, nr - 2), k = std::clamp(int(w), 0, nz - 2);
-    const double a = u - i, c = w - k;
-    const double* r0 = &t[size_t(k) * nr + i];
-    const double* r1 = r0 + nr;
-    return (1 - c) * ((1 - a) * r0[0] + a * r0[1]) + c * ((1 - a) * r1[0] + a * r1[1]);
-  };
+  T_.swap(t);
   Lo_ = {-R - Far_, -R - Far_, zr[0] - Far_};
   Hi_ = {R + Far_, R + Far_, zr[1] + Far_};
   for (int a = 0; a < 3; ++a)
     Dims_[a] = int(std::ceil((Hi_(a) - Lo_(a)) / H_)) + 1;
   Hi_ = Lo_ + H_ * Eigen::Vector3d(Dims_[0] - 1, Dims_[1] - 1, Dims_[2] - 1);
-  D_.resize(size_t(Dims_[0]) * Dims_[1] * Dims_[2]);
-  for (int k = 0; k < Dims_[2]; ++k)
-    for (int j = 0; j < Dims_[1]; ++j)
-      for (int i = 0; i < Dims_[0]; ++i) {
-        const double x = Lo_(0) + i * H_, y = Lo_(1) + j * H_, z = Lo_(2) + k * H_;
-        D_[size_t(i) + size_t(Dims_[0]) * (size_t(j) + size_t(Dims_[1]) * k)] =
-            float(table(std::hypot(x, y), z));
-      }
-  const size_t sy = size_t(Dims_[0]), sz = sy * size_t(Dims_[1]);
-  double maxDiff[3] = {0, 0, 0};
-  for (int k = 0; k < Dims_[2]; ++k)
-    for (int j = 0; j < Dims_[1]; ++j)
-      for (int i = 0; i < Dims_[0]; ++i) {
-        const size_t v = size_t(i) + sy * size_t(j) + sz * size_t(k);
-        const double d = D_[v];
-        if (i + 1 < Dims_[0])
-          maxDiff[0] = std::max(maxDiff[0], std::abs(double(D_[v + 1]) - d));
-        if (j + 1 < Dims_[1])
-          maxDiff[1] = std::max(maxDiff[1], std::abs(double(D_[v + sy]) - d));
-        if (k + 1 < Dims_[2])
-          maxDiff[2] = std::max(maxDiff[2], std::abs(double(D_[v + sz]) - d));
-      }
-  Lipschitz_ =
-      std::sqrt(maxDiff[0] * maxDiff[0] + maxDiff[1] * maxDiff[1] + maxDiff[2] * maxDiff[2]) / H_;
+  // Every point of the box has rho <= |(Hi_0, Hi_1)| < rMax and z in the table's range, so the
+  // cells Sample reads there are the table's own (no clamping inside the box).
+  double maxDiffRho = 0, maxDiffZ = 0;
+  for (int k = 0; k < nz; ++k)
+    for (int i = 0; i < nr; ++i) {
+      const double d = T_[size_t(k) * nr + i];
+      if (i + 1 < nr)
+        maxDiffRho = std::max(maxDiffRho, std::abs(T_[size_t(k) * nr + i + 1] - d));
+      if (k + 1 < nz)
+        maxDiffZ = std::max(maxDiffZ, std::abs(T_[size_t(k + 1) * nr + i] - d));
+    }
+  // Bilinear in (rho, z): each partial derivative is a convex combination of the cell's edge
+  // differences over the step, and rho is 1-Lipschitz in q, so this bounds the slope in q.
+  Lipschitz_ = std::sqrt(maxDiffRho * maxDiffRho + maxDiffZ * maxDiffZ) / h2;
 }
 
 bool ToolDistanceField::InGrid(const Eigen::Vector3d& q) const {
-  const Eigen::Vector3d g = (q - Lo_) / H_;
-  return g(0) >= 0 && g(1) >= 0 && g(2) >= 0 && g(0) < Dims_[0] - 1 && g(1) < Dims_[1] - 1 &&
-         g(2) < Dims_[2] - 1;
+  return q(0) >= Lo_(0) && q(1) >= Lo_(1) && q(2) >= Lo_(2) && q(0) < Hi_(0) && q(1) < Hi_(1) &&
+         q(2) < Hi_(2);
 }
 
 size_t ToolDistanceField::Nearest(double rho, double z, double& dist2) const {
@@ -166,48 +149,43 @@ double ToolDistanceField::Signed(double rho, double z, size_t& segment) const {
   return inside ? -d : d;
 }
 
-bool ToolDistanceField::Corners(const Eigen::Vector3d& q, double v[8], double& a, double& b,
-                                double& c) const {
-  const Eigen::Vector3d g = (q - Lo_) / H_;
-  if (!(g(0) >= 0 && g(1) >= 0 && g(2) >= 0 && g(0) < Dims_[0] - 1 && g(1) < Dims_[1] - 1 &&
-        g(2) < Dims_[2] - 1))
+bool ToolDistanceField::Cell(const Eigen::Vector3d& q, double& rho, const double*& r0, double& a,
+                             double& c) const {
+  if (!InGrid(q))
     return false;
-  const int i = int(g(0)), j = int(g(1)), k = int(g(2));
-  a = g(0) - i;
-  b = g(1) - j;
-  c = g(2) - k;
-  const size_t sx = 1, sy = size_t(Dims_[0]), sz = size_t(Dims_[0]) * Dims_[1];
-  const float* p = &D_[size_t(i) + sy * j + sz * k];
-  // v[x + 2 y + 4 z] is the corner (x, y, z) of the cell.
-  v[0] = p[0], v[1] = p[sx], v[2] = p[sy], v[3] = p[sx + sy];
-  v[4] = p[sz], v[5] = p[sx + sz], v[6] = p[sy + sz], v[7] = p[sx + sy + sz];
+  rho = std::sqrt(q(0) * q(0) + q(1) * q(1));
+  const double u = rho * InvStep_, w = (q(2) - TableZ0_) * InvStep_;
+  const int i = std::min(int(u), TableNr_ - 2), k = std::min(int(w), TableNz_ - 2);
+  a = u - i;
+  c = w - k;
+  r0 = &T_[size_t(k) * TableNr_ + i];
   return true;
 }
 
 double ToolDistanceField::Sample(const Eigen::Vector3d& q, Eigen::Vector3d& grad) const {
-  double v[8], a, b, c;
-  if (!Corners(q, v, a, b, c)) {
+  double rho, a, c;
+  const double* r0;
+  if (!Cell(q, rho, r0, a, c)) {
     grad.setZero();
     return Far_;
   }
-  const double v00 = v[0] + a * (v[1] - v[0]), v10 = v[2] + a * (v[3] - v[2]);
-  const double v01 = v[4] + a * (v[5] - v[4]), v11 = v[6] + a * (v[7] - v[6]);
-  const double v0 = v00 + b * (v10 - v00), v1 = v01 + b * (v11 - v01);
-  const double dx0 = (1 - b) * (v[1] - v[0]) + b * (v[3] - v[2]),
-               dx1 = (1 - b) * (v[5] - v[4]) + b * (v[7] - v[6]);
-  grad(0) = ((1 - c) * dx0 + c * dx1) / H_;
-  grad(1) = ((1 - c) * (v10 - v00) + c * (v11 - v01)) / H_;
-  grad(2) = (v1 - v0) / H_;
+  const double* r1 = r0 + TableNr_;
+  const double v0 = r0[0] + a * (r0[1] - r0[0]), v1 = r1[0] + a * (r1[1] - r1[0]);
+  const double dRho = ((1 - c) * (r0[1] - r0[0]) + c * (r1[1] - r1[0])) * InvStep_;
+  const double s = rho > 0 ? dRho / rho : 0.0; // on the axis the field is flat across it
+  grad(0) = s * q(0);
+  grad(1) = s * q(1);
+  grad(2) = (v1 - v0) * InvStep_;
   return v0 + c * (v1 - v0);
 }
 
 double ToolDistanceField::Value(const Eigen::Vector3d& q) const {
-  double v[8], a, b, c;
-  if (!Corners(q, v, a, b, c))
+  double rho, a, c;
+  const double* r0;
+  if (!Cell(q, rho, r0, a, c))
     return Far_;
-  const double v00 = v[0] + a * (v[1] - v[0]), v10 = v[2] + a * (v[3] - v[2]);
-  const double v01 = v[4] + a * (v[5] - v[4]), v11 = v[6] + a * (v[7] - v[6]);
-  const double v0 = v00 + b * (v10 - v00), v1 = v01 + b * (v11 - v01);
+  const double* r1 = r0 + TableNr_;
+  const double v0 = r0[0] + a * (r0[1] - r0[0]), v1 = r1[0] + a * (r1[1] - r1[0]);
   return v0 + c * (v1 - v0);
 }
 

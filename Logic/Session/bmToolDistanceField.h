@@ -1,9 +1,12 @@
 // bmToolDistanceField.h - the tool as a signed distance field (Kim, Park & Park 2008 section 2.2).
 //
 // The tool is a solid of revolution (bmToolModel.h), so its exact signed distance is a function of
-// (rho, z): the distance to the half-section outline, negative inside. It is tabulated on a fine 2D
-// grid, then sampled onto a 3D grid in the tool frame that the contact model reads with trilinear
-// interpolation (value and its analytic gradient), as Kim et al. read theirs. Unlike Kim et al.,
+// (rho, z): the distance to the half-section outline, negative inside. It is tabulated on a 2D
+// grid over (rho, z) and read by bilinear interpolation there (value and its analytic gradient,
+// carried back to the tool frame through rho = |(x, y)|). Kim et al. read a 3D grid trilinearly;
+// for a tool of revolution the 2D table is finer for the same memory, and its 4 corners (under a
+// megabyte for the whole table) stay in cache where a 3D grid's 8 (tens of megabytes) do not, which
+// is most of a seated reamer's contact query (Docs/RealTime.md). Unlike Kim et al.,
 // who model only the tip as a cone that includes the drill's flutes, the whole modelled tool is
 // covered (the time-averaged envelope), so the shank meets the hole wall too.
 //
@@ -42,8 +45,9 @@ public:
   /// Tool-frame box covered by the grid, mm.
   const Eigen::Vector3d& Lo() const { return Lo_; }
   const Eigen::Vector3d& Hi() const { return Hi_; }
-  /// Signed distance (mm, < 0 inside the tool) at tool-frame point q (mm), trilinear; gradient
-  /// (unit-less) in `grad`. Outside the grid: returns Far() and a zero gradient.
+  /// Signed distance (mm, < 0 inside the tool) at tool-frame point q (mm), bilinear in (rho, z);
+  /// gradient (unit-less) in `grad` (on the axis: along it). Outside the grid's box: returns Far()
+  /// and a zero gradient.
   double Sample(const Eigen::Vector3d& q, Eigen::Vector3d& grad) const;
   /// Sample's value alone (mm), without the gradient: equal to it up to rounding (the arithmetic
   /// may contract differently), for bounds that keep a margin.
@@ -54,9 +58,9 @@ public:
   bool InGrid(const Eigen::Vector3d& q) const;
   /// Lipschitz bound of Sample inside the grid (unit-less, mm per mm): |Sample(q) - Sample(q')| <=
   /// LipschitzBound() |q - q'| for q, q' both InGrid (the grid is a box, so the segment between
-  /// them is too). Each component of the trilinear gradient is a convex combination of the cells'
-  /// edge differences along that axis, so the bound is the norm of the largest edge difference per
-  /// axis over the spacing, taken from the grid at construction.
+  /// them is too). Each component of the bilinear gradient in (rho, z) is a convex combination of
+  /// the cells' edge differences along that axis, and q -> (rho, z) is 1-Lipschitz, so the bound is
+  /// the norm of the largest edge difference per axis over the step, taken from the table.
   double LipschitzBound() const { return Lipschitz_; }
   /// Exact signed distance from the outline (mm) at radius rho and height z (for tests).
   double Exact(double rho, double z) const;
@@ -75,9 +79,10 @@ public:
   bool Has(ToolPart part) const;
 
 private:
-  /// The eight samples of the grid cell holding tool-frame point q (mm) and q's fractions in it;
-  /// false outside the grid.
-  bool Corners(const Eigen::Vector3d& q, double v[8], double& a, double& b, double& c) const;
+  /// For tool-frame point q (mm) in the grid's box: its radius rho (mm), the table cell holding
+  /// (rho, z) (r0: its corner (i, k); r0 + TableNr_ the row above) and the fractions a (along rho)
+  /// and c (along z) in it; false outside the box.
+  bool Cell(const Eigen::Vector3d& q, double& rho, const double*& r0, double& a, double& c) const;
   /// Index of the outline segment nearest to (rho, z) and its squared distance (mm^2).
   size_t Nearest(double rho, double z, double& dist2) const;
   /// Exact(rho, z), with the nearest segment's index in `segment`.
@@ -88,13 +93,13 @@ private:
   std::vector<int32_t> LeadingTable_; // nearest segment if it is leading, else -1; (rho, z) grid
   std::vector<double> SegmentRhoMax_; // per segment: outer radius of its run of leading ones, mm
   Eigen::Vector3d LeadLo_ = Eigen::Vector3d::Zero(), LeadHi_ = Eigen::Vector3d::Zero();
-  double TableStep_ = 0, TableZ0_ = 0;
+  double TableStep_ = 0, InvStep_ = 0, TableZ0_ = 0;
   int TableNr_ = 0, TableNz_ = 0;
   const ToolModel* Tool_ = nullptr;
   double H_ = 0, Far_ = 0, Lipschitz_ = 0;
   Eigen::Vector3d Lo_ = Eigen::Vector3d::Zero(), Hi_ = Eigen::Vector3d::Zero();
-  std::array<int, 3> Dims_{0, 0, 0};
-  std::vector<float> D_;
+  std::array<int, 3> Dims_{0, 0, 0}; // the box's cells at spacing H_ (Hi_ = Lo_ + H_ (Dims_ - 1))
+  std::vector<double> T_;            // signed distance, mm, on the (rho, z) table's nodes
 };
 
 } // namespace bm

@@ -238,8 +238,11 @@ bool vtkBMSessionSource::Start() {
                      : this->DeviceType == TOUCH ? bm::SessionDevice::Touch
                      : this->DeviceType == HAND  ? bm::SessionDevice::Scripted
                                                  : bm::SessionDevice::Robot;
-    if (this->DeviceType == HAND)
+    if (this->DeviceType == HAND) {
       request.mode = bm::ScriptMode::Hand;
+      if (this->MaxFrames < 0)
+        request.durationS = 60; // the benchmark's hand-like trial (Docs/RealTime.md)
+    }
     request.realTime = this->RealTime;
     request.maxFrames = this->MaxFrames >= 0 ? this->MaxFrames : -1;
     request.mouseDepthMm = this->ToolDepth;

@@ -23,14 +23,15 @@
 // The session is built as every session is (bm::ApplyOverrides, bm::BuildSession; Docs/Session.md,
 // "Building a session"). Devices: SCRIPTED feeds the tool along the scene's axis at its feed and
 // speed from the trial's clearance above the entry (a robot-driven trial, to its depth,
-// bm::SessionDevice::Robot); MOUSE is a programmable device whose pose follows SetToolDepth() (mm of
-// the foremost cutting point below the scene's entry point along its axis), the mouse proxy of the
-// panel for users without a Touch; TOUCH is a 3D Systems Touch through OpenHaptics
+// bm::SessionDevice::Robot); MOUSE is a programmable device whose pose follows SetToolDepth() (mm
+// of the foremost cutting point below the scene's entry point along its axis), the mouse proxy of
+// the panel for users without a Touch; TOUCH is a 3D Systems Touch through OpenHaptics
 // (bm::TouchDevice, libHD loaded at Start(); ProbeTouch() says whether it can be opened and why
 // not), its workspace centre placed 10 mm above the entry point along the axis; HAND is the
 // scripted hand on a simulated Touch (bm::SessionDevice::Scripted, bm::ScriptMode::Hand: a 2.5 N
-// push rising over 0.5 s with lateral tremor, force scale bm::kDefaultSessionForceScale; 2 s of
-// session unless MaxFrames says otherwise), for tests and demonstrations without a device.
+// push rising over 0.5 s with lateral tremor, force scale bm::kDefaultSessionForceScale; 60 s of
+// session, the benchmark's hand-like trial, unless MaxFrames says otherwise), for tests and
+// demonstrations without a device.
 //
 // The scene's tool, force model and bone can be overridden: SetTool() (a tool specification, as
 // vtkBMToolSource::GetToolSpecification() gives it), SetMethod() and SetBoneFile() (a voxmap
@@ -144,7 +145,7 @@ public:
   vtkBooleanMacro(RealTime, bool);
   ///@}
   ///@{
-  /// Pause after this many frames (< 0, default: the scripted trial's length, 2 s with HAND; no
+  /// Pause after this many frames (< 0, default: the scripted trial's length, 60 s with HAND; no
   /// limit with MOUSE or TOUCH).
   vtkSetMacro(MaxFrames, vtkIdType);
   vtkGetMacro(MaxFrames, vtkIdType);

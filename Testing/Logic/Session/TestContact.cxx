@@ -12,10 +12,11 @@
 #include "bmProxy.h"
 #include "bmSessionTestUtil.h"
 #include "bmToolDistanceField.h"
+#include "bmToolModel.h"
 
 namespace {
 
-TEST(ToolDistanceField, MatchesTheSphereOfABurrWithTrilinearLookup) {
+TEST(ToolDistanceField, MatchesTheSphereOfABurr) {
   const bm::ArcLipTool burr(bm::ArcLipTool::Burr(0.5));
   const bm::ToolDistanceField sdf(burr, 128);
   // Below the equator the burr is a sphere of radius 0.5 centred at z = 0.5.
@@ -32,6 +33,53 @@ TEST(ToolDistanceField, MatchesTheSphereOfABurrWithTrilinearLookup) {
   sdf.Sample({0.0, 0.0, 0.05}, g); // just inside the bottom: the gradient points down and out
   EXPECT_LT(g(2), -0.9);
   EXPECT_EQ(sdf.Sample({10, 0, 0}, g), sdf.Far());
+}
+
+TEST(ToolDistanceField, TheReamersFieldFollowsTheOutlineWithinItsLipschitzBound) {
+  // The field is bilinear in (rho, z) on a table at half the box's spacing: within a quarter of
+  // the spacing of the exact outline distance, its gradient the derivative of its value, and no
+  // two points differ by more than the Lipschitz bound times their distance (the bound the
+  // contact's candidate keys rely on).
+  const auto reamer = bm::MakeTool({{"type", "reamer"}});
+  const bm::ToolDistanceField sdf(*reamer, 256);
+  const double h = sdf.Spacing();
+  const Eigen::Vector3d lo = sdf.Lo(), span = sdf.Hi() - sdf.Lo();
+  uint64_t state = 12345;
+  auto uniform = [&state] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return double(state >> 11) / double(1ULL << 53);
+  };
+  int interior = 0;
+  for (int n = 0; n < 4000; ++n) {
+    const Eigen::Vector3d q =
+        lo + Eigen::Vector3d(uniform() * span(0), uniform() * span(1), uniform() * span(2));
+    ASSERT_TRUE(sdf.InGrid(q));
+    Eigen::Vector3d g;
+    const double d = sdf.Sample(q, g);
+    EXPECT_EQ(d, sdf.Value(q));
+    const double rho = std::hypot(q(0), q(1));
+    EXPECT_NEAR(d, sdf.Exact(rho, q(2)), 0.25 * h) << q.transpose();
+    // Inside one table cell (away from its edges) the value is smooth: central differences.
+    const double e = 1e-6;
+    for (int a = 0; a < 3; ++a) {
+      Eigen::Vector3d dq = Eigen::Vector3d::Zero();
+      dq(a) = e;
+      if (sdf.InGrid(q + dq) && sdf.InGrid(q - dq) && rho > 1e-3) {
+        const double fd = (sdf.Value(q + dq) - sdf.Value(q - dq)) / (2 * e);
+        if (std::abs(fd - g(a)) < 1e-3)
+          ++interior;
+      }
+    }
+    const Eigen::Vector3d q2 =
+        lo + Eigen::Vector3d(uniform() * span(0), uniform() * span(1), uniform() * span(2));
+    EXPECT_LE(std::abs(sdf.Value(q2) - d), sdf.LipschitzBound() * (q2 - q).norm() + 1e-12);
+    const Eigen::Vector3d q3 = q + 0.3 * h * (q2 - q).normalized();
+    if (sdf.InGrid(q3)) {
+      EXPECT_LE(std::abs(sdf.Value(q3) - d), sdf.LipschitzBound() * (q3 - q).norm() + 1e-12);
+    }
+  }
+  EXPECT_GT(interior, 3 * 4000 * 95 / 100); // all but the few samples that straddle a cell edge
+  EXPECT_LT(sdf.LipschitzBound(), 1.5);
 }
 
 TEST(BoneSurfaceShell, PointsOnTheSurfaceRegeneratedByFloodFillAfterRemoval) {
