@@ -5,8 +5,8 @@ and checked against what that frame's physics can produce.
 
 usage: pvbatch TestGlenoidSessionPlugin.py PLUGIN
 
-Voxmap 64 / shell 113 (grids 2:1): the resolution whose frame p99 (0.75 ms, Resources/Benchmark/
-session.csv) holds the 1 ms period on the 2-core machine; 96 / 170 (p99 1.5 ms) does not.
+Voxmap 64 / shell 113 (grids 2:1): the resolution whose frame p99 (0.43-0.61 ms, Resources/
+Benchmark/session.csv) holds the 1 ms period on the 2-core machine; 96 / 170 (1.2-1.8 ms) does not.
 
 Bound on a frame's forces: the reamer's thrust and torque are linear in the feed with no edge
 (ploughing) term, so a frame at feed f (mm/rev) can produce at most the fully engaged reamer's
