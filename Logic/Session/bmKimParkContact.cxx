@@ -158,13 +158,8 @@ void KimParkContact::Refresh() const {
   const uint64_t seen = CandidateGeneration_;
   CandidateGeneration_ = Shell_.Generation();
   // The anchor of the keys gathered again: the gathering position.
-  const double L = Sdf_.LipschitzBound(), eps = 1e-9;
-  const Eigen::Matrix3d Rt = CandidateR_.transpose();
   if (Anchors_.size() >= kMaxAnchors) { // re-anchor every key at the gathering position
-    for (size_t i = 0; i < Keys_.size(); ++i)
-      Keys_[i] -= L * (Rt * (CandidateP_ - Anchors_[AnchorIds_[i]])).norm() + eps;
-    std::fill(AnchorIds_.begin(), AnchorIds_.end(), uint8_t(0));
-    Anchors_.assign(1, CandidateP_);
+    ReAnchor(CandidateR_.transpose(), CandidateP_);
   } else {
     Anchors_.push_back(CandidateP_);
   }
@@ -197,26 +192,51 @@ void KimParkContact::Refresh() const {
     Compact();
 }
 
+void KimParkContact::ReAnchor(const Eigen::Matrix3d& Rt, const Eigen::Vector3d& p) const {
+  // The drop of each anchor's keys, once per anchor (at most kMaxAnchors), not once per key: the
+  // same expression, so the same bits, for a few hundred anchors instead of tens of thousands of
+  // keys (every key's own product and norm took 4-5 ms every 255 queries on a seated reamer).
+  const double L = Sdf_.LipschitzBound(), eps = 1e-9;
+  Drops_.resize(Anchors_.size());
+  for (size_t k = 0; k < Anchors_.size(); ++k)
+    Drops_[k] = L * (Rt * (p - Anchors_[k])).norm() + eps;
+  for (size_t i = 0; i < Keys_.size(); ++i)
+    Keys_[i] -= Drops_[AnchorIds_[i]];
+  std::fill(AnchorIds_.begin(), AnchorIds_.end(), uint8_t(0));
+  Anchors_.assign(1, p);
+}
+
 void KimParkContact::Compact() const {
-  // Into new arrays: a group gathered again sits after the groups that follow it in brick order.
-  std::vector<Candidate> candidates;
-  std::vector<double> keys;
-  std::vector<uint8_t> anchorIds;
-  candidates.reserve(LiveCandidates_);
-  keys.reserve(LiveCandidates_);
-  anchorIds.reserve(LiveCandidates_);
+  // Into the spare arrays: a group gathered again sits after the groups that follow it in brick
+  // order. The spare arrays keep their capacity from one compaction to the next, and get room for
+  // the growth until the next one, so a reaming session stops allocating: fresh arrays at each
+  // compaction were grown again by push_back, each growth copying the candidates into new pages
+  // (1-5 ms frames every 60-250 ms on a seated reamer, most of it page faults).
+  const size_t room = 2 * LiveCandidates_ + 8192;
+  SpareCandidates_.clear();
+  SpareKeys_.clear();
+  SpareAnchorIds_.clear();
+  SpareCandidates_.reserve(room);
+  SpareKeys_.reserve(room);
+  SpareAnchorIds_.reserve(room);
   for (Group& grp : Groups_) {
-    const uint32_t at = uint32_t(candidates.size());
-    candidates.insert(candidates.end(), Candidates_.begin() + grp.begin,
-                      Candidates_.begin() + grp.end);
-    keys.insert(keys.end(), Keys_.begin() + grp.begin, Keys_.begin() + grp.end);
-    anchorIds.insert(anchorIds.end(), AnchorIds_.begin() + grp.begin, AnchorIds_.begin() + grp.end);
+    const uint32_t at = uint32_t(SpareCandidates_.size());
+    SpareCandidates_.insert(SpareCandidates_.end(), Candidates_.begin() + grp.begin,
+                            Candidates_.begin() + grp.end);
+    SpareKeys_.insert(SpareKeys_.end(), Keys_.begin() + grp.begin, Keys_.begin() + grp.end);
+    SpareAnchorIds_.insert(SpareAnchorIds_.end(), AnchorIds_.begin() + grp.begin,
+                           AnchorIds_.begin() + grp.end);
     grp.end = at + (grp.end - grp.begin);
     grp.begin = at;
   }
-  Candidates_.swap(candidates);
-  Keys_.swap(keys);
-  AnchorIds_.swap(anchorIds);
+  Candidates_.swap(SpareCandidates_);
+  Keys_.swap(SpareKeys_);
+  AnchorIds_.swap(SpareAnchorIds_);
+  if (Candidates_.capacity() < room) { // the arrays in use get the same room
+    Candidates_.reserve(room);
+    Keys_.reserve(room);
+    AnchorIds_.reserve(room);
+  }
 }
 
 ContactResult KimParkContact::Query(const Eigen::Matrix3d& R, const Eigen::Vector3d& p,
@@ -262,10 +282,7 @@ ContactResult KimParkContact::Query(const Eigen::Matrix3d& R, const Eigen::Vecto
     const double L = Sdf_.LipschitzBound(), eps = 1e-9;
     const double skipFrom = -deadBandMm + eps;
     if (Anchors_.size() >= kMaxAnchors) { // re-anchor every key here (their bounds now)
-      for (size_t i = 0; i < Keys_.size(); ++i)
-        Keys_[i] -= L * (Rt * (p - Anchors_[AnchorIds_[i]])).norm() + eps;
-      std::fill(AnchorIds_.begin(), AnchorIds_.end(), uint8_t(0));
-      Anchors_.assign(1, p);
+      ReAnchor(Rt, p);
     } else if (p != Anchors_.back()) {
       Anchors_.push_back(p);
     }

@@ -139,6 +139,8 @@ private:
   /// After a change of the shell: gathers again the bricks whose points changed (at the gathering
   /// pose) and puts their groups back in brick order. Same candidates as a new Gather there.
   void Refresh() const;
+  /// Lowers every key to its bound with the tool at p (R^T = Rt) and anchors it there.
+  void ReAnchor(const Eigen::Matrix3d& Rt, const Eigen::Vector3d& p) const;
   /// Drops the candidates of replaced groups from the arrays (keeps the groups' order).
   void Compact() const;
 
@@ -162,6 +164,10 @@ private:
   mutable std::array<int, 3> GatherLo_{0, 0, 0}, GatherHi_{-1, -1, -1}; // bricks gathered
   mutable size_t LiveCandidates_ = 0; // candidates of the current groups (the rest: replaced)
   mutable std::vector<Group> NewGroups_;
+  // Compact's destination, swapped with the arrays in use (capacity kept).
+  mutable std::vector<Candidate> SpareCandidates_;
+  mutable std::vector<double> SpareKeys_;
+  mutable std::vector<uint8_t> SpareAnchorIds_;
   mutable int64_t RefreshedBricks_ = 0;
   static constexpr int kSets = 6; // candidate sets kept, the one in use included
   mutable std::array<CandidateSet, kSets - 1> Spare_;
