@@ -1,5 +1,7 @@
 // bmsim bench - frame time against force error over the paper's resolution grid
-// (Docs/Performance.md); with --view, the live view of the cut bone during a reaming session.
+// (Docs/Performance.md); with --view, the live view of the cut bone during a reaming session;
+// with --session, a haptic session's frame time. Builds without ParaView's VTK (a Logic-only build
+// for a GPU machine) have the grid and the session bench, without the chart and the view.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -16,13 +18,17 @@
 
 #include <ctime>
 
+#ifdef BM_WITH_REPORT
 #include <vtkNew.h>
 #include <vtkPolyData.h>
+#endif
 
 #include "bmAnalyticGlenoid.h"
 #include "bmAtomicFile.h"
 #include "bmBenchmark.h"
+#ifdef BM_WITH_REPORT
 #include "bmBoneSurface.h"
+#endif
 #include "bmCpuEngine.h"
 #include "bmEdgeQuadrature.h"
 #include "bmFeedTrial.h"
@@ -34,11 +40,16 @@
 #include "bmSceneOverrides.h"
 #include "bmSessionBenchTable.h"
 #include "bmSessionBuilder.h"
+#ifdef BM_WITH_CHARTS
 #include "bmSpeedAccuracyChart.h"
+#endif
 #include "bmsimArgs.h"
 #include "bmsimCommand.h"
 #ifdef BM_WITH_IO
 #include "bmCTVoxmap.h"
+#endif
+#ifdef BM_WITH_OPENCL
+#include "bmOpenCLDevice.h"
 #endif
 
 namespace {
@@ -77,14 +88,33 @@ std::string MachineName() {
   return model + ", " + std::to_string(std::thread::hardware_concurrency()) + " logical cores";
 }
 
+/// The OpenCL device `choice` picks, with its platform, or why there is none. Call it only after
+/// the grid's cells ran: they fork, and a parent that opened OpenCL must not.
+std::string OpenCLDeviceName(const std::string& choice) {
+#ifdef BM_WITH_OPENCL
+  try {
+    bm::OpenCLDeviceInfo info;
+    bm::ChooseOpenCLDevice(choice, &info);
+    return info.name + " (" + info.platform + ", " + info.version + ")";
+  } catch (const std::exception& e) {
+    return std::string("none: ") + e.what();
+  }
+#else
+  (void)choice;
+  return "none (this build has no OpenCL)";
+#endif
+}
+
 using Clock = std::chrono::steady_clock;
 
+#ifdef BM_WITH_REPORT
 /// CPU time of the calling thread, ms.
 double ThreadCpuMs() {
   timespec t{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
   return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
 }
+#endif
 
 #ifndef BM_WITH_IO
 /// The glenoid phantom's bone (bmAnalyticGlenoid.h's shape, placed as bmPhantom.h places it: face
@@ -141,6 +171,7 @@ bm::Voxmap SceneBone(const bm::Scene& scene) {
   return bm::MakeSceneBone(scene);
 }
 
+#ifdef BM_WITH_REPORT
 /// One scripted session of the scene, with or without the live view refreshing.
 struct ViewRun {
   std::vector<double> refreshMs;   ///< refreshes while bone was cut
@@ -364,6 +395,7 @@ int ViewBench(const bm::cli::ParsedArgs& p) {
   std::cout << "wrote " << out << "/view.csv\n";
   return 0;
 }
+#endif // BM_WITH_REPORT
 
 /// One hand-like session trial's figures.
 struct SessionRun {
@@ -374,6 +406,7 @@ struct SessionRun {
   Eigen::Vector3d lastProxy = Eigen::Vector3d::Zero();
   bm::Scene used;         ///< the scene at the resolutions and threads the session ran
   std::string gridReason; ///< how they were chosen ("" when given)
+  std::string engine;     ///< the engine that ran it (bm::Engine::Name())
 };
 
 /// The scripted hand pushes pushN (N, at the device, scaled by the session's default force scale)
@@ -384,7 +417,7 @@ struct SessionRun {
 /// (bmSessionGrid.h), else the scene's.
 SessionRun RunHandSession(const bm::Scene& scene, bool choose, bool candidates, double pushN,
                           double tremorN, double seconds, bool realTime, double viewIntervalMs,
-                          int64_t checksumFrames) {
+                          int64_t checksumFrames, const std::string& clDevice) {
   // A hand on a Touch pushing through the session's default force scale, counting its overruns.
   bm::SessionRequest req;
   req.mode = bm::ScriptMode::Hand;
@@ -396,6 +429,7 @@ SessionRun RunHandSession(const bm::Scene& scene, bool choose, bool candidates, 
   req.overrunLimit = -1;
   req.rateHz = 1.0 / scene.trial.frameS;
   req.maxFrames = int64_t(std::llround(seconds / scene.trial.frameS));
+  req.clDevice = clDevice;
   bm::BuiltSession built = req.chooseGrid ? bm::BuildSession(scene, req)
                                           : bm::BuildSession(scene, SceneBone(scene), req);
   const std::shared_ptr<bm::Device>& device = built.device;
@@ -413,6 +447,7 @@ SessionRun RunHandSession(const bm::Scene& scene, bool choose, bool candidates, 
   // from the live voxmap every viewIntervalMs (at most 8 ms per refresh) on its own thread.
   std::atomic<bool> viewDone{false};
   std::thread viewer;
+#ifdef BM_WITH_REPORT
   if (viewIntervalMs > 0)
     viewer = std::thread([&] {
       bm::BoneSurface surface;
@@ -424,6 +459,10 @@ SessionRun RunHandSession(const bm::Scene& scene, bool choose, bool candidates, 
         std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(viewIntervalMs));
       }
     });
+#else
+  if (viewIntervalMs > 0)
+    throw bm::cli::UsageError("--with-view needs a build with VTK (the live view's surface)");
+#endif
   const bool finished = session.WaitUntilPaused(seconds * 20 + 600);
   viewDone.store(true);
   if (viewer.joinable())
@@ -436,6 +475,7 @@ SessionRun RunHandSession(const bm::Scene& scene, bool choose, bool candidates, 
   SessionRun r;
   r.used = setup.GetScene();
   r.gridReason = built.gridReason;
+  r.engine = setup.GetEngine().Name();
   const double periodMs = 1000.0 * scene.trial.frameS;
   std::vector<uint8_t> window(100, 0);
   int inWindow = 0;
@@ -480,19 +520,36 @@ int SessionBench(const bm::cli::ParsedArgs& p) {
   // Without the view, and with it when asked (--with-view): the panel's session refreshes it.
   const std::vector<bool> views =
       p.Has("with-view") ? std::vector<bool>{false, true} : std::vector<bool>{false};
-  bm::SceneOverrides overrides;
-  if (auto t = p.GetInt("threads", 1, 64))
-    overrides.threads = int(*t);
-  const bm::Scene base = bm::ApplyOverrides(bm::ResolveScene(sceneName), overrides);
+  const std::string clDevice = p.Get("cl-device", "");
+  // The CPU backend unless --backends names others: each cell runs on each backend in turn.
+  const std::vector<std::string> backends = p.Has("backends")
+                                                ? bm::SplitCommaList(p.Get("backends", ""))
+                                                : std::vector<std::string>{"cpu"};
+  for (const auto& b : backends)
+    if (b != "cpu" && b != "opencl")
+      throw bm::cli::UsageError("--backends: '" + b + "' is not cpu or opencl");
   // The scene's own resolutions, or each voxmap asked for with the shell scaled alike (as the
   // BM Session source does for a voxmap set alone).
   std::vector<bm::Scene> scenes;
-  // Without --voxmaps (or --threads): the resolutions and threads a session chooses.
+  // Without --voxmaps (or --threads): the resolutions and threads a session chooses (on the CPU
+  // backend: the session table measures it).
   const bool choose = !p.Has("voxmaps") && !p.Has("threads");
-  for (int v : Resolutions(p, "voxmaps", {0}))
-    scenes.push_back(v > 0 ? base.WithVoxmapResolution(v) : base);
+  for (const auto& backend : backends) {
+    bm::SceneOverrides overrides;
+    if (auto t = p.GetInt("threads", 1, 64))
+      overrides.threads = int(*t);
+    overrides.backend = backend;
+    const bm::Scene base = bm::ApplyOverrides(bm::ResolveScene(sceneName), overrides);
+    for (int v : Resolutions(p, "voxmaps", {0}))
+      scenes.push_back(v > 0 ? base.WithVoxmapResolution(v) : base);
+  }
   std::filesystem::create_directories(out);
   const std::string machine = MachineName();
+  const std::string clName = std::find(backends.begin(), backends.end(), "opencl") != backends.end()
+                                 ? OpenCLDeviceName(clDevice)
+                                 : std::string();
+  if (!clName.empty())
+    std::cout << "OpenCL device: " << clName << "\n";
   char date[16] = "";
   const std::time_t now = std::time(nullptr);
   std::strftime(date, sizeof date, "%Y-%m-%d", std::gmtime(&now));
@@ -507,7 +564,7 @@ int SessionBench(const bm::cli::ParsedArgs& p) {
   for (const bm::Scene& scene : scenes) {
     const int64_t checksumFrames =
         std::llround(std::min(seconds, fullSeconds) / scene.trial.frameS);
-    std::cout << "session bench, scene " << scene.name << " (";
+    std::cout << "session bench, scene " << scene.name << ", backend " << scene.backend << " (";
     if (choose)
       std::cout << "the resolutions a session chooses";
     else
@@ -520,11 +577,17 @@ int SessionBench(const bm::cli::ParsedArgs& p) {
     for (int run = 1; run <= repeats; ++run)
       for (bool view : views)
         for (bool incremental : {true, false}) {
-          const SessionRun r = RunHandSession(scene, choose, incremental, push, tremor,
-                                              incremental ? seconds : fullSeconds, realTime,
-                                              view ? 33.0 : 0.0, checksumFrames);
+          const SessionRun r =
+              RunHandSession(scene, choose && scene.backend == "cpu", incremental, push, tremor,
+                             incremental ? seconds : fullSeconds, realTime, view ? 33.0 : 0.0,
+                             checksumFrames, clDevice);
           if (!r.gridReason.empty() && incremental)
             std::cout << "resolutions chosen: " << r.gridReason << "\n";
+          if (run == 1 && !view && incremental)
+            std::cout << "engine: " << r.engine << "\n";
+          if (scene.backend != "cpu" && r.engine.rfind(scene.backend, 0) != 0)
+            throw std::runtime_error("session bench: the " + scene.backend +
+                                     " backend did not start (ran on " + r.engine + ")");
           std::cout << "run " << run << (incremental ? " incremental" : " full pass  ")
                     << (view ? ", view on " : ", view off") << ": " << r.frameMs.size()
                     << " frames " << figures(r.frameMs) << "; " << r.contactMs.size()
@@ -552,9 +615,12 @@ int SessionBench(const bm::cli::ParsedArgs& p) {
           row.over = r.over;
           row.overrunPauses = r.rulePauses;
           row.seconds = double(r.frameMs.size()) * scene.trial.frameS;
-          row.machine = machine;
+          row.machine = scene.backend == "opencl" ? machine + "; OpenCL " + clName : machine;
           row.date = date;
+          row.backend = scene.backend;
           csv += bm::SessionBenchCsvRecord(row) + "\n";
+          // The rows so far, after each run: a bench stopped part-way keeps what it measured.
+          bm::WriteFileAtomic(out + "/session.csv", csv);
         }
   }
   bm::WriteFileAtomic(out + "/session.csv", csv);
@@ -570,7 +636,7 @@ void BenchOptions(bm::cli::ParsedArgs& p) {
       .Flag("quick", "small subset, fewer frames (< 1 min): shells 128,256, voxmap 128, 200 "
                      "frames after 20 warm-up frames")
       .Value("methods", "LIST", "lazar,zheng (default both)")
-      .Value("backends", "LIST", "cpu,opencl (default both)")
+      .Value("backends", "LIST", "cpu,opencl (default both; --session: cpu)")
       .Value("shells", "LIST",
              "point-shell resolutions, each in [8, 4096] (default 128,256,512,1024,2048; --view: "
              "the scene's shell scaled with each voxmap)")
@@ -585,10 +651,16 @@ void BenchOptions(bm::cli::ParsedArgs& p) {
            "CPU backend threads (default 2; --view: engine threads, default 1; --session: "
            "default those a session chooses, else the scene's)")
       .Value("cl-device", "D", "the OpenCL device, its number or part of its name (bmsim devices)")
+      .Flag("cl-host-bone",
+            "OpenCL cells keep the host's copy of the cut bone current every frame, as a session "
+            "does (default: the device alone holds it, as the paper measures the engine)")
       .Real("cell-limit", 1, 86400, "S", "stop a cell after S seconds (default 600)")
       .Value("replot", "CSV,...",
              "run nothing: merge saved bench.csv files (a later file's cell replaces an earlier "
              "one's) and write the tables and the chart from them")
+      .Value("machine", "TEXT",
+             "--replot: the machine the cells were measured on, for the tables' note (default: "
+             "this one)")
       .Flag("view", "instead: the live view of the cut bone while a scene is reamed (below)")
       .Value("scene", "NAME|FILE",
              "--view: the scene (default glenoid; in builds without CT import, the glenoid "
@@ -643,8 +715,13 @@ int BenchCommand(const bm::cli::ParsedArgs& p) {
   using bm::cli::UsageError;
   if (!p.Positional().empty())
     throw UsageError("takes no positional arguments");
-  if (p.Has("view"))
+  if (p.Has("view")) {
+#ifdef BM_WITH_REPORT
     return ViewBench(p);
+#else
+    throw UsageError("--view needs a build with VTK (the live view's surface)");
+#endif
+  }
   if (p.Has("session"))
     return SessionBench(p);
   bm::BenchOptions o;
@@ -682,6 +759,7 @@ int BenchCommand(const bm::cli::ParsedArgs& p) {
   if (auto v = p.GetDouble("cell-limit", 1, 86400))
     o.cellLimitS = *v;
   o.device = p.Get("cl-device", "");
+  o.deviceHeldBone = !p.Has("cl-host-bone");
   if (o.methods.empty() || o.backends.empty())
     throw UsageError("--methods and --backends need an entry");
   const std::string out = p.Get("out", "out/bench");
@@ -729,6 +807,8 @@ int BenchCommand(const bm::cli::ParsedArgs& p) {
                  std::to_string(o.warmup) + " warm-up frames";
   }
   const size_t total = o.methods.size() * o.backends.size() * o.shells.size() * o.voxmaps.size();
+  if (!p.Has("replot"))
+    std::filesystem::create_directories(out);
   for (auto m : o.methods)
     for (const auto& be : o.backends)
       for (int s : o.shells)
@@ -746,13 +826,23 @@ int BenchCommand(const bm::cli::ParsedArgs& p) {
           else
             std::cout << c.status << "\n";
           cells.push_back(c);
+          // The cells so far, after each: a sweep stopped part-way keeps what it measured.
+          bm::WriteFileAtomic(out + "/bench.csv", bm::BenchCsv(cells));
         }
 
   std::filesystem::create_directories(out);
   const std::string machine = MachineName();
   std::ostringstream note;
-  note << "\nMachine: " << machine << "; " << framesNote << "; CPU backend " << o.threads
-       << " threads.\n";
+  // Replotted cells were measured elsewhere: the machine and threads as the user names them.
+  note << "\nMachine: " << p.Get("machine", machine) << "; " << framesNote;
+  if (!p.Has("replot") || p.Has("threads"))
+    note << "; CPU backend " << o.threads << " threads";
+  if (std::find(o.backends.begin(), o.backends.end(), "opencl") != o.backends.end() &&
+      !p.Has("replot"))
+    note << "; OpenCL device " << OpenCLDeviceName(o.device)
+         << (o.deviceHeldBone ? ", the cut bone held on the device"
+                              : ", the host's copy of the cut bone kept current every frame");
+  note << ".\n";
   bm::WriteFileAtomic(out + "/bench.csv", bm::BenchCsv(cells));
   bm::WriteFileAtomic(out + "/table1.md",
                       bm::BenchTable(cells, bm::Method::Lazar,
@@ -763,6 +853,7 @@ int BenchCommand(const bm::cli::ParsedArgs& p) {
                                      "Zheng et al. (octree, buffer + reduction): frame time",
                                      o.shells, o.voxmaps) +
                           note.str());
+#ifdef BM_WITH_CHARTS
   std::vector<bm::ChartSeries> series;
   for (auto m : o.methods)
     for (const auto& be : o.backends) {
@@ -779,6 +870,11 @@ int BenchCommand(const bm::cli::ParsedArgs& p) {
       out + "/speed_vs_accuracy.png",
       "Frame time (p99) against force error; labels: point shell / voxmap resolution", series);
   std::cout << "wrote " << out << "/bench.csv, table1.md, table2.md, speed_vs_accuracy.png\n";
+#else
+  std::cout << "wrote " << out
+            << "/bench.csv, table1.md, table2.md (no chart: this build has no "
+               "VTK; bmsim bench --replot draws it on a full build)\n";
+#endif
   return 0;
 }
 

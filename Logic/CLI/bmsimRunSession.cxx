@@ -142,6 +142,7 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
   if (auto r = args.GetDouble("rate", 10, 10000))
     req.rateHz = *r;
   req.realTime = true;
+  req.clDevice = args.Get("cl-device", ""); // bmsim run's option (--backend opencl)
   // The push is the hand's at the device: at most the device's maximum force (the Touch's for a
   // scripted device, the nominal one for the Touch before it reports its own).
   const DeviceLimits nominal;

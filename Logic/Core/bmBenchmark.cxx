@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <climits>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -11,6 +12,7 @@
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 #include <type_traits>
 
 #include <poll.h>
@@ -49,6 +51,9 @@ namespace {
 // trial axis until its foremost cutting point is `depth` below the entry point, less a layer
 // `marginMm` thick above the tool's lower surface: the voxels the shell's elements sit in keep
 // their bone, as they would in steady drilling, where the lips cut the layer in front of them.
+// Only the voxels of the envelope's bounding box are tested (a box grown by a voxel: the test
+// below decides every voxel as it would over the whole grid), slices split over threads: at
+// voxmap 1024^3 the whole grid took 15 s of a cell's set-up.
 void PreCut(const Scene& s, Voxmap& bone, double depth, double marginMm) {
   const auto tool = MakeTool(s.tool);
   const Eigen::Vector3d axis = s.trial.axis.normalized();
@@ -58,19 +63,55 @@ void PreCut(const Scene& s, Voxmap& bone, double depth, double marginMm) {
   const Eigen::Vector3d origin = s.trial.entry - axis * depth - rot * Eigen::Vector3d(0, 0, zf);
   const double R = tool->OuterRadius();
   const auto dims = bone.Dims();
+  // The envelope lies within rho <= R, z >= the tool's lowest point, up to past the grid's far
+  // corner: its world bounding box, in voxel indices.
+  const Box3 b = bone.Bounds();
+  double reach = 0;
+  for (int c = 0; c < 8; ++c) {
+    const Eigen::Vector3d corner((c & 1) ? b.hi[0] : b.lo[0], (c & 2) ? b.hi[1] : b.lo[1],
+                                 (c & 4) ? b.hi[2] : b.lo[2]);
+    reach = std::max(reach, (corner - origin).norm());
+  }
+  const double zLow = tool->AxialRange()[0];
+  std::array<int, 3> lo{INT_MAX, INT_MAX, INT_MAX}, hi{INT_MIN, INT_MIN, INT_MIN};
+  for (int c = 0; c < 8; ++c) {
+    const Eigen::Vector3d w = origin + rot * Eigen::Vector3d((c & 1) ? R : -R, (c & 2) ? R : -R,
+                                                             (c & 4) ? zLow + reach + R : zLow);
+    const auto g = bone.WorldToGrid({w(0), w(1), w(2)});
+    for (int a = 0; a < 3; ++a) {
+      lo[size_t(a)] = std::min(lo[size_t(a)], int(std::floor(g[size_t(a)])) - 1);
+      hi[size_t(a)] = std::max(hi[size_t(a)], int(std::ceil(g[size_t(a)])) + 1);
+    }
+  }
+  for (int a = 0; a < 3; ++a) {
+    lo[size_t(a)] = std::max(lo[size_t(a)], 0);
+    hi[size_t(a)] = std::min(hi[size_t(a)], dims[size_t(a)] - 1);
+    if (lo[size_t(a)] > hi[size_t(a)])
+      return;
+  }
   Voxmap::Fill* fill = bone.MutableFill();
-  for (int k = 0; k < dims[2]; ++k)
-    for (int j = 0; j < dims[1]; ++j)
-      for (int i = 0; i < dims[0]; ++i) {
-        const auto w = bone.GridToWorld({double(i), double(j), double(k)});
-        const Eigen::Vector3d p = rot.transpose() * (Eigen::Vector3d(w[0], w[1], w[2]) - origin);
-        const double rho = std::hypot(p(0), p(1));
-        if (rho > R)
-          continue;
-        double zLo = 0, zHi = 0;
-        if (tool->ZRange(rho, zLo, zHi) && p(2) >= zLo + marginMm)
-          fill[bone.Index(i, j, k)] = 0;
-      }
+  auto slices = [&](int k0, int k1) {
+    for (int k = k0; k < k1; ++k)
+      for (int j = lo[1]; j <= hi[1]; ++j)
+        for (int i = lo[0]; i <= hi[0]; ++i) {
+          const auto w = bone.GridToWorld({double(i), double(j), double(k)});
+          const Eigen::Vector3d p = rot.transpose() * (Eigen::Vector3d(w[0], w[1], w[2]) - origin);
+          const double rho = std::hypot(p(0), p(1));
+          if (rho > R)
+            continue;
+          double zLo = 0, zHi = 0;
+          if (tool->ZRange(rho, zLo, zHi) && p(2) >= zLo + marginMm)
+            fill[bone.Index(i, j, k)] = 0;
+        }
+  };
+  const int n = hi[2] - lo[2] + 1;
+  const int T = std::clamp(int(std::thread::hardware_concurrency()), 1, std::max(1, n / 8));
+  std::vector<std::thread> workers;
+  for (int t = 1; t < T; ++t)
+    workers.emplace_back(slices, lo[2] + n * t / T, lo[2] + n * (t + 1) / T);
+  slices(lo[2], lo[2] + n / T);
+  for (auto& w : workers)
+    w.join();
   bone.RebuildOccupancy();
 }
 
@@ -97,7 +138,7 @@ BenchCell RunBenchCell(Method method, const std::string& backend, int shell, int
     const double hs = std::max(2 * tool->OuterRadius(), zr[1] - zr[0]) / shell;
     PreCut(scene, block, start, hs + std::sqrt(3.0) * block.Spacing());
   }
-  MachiningSetup setup(scene, std::move(block), o.device);
+  MachiningSetup setup(scene, std::move(block), o.device, o.deviceHeldBone);
   c.setupS = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   c.engine = setup.GetEngine().Name();
   c.elements = int64_t(setup.Shell().Size());

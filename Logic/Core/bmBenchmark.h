@@ -33,6 +33,9 @@ struct BenchOptions {
   int warmup = 100;                                   ///< untimed frames before them
   int threads = 2;                                    ///< CPU backend threads
   std::string device;                                 ///< OpenCL device choice ("" = default)
+  /// OpenCL cells hold the cut bone on the device alone (default true: the engine as the paper
+  /// measures it); false: the host's voxmap is kept current every frame, as in a session.
+  bool deviceHeldBone = true;
   double cellLimitS = 600; ///< a cell still running after this many seconds is stopped
 };
 

@@ -24,6 +24,10 @@ struct EngineContext {
   const ForceModel& model; ///< its method picks the Lazar (VPS) or Zheng (octree) pipeline
   int threads = 2;         ///< CPU threads
   std::string device;      ///< backend-specific device choice ("" = default)
+  /// A backend with its own copy of the bone (OpenCL) may keep the cut there alone, the Voxmap
+  /// brought up to date by Engine::SyncBone() (benchmarks). Default false: the Voxmap is current
+  /// after every frame, as a haptic session's contact and live view need.
+  bool deviceHeldBone = false;
 };
 
 using EngineMaker = std::function<std::unique_ptr<Engine>(const EngineContext&)>;

@@ -35,14 +35,17 @@ FrameGeometry::FrameGeometry(const FrameInput& in, const PointShell& shell, cons
 
 void FrameGeometry::VoxelBox(const std::array<float, 3>& lo, const std::array<float, 3>& hi,
                              std::array<int, 3>& vlo, std::array<int, 3>& vhi) const {
+  // Written out in scalars, in the order the OpenCL kernel repeats (bmVpsFrame.cl BlockVisible):
+  // world = R p + position (each row summed left to right), grid = (world - origin) / h.
   vlo = {INT_MAX, INT_MAX, INT_MAX};
   vhi = {INT_MIN, INT_MIN, INT_MIN};
   for (int c = 0; c < 8; ++c) {
-    const Eigen::Vector3d p((c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1],
-                            (c & 4) ? hi[2] : lo[2]);
-    const Eigen::Vector3d g = (rotation * p + position - VoxmapOrigin_) / VoxelMm_;
+    const double p0 = (c & 1) ? hi[0] : lo[0], p1 = (c & 2) ? hi[1] : lo[1],
+                 p2 = (c & 4) ? hi[2] : lo[2];
     for (int a = 0; a < 3; ++a) {
-      const int v = int(std::floor(g(a) + 0.5));
+      const double w = rotation(a, 0) * p0 + rotation(a, 1) * p1 + rotation(a, 2) * p2;
+      const double g = (w + position(a) - VoxmapOrigin_(a)) / VoxelMm_;
+      const int v = int(std::floor(g + 0.5));
       vlo[size_t(a)] = std::min(vlo[size_t(a)], v);
       vhi[size_t(a)] = std::max(vhi[size_t(a)], v);
     }

@@ -10,7 +10,8 @@
 
 namespace bm {
 
-MachiningSetup::MachiningSetup(const Scene& scene, Voxmap bone, const std::string& device)
+MachiningSetup::MachiningSetup(const Scene& scene, Voxmap bone, const std::string& device,
+                               bool deviceHeldBone)
     : Scene_(scene), Tool_(MakeTool(scene.tool)),
       Shell_(PointShell::Build(*Tool_, scene.shellResolution, scene.lips)),
       Model_(scene.forceModel.is_null() ? ForceModel::Default(scene.method, *Tool_)
@@ -18,7 +19,7 @@ MachiningSetup::MachiningSetup(const Scene& scene, Voxmap bone, const std::strin
       Bone_(std::move(bone)) {
   if (Model_.GetMethod() != scene.method)
     throw std::invalid_argument("force_model.method disagrees with the scene's method");
-  const EngineContext ctx{Bone_, *Tool_, Shell_, Model_, scene.threads, device};
+  const EngineContext ctx{Bone_, *Tool_, Shell_, Model_, scene.threads, device, deviceHeldBone};
   try {
     Engine_ = MakeEngine(scene.backend, ctx);
   } catch (const std::runtime_error& e) {

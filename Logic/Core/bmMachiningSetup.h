@@ -19,8 +19,10 @@ namespace bm {
 class MachiningSetup {
 public:
   /// Builds tool, shell, model and engine for `scene` around `bone` (the setup owns it).
-  /// device: the backend's device choice ("" = default). Throws on bad input or backend failure.
-  MachiningSetup(const Scene& scene, Voxmap bone, const std::string& device = "");
+  /// device: the backend's device choice ("" = default); deviceHeldBone: EngineContext's (default
+  /// false: Bone() is current after every frame). Throws on bad input or backend failure.
+  MachiningSetup(const Scene& scene, Voxmap bone, const std::string& device = "",
+                 bool deviceHeldBone = false);
   MachiningSetup(const MachiningSetup&) = delete;
   MachiningSetup& operator=(const MachiningSetup&) = delete;
 

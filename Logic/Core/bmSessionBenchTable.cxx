@@ -17,6 +17,8 @@ namespace bm {
 
 namespace {
 
+// The columns a table must have; "backend" after them is written and read when present (tables
+// without it were measured on the CPU backend).
 const char* const kColumns[] = {
     "scene",  "voxmap", "shell",  "threads", "path",           "view",    "run",     "frames",
     "p50_ms", "p99_ms", "max_ms", "over",    "overrun_pauses", "seconds", "machine", "date"};
@@ -32,8 +34,12 @@ std::string Quoted(const std::string& s) {
 
 std::string SessionBenchCsvHeader() {
   std::string h;
-  for (const char* c : kColumns)
-    h += (h.empty() ? "" : ",") + std::string(c);
+  for (const char* c : kColumns) {
+    if (!h.empty())
+      h += ',';
+    h += c;
+  }
+  h += ",backend";
   return h;
 }
 
@@ -43,7 +49,7 @@ std::string SessionBenchCsvRecord(const SessionBenchRow& r) {
   os << Quoted(r.scene) << "," << r.voxmap << "," << r.shell << "," << r.threads << "," << r.path
      << "," << (r.view ? 1 : 0) << "," << r.run << "," << r.frames << "," << r.p50Ms << ","
      << r.p99Ms << "," << r.maxMs << "," << r.over << "," << r.overrunPauses << "," << r.seconds
-     << "," << Quoted(r.machine) << "," << r.date;
+     << "," << Quoted(r.machine) << "," << r.date << "," << r.backend;
   return os.str();
 }
 
@@ -102,6 +108,13 @@ std::vector<SessionBenchRow> ParseSessionBenchCsv(const std::string& text,
     r.seconds = number("seconds", 0, 1e9);
     r.machine = text("machine");
     r.date = text("date");
+    if (column.count("backend")) {
+      const std::string& backend = text("backend");
+      if (backend != "cpu" && backend != "opencl")
+        throw std::runtime_error(at + "column 'backend' must be cpu or opencl, not '" + backend +
+                                 "'");
+      r.backend = backend;
+    }
     rows.push_back(std::move(r));
   }
   return rows;
@@ -110,9 +123,10 @@ std::vector<SessionBenchRow> ParseSessionBenchCsv(const std::string& text,
 std::optional<SessionBenchRow> NearestSessionCell(const std::vector<SessionBenchRow>& rows,
                                                   const std::string& scene, int voxmap, int shell,
                                                   bool view, const std::string& path,
-                                                  double maxRatio, int threads) {
+                                                  double maxRatio, int threads,
+                                                  const std::string& backend) {
   auto wanted = [&](const SessionBenchRow& r) {
-    return r.scene == scene && r.path == path && r.view == view &&
+    return r.scene == scene && r.path == path && r.view == view && r.backend == backend &&
            (threads <= 0 || r.threads == threads);
   };
   const SessionBenchRow* best = nullptr;

@@ -7,7 +7,8 @@
 // every contact query scans the shell and the engine visits every element not culled), view
 // (1: the live view refreshed the cut bone's surface every 33 ms meanwhile, 0: no view), run,
 // frames, p50_ms, p99_ms, max_ms, over (frames over the period), overrun_pauses (pauses the
-// default rule, > 5 of 100 frames over, would make), seconds (session time), machine, date.
+// default rule, > 5 of 100 frames over, would make), seconds (session time), machine, date,
+// backend ("cpu" or "opencl"; optional when read: a table without it is the CPU backend's).
 #pragma once
 
 #include <optional>
@@ -30,6 +31,7 @@ struct SessionBenchRow {
   long long overrunPauses = 0; ///< pauses the default overrun rule would make
   double seconds = 0;          ///< session time, s
   std::string machine, date;   ///< where and when it was measured (date YYYY-MM-DD)
+  std::string backend = "cpu"; ///< the engine's backend
 };
 
 /// The CSV header line (no newline).
@@ -46,12 +48,12 @@ std::vector<SessionBenchRow> ParseSessionBenchCsv(const std::string& text,
 /// of frames, over and pauses, and the median of the p50s. None when the scene has no row on that
 /// path, or when the nearest cell's voxmap is more than `maxRatio` (default 1.5) times finer or
 /// coarser: frame time grows steeply with resolution, so a far cell says little. threads > 0:
-/// only rows measured with that many engine threads (default 0: any).
-std::optional<SessionBenchRow> NearestSessionCell(const std::vector<SessionBenchRow>& rows,
-                                                  const std::string& scene, int voxmap, int shell,
-                                                  bool view,
-                                                  const std::string& path = "incremental",
-                                                  double maxRatio = 1.5, int threads = 0);
+/// only rows measured with that many engine threads (default 0: any); backend: only its rows
+/// (default "cpu").
+std::optional<SessionBenchRow>
+NearestSessionCell(const std::vector<SessionBenchRow>& rows, const std::string& scene, int voxmap,
+                   int shell, bool view, const std::string& path = "incremental",
+                   double maxRatio = 1.5, int threads = 0, const std::string& backend = "cpu");
 
 /// $BM_SESSION_BENCHMARK_CSV, else the resources' Benchmark/session.csv.
 std::string DefaultSessionBenchPath();

@@ -95,6 +95,10 @@ public:
 
   Voxmap(const Voxmap& o);
   Voxmap& operator=(const Voxmap& o);
+  /// Moves take the arrays (a 1024^3 voxmap is gigabytes: a setup built around a bone must not
+  /// copy it); the moved-from voxmap is empty (no voxels). Not while another thread reads either.
+  Voxmap(Voxmap&& o) noexcept;
+  Voxmap& operator=(Voxmap&& o) noexcept;
 
   const std::array<int, 3>& Dims() const { return Dims_; }
   double Spacing() const { return Spacing_; }

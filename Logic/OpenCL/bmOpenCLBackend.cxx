@@ -12,6 +12,7 @@ void RegisterOpenCLBackend() {
   RegisterBackend("opencl", [](const EngineContext& c) -> std::unique_ptr<Engine> {
     OpenCLOptions o;
     o.device = c.device;
+    o.deviceHeldBone = c.deviceHeldBone;
     if (c.model.GetMethod() == Method::Zheng)
       return std::make_unique<OpenCLZhengEngine>(c.bone, c.tool, c.shell, c.model, o);
     return std::make_unique<OpenCLEngine>(c.bone, c.tool, c.shell, c.model, o);

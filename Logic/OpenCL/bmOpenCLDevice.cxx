@@ -1,5 +1,6 @@
 #include "bmOpenCLDevice.h"
 
+#include <cstdlib>
 #include <stdexcept>
 
 #include "bmKernelSources.h"
@@ -109,8 +110,11 @@ cl::Program BuildOpenCLProgram(const cl::Context& context, const cl::Device& dev
                                const char* source, const std::string& options) {
   cl::Program::Sources sources{std::string(kernels::bmCommon), std::string(source)};
   cl::Program program(context, sources);
+  std::string all = "-cl-std=CL1.2 " + options;
+  if (const char* extra = std::getenv("BM_OPENCL_BUILD_OPTIONS"); extra && *extra)
+    all += std::string(" ") + extra;
   try {
-    program.build({device}, ("-cl-std=CL1.2 " + options).c_str());
+    program.build({device}, all.c_str());
   } catch (const cl::Error&) {
     throw std::runtime_error("OpenCL kernel build failed:\n" +
                              program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device));

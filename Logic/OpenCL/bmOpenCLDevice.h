@@ -34,8 +34,9 @@ std::vector<OpenCLDeviceInfo> ListOpenCLDevices();
 /// Throws std::runtime_error naming the reason (no platform, no match, no fp64).
 cl::Device ChooseOpenCLDevice(const std::string& choice, OpenCLDeviceInfo* info = nullptr);
 
-/// Builds bmCommon.cl followed by `source` for `device` with `options` (e.g. "-DBM_INT64_ATOMICS").
-/// Throws std::runtime_error with the build log on failure.
+/// Builds bmCommon.cl followed by `source` for `device` with `options` (e.g. "-DBM_INT64_ATOMICS"),
+/// then $BM_OPENCL_BUILD_OPTIONS when set (a diagnosis of a device's compiler, e.g.
+/// "-cl-opt-disable"). Throws std::runtime_error with the build log on failure.
 cl::Program BuildOpenCLProgram(const cl::Context& context, const cl::Device& device,
                                const char* source, const std::string& options);
 

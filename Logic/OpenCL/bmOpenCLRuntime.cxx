@@ -1,6 +1,7 @@
 #include "bmOpenCLRuntime.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <stdexcept>
 
 namespace bm {
@@ -15,17 +16,28 @@ OpenCLRuntime::OpenCLRuntime(const OpenCLOptions& o) {
                              "' could not be opened: " + DescribeOpenCLError(e));
   }
   const bool gpu = info.type == "gpu";
-  lanes = o.lanes > 0 ? o.lanes : (gpu ? 128 : 1);
+  // $BM_OPENCL_LANES / $BM_OPENCL_GROUPS stand for options left automatic (tuning on a new device).
+  auto fromEnv = [](const char* name, int given) {
+    const char* v = std::getenv(name);
+    return given > 0 || !v || !*v ? given : std::atoi(v);
+  };
+  const int wantLanes = fromEnv("BM_OPENCL_LANES", o.lanes);
+  const int wantGroups = fromEnv("BM_OPENCL_GROUPS", o.groups);
+  lanes = wantLanes > 0 ? wantLanes : (gpu ? 128 : 1);
   if (lanes & (lanes - 1))
     throw std::runtime_error("OpenCL lanes must be a power of two");
-  groups = o.groups > 0 ? o.groups : (gpu ? 4096 : 4 * std::max(1, info.computeUnits));
+  groups = wantGroups > 0 ? wantGroups : (gpu ? 1024 : 4 * std::max(1, info.computeUnits));
   if (o.int64Atomics == 1 && !info.int64Atomics)
     throw std::runtime_error("OpenCL device '" + info.name + "' lacks cl_khr_int64_base_atomics");
   int64Atomics = o.int64Atomics == 1 || (o.int64Atomics < 0 && gpu && info.int64Atomics);
+  deviceHeldBone = o.deviceHeldBone;
 }
 
 std::string OpenCLRuntime::BuildOptions() const {
-  return int64Atomics ? "-DBM_INT64_ATOMICS" : "";
+  std::string opts = int64Atomics ? "-DBM_INT64_ATOMICS" : "";
+  if (!deviceHeldBone)
+    opts += opts.empty() ? "-DBM_HOST_MIRROR" : " -DBM_HOST_MIRROR";
+  return opts;
 }
 
 cl::Buffer OpenCLRuntime::Upload(const void* data, size_t bytes, cl_mem_flags flags) {

@@ -138,7 +138,7 @@ BuiltSession BuildSession(const Scene& scene, const SessionRequest& r,
 BuiltSession BuildSession(const Scene& scene, Voxmap bone, const SessionRequest& r) {
   ValidateSessionRequest(r);
   BuiltSession b;
-  b.setup = std::make_unique<MachiningSetup>(scene, std::move(bone));
+  b.setup = std::make_unique<MachiningSetup>(scene, std::move(bone), r.clDevice);
   const MachiningSetup& setup = *b.setup;
   const TrialSpec& t = setup.GetScene().trial;
   const Eigen::Vector3d axis = t.axis.normalized();

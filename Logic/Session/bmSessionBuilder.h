@@ -83,6 +83,9 @@ struct SessionRequest {
   /// With chooseGrid: the live view refreshes the cut bone meanwhile (the table's view rows;
   /// default false).
   bool liveView = false;
+  /// The scene's backend's device choice (OpenCL: `bmsim devices`' number or part of a name;
+  /// default "": the first usable GPU, else the first usable device).
+  std::string clDevice;
 };
 
 /// A built session's parts: construct bm::HapticSession(*setup, device, options).

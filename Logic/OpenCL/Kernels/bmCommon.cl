@@ -71,15 +71,15 @@ inline int RemovalUnits(__global const float* areaNormals, uint e, ulong code, i
   return (int)((maxUnits < want ? maxUnits : want) + 0.5);
 }
 
-// Writes a removal kernel's sums (removedFill, removedVoxels) of this work item: atomically, or
-// as its own partial for the host to add.
-inline void RemovalSumsOut(const long* R, __global long* sums) {
+// Writes a removal kernel's sums (removedFill, removedVoxels) of this work item: atomically into
+// out, or as its own partial in partials for the host to add.
+inline void RemovalSumsOut(const long* R, __global long* partials, __global long* out) {
 #ifdef BM_INT64_ATOMICS
-  atom_add(sums, R[0]);
-  atom_add(sums + 1, R[1]);
+  atom_add(out, R[0]);
+  atom_add(out + 1, R[1]);
 #else
-  sums[get_global_id(0) * BM_REMOVAL_SUMS] = R[0];
-  sums[get_global_id(0) * BM_REMOVAL_SUMS + 1] = R[1];
+  partials[get_global_id(0) * BM_REMOVAL_SUMS] = R[0];
+  partials[get_global_id(0) * BM_REMOVAL_SUMS + 1] = R[1];
 #endif
 }
 
@@ -100,8 +100,10 @@ inline bool Visit(__global Residency* st, uint frameNo, long idx, int fill) {
   return e;
 }
 
-// Sums `n` quantities over the work-group into out (lane 0 writes or adds them).
-inline void GroupSum(long* mine, int n, __local long* scratch, __global long* out) {
+// Sums `n` quantities over the work-group: lane 0 adds them atomically into out, or writes them
+// as the group's partial in partials for the host to add.
+inline void GroupSum(long* mine, int n, __local long* scratch, __global long* partials,
+                     __global long* out) {
   const uint L = get_local_size(0), l = get_local_id(0);
   if (L == 1) {
 #ifdef BM_INT64_ATOMICS
@@ -109,7 +111,7 @@ inline void GroupSum(long* mine, int n, __local long* scratch, __global long* ou
       atom_add(out + q, mine[q]);
 #else
     for (int q = 0; q < n; ++q)
-      out[get_group_id(0) * n + q] = mine[q];
+      partials[get_group_id(0) * n + q] = mine[q];
 #endif
     return;
   }
@@ -128,7 +130,7 @@ inline void GroupSum(long* mine, int n, __local long* scratch, __global long* ou
       atom_add(out + q, scratch[q]);
 #else
     for (int q = 0; q < n; ++q)
-      out[get_group_id(0) * n + q] = scratch[q];
+      partials[get_group_id(0) * n + q] = scratch[q];
 #endif
   }
 }

@@ -83,7 +83,7 @@ __kernel void zheng_collide(const uint n, const uint per, __global const ulong* 
       buffer[e] = (double4)(w * (fx * c - fy * sn), w * (fx * sn + fy * c), w * fz, -w * t[9] * fy);
     }
   }
-  GroupSum(P, BM_ZHENG_SUMS, scratch, sums);
+  GroupSum(P, BM_ZHENG_SUMS, scratch, sums, sums);
 }
 
 // The reduction pass: work item c sums chunk c of the buffer in element order.
@@ -137,5 +137,5 @@ __kernel void zheng_remove(const uint n, const uint per, __global const Residenc
   }
   if (amount > 0)
     ZhengFlush(nodes, levels, pitch, cur, amount, R);
-  RemovalSumsOut(R, sums);
+  RemovalSumsOut(R, sums, sums);
 }

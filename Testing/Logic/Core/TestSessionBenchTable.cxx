@@ -73,7 +73,32 @@ TEST(SessionBenchTable, DamagedTablesAreRefusedByLineAndColumn) {
   refused("", "is empty");
   refused("scene,voxmap\n", "has no column 'shell'");
   refused(header + "glenoid,96,170,2,incremental,1,1,10\n", "t.csv:2: 8 fields");
-  refused(header + "glenoid,96,170,2,incremental,2,1,10,1,1,1,0,0,10,m,d\n",
+  refused(header + "glenoid,96,170,2,incremental,2,1,10,1,1,1,0,0,10,m,d,cpu\n",
           "t.csv:2: column 'view'");
-  refused(header + "glenoid,96,170,2,incremental,1,1,10,nan,1,1,0,0,10,m,d\n", "column 'p50_ms'");
+  refused(header + "glenoid,96,170,2,incremental,1,1,10,nan,1,1,0,0,10,m,d,cpu\n",
+          "column 'p50_ms'");
+  refused(header + "glenoid,96,170,2,incremental,1,1,10,1,1,1,0,0,10,m,d,gpu\n",
+          "column 'backend' must be cpu or opencl");
+}
+
+// Tables from before the backend column are the CPU backend's; the OpenCL backend's rows are
+// never taken for the CPU's cell.
+TEST(SessionBenchTable, TheBackendColumnIsOptionalAndKeepsBackendsApart) {
+  std::string old = bm::SessionBenchCsvHeader();
+  old = old.substr(0, old.rfind(",backend")) + "\n";
+  const auto rows = bm::ParseSessionBenchCsv(
+      old + "glenoid,96,170,1,incremental,0,1,10,0.2,0.5,1,0,0,10,m,d\n", "old.csv");
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].backend, "cpu");
+  bm::SessionBenchRow gpu = rows[0];
+  gpu.backend = "opencl";
+  gpu.voxmap = 192;
+  gpu.shell = 340;
+  const auto both = bm::ParseSessionBenchCsv(
+      bm::SessionBenchCsvHeader() + "\n" + bm::SessionBenchCsvRecord(gpu) + "\n", "new.csv");
+  ASSERT_EQ(both.size(), 1u);
+  EXPECT_EQ(both[0].backend, "opencl");
+  EXPECT_FALSE(bm::NearestSessionCell(both, "glenoid", 192, 340, false));
+  EXPECT_TRUE(
+      bm::NearestSessionCell(both, "glenoid", 192, 340, false, "incremental", 1.5, 0, "opencl"));
 }

@@ -1,6 +1,14 @@
 // The OpenCL backend gives exactly the CPU backend's results: same fixed-point totals,
 // same removal, same cut voxmap, frame by frame, for both methods, on whatever OpenCL device the
-// machine has (PoCL in CI). The CPU engines are the kernels' plain C++ twins.
+// machine has (PoCL in CI; BM_TEST_OPENCL_DEVICE names another, e.g. a GPU). The CPU engines are
+// the kernels' plain C++ twins. The VPS engine keeps the caller's voxmap current after every frame
+// (compared every frame, and with the device's own fills at the end) unless the bone is held on
+// the device (then compared after SyncBone).
+#include <algorithm>
+#include <cstdlib>
+#include <string>
+#include <type_traits>
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -24,11 +32,19 @@ struct Case {
   Eigen::Vector3d axis{0, 0, 1};  // tool axis (world), out of the bone
   Eigen::Vector3d drift{0, 0, 0}; // lateral motion per frame, mm
   bool envelope = true;           // FrameInput::envelopeRemoves
+  bool excursion = false;         // frames 60-63 far above the block (nothing launched)
   bm::OpenCLOptions options;
 };
 
 bool HaveDevice() {
   return !bm::ListOpenCLDevices().empty();
+}
+
+// The device the tests run on: $BM_TEST_OPENCL_DEVICE (a number or part of a name, as
+// bmsim --cl-device), else the backend's default.
+std::string TestDevice() {
+  const char* d = std::getenv("BM_TEST_OPENCL_DEVICE");
+  return d ? d : "";
 }
 
 // Feeds the drill along -axis in 0.01 mm steps from above the block to 0.8 mm deep (partial then
@@ -42,7 +58,12 @@ template <class CpuT, class OclT> int64_t ExpectIdentical(const Case& c, bm::Met
   bm::Voxmap boneCpu = bm::MakeBoneBlock({5, 5, 1.5}, c.voxmap, c.material);
   bm::Voxmap boneOcl = boneCpu;
   CpuT cpu(boneCpu, *tool, shell, model, 2);
-  OclT ocl(boneOcl, *tool, shell, model, c.options);
+  bm::OpenCLOptions options = c.options;
+  options.device = TestDevice();
+  OclT ocl(boneOcl, *tool, shell, model, options);
+  // The VPS engine's voxmap is current after every frame unless the device holds the bone.
+  constexpr bool kVps = std::is_same_v<OclT, bm::OpenCLEngine>;
+  const bool mirrored = kVps && !options.deviceHeldBone;
   const Eigen::Matrix3d rot =
       Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), c.axis.normalized())
           .toRotationMatrix();
@@ -56,7 +77,7 @@ template <class CpuT, class OclT> int64_t ExpectIdentical(const Case& c, bm::Met
     in.rotation = rot;
     in.motion = (frame < 85 ? -0.01 : 0.004) * axis + c.drift;
     pos += in.motion;
-    in.position = pos;
+    in.position = c.excursion && frame >= 60 && frame < 64 ? Eigen::Vector3d(pos + 40 * axis) : pos;
     in.spindleAngle = 0.3 * frame;
     const bm::FrameResult a = cpu.Step(in);
     const bm::FrameResult b = ocl.Step(in);
@@ -72,6 +93,9 @@ template <class CpuT, class OclT> int64_t ExpectIdentical(const Case& c, bm::Met
     EXPECT_EQ(a.removedFill, b.removedFill);
     EXPECT_EQ(a.removedVoxels, b.removedVoxels);
     EXPECT_EQ(a.sweptVolumeMm3, b.sweptVolumeMm3);
+    if (mirrored) {
+      EXPECT_TRUE(boneCpu == boneOcl);
+    }
     if (a.engagedCutting > 0)
       ++engagedFrames;
     removed += a.removedFill;
@@ -79,6 +103,11 @@ template <class CpuT, class OclT> int64_t ExpectIdentical(const Case& c, bm::Met
       return removed;
   }
   EXPECT_GT(engagedFrames, 40); // the comparison covered real cutting
+  if constexpr (kVps)
+    if (mirrored) { // the host's copy is the device's bone
+      const std::vector<int32_t> device = ocl.DeviceFills();
+      EXPECT_TRUE(std::equal(device.begin(), device.end(), boneOcl.FillData()));
+    }
   cpu.SyncBone();
   ocl.SyncBone();
   EXPECT_LT(boneOcl.CountBone(), bm::MakeBoneBlock({5, 5, 1.5}, c.voxmap, c.material).CountBone());
@@ -92,6 +121,20 @@ TEST(OpenCLIdentity, LazarMatchesCpuEngine) {
   ExpectIdentical<bm::CpuEngine, bm::OpenCLEngine>(Case{}, bm::Method::Lazar);
 }
 
+// The bone held on the device alone (the benchmark's way): the same frames, and the same cut bone
+// once read back.
+TEST(OpenCLIdentity, LazarWithTheBoneHeldOnTheDevice) {
+  if (!HaveDevice())
+    GTEST_SKIP() << "no OpenCL device";
+  Case c;
+  c.options.deviceHeldBone = true;
+  ExpectIdentical<bm::CpuEngine, bm::OpenCLEngine>(c, bm::Method::Lazar);
+  c.axis = {0.2, -0.1, 1};
+  c.drift = {0.002, 0.001, 0};
+  c.material = 0.7f;
+  ExpectIdentical<bm::CpuEngine, bm::OpenCLEngine>(c, bm::Method::Lazar);
+}
+
 TEST(OpenCLIdentity, LazarInclinedWithMaterialAndInstantaneousLips) {
   if (!HaveDevice())
     GTEST_SKIP() << "no OpenCL device";
@@ -100,6 +143,18 @@ TEST(OpenCLIdentity, LazarInclinedWithMaterialAndInstantaneousLips) {
   c.lips = bm::LipMode::Instantaneous;
   c.axis = {0.2, -0.1, 1};
   c.drift = {0.002, 0.001, 0};
+  ExpectIdentical<bm::CpuEngine, bm::OpenCLEngine>(c, bm::Method::Lazar);
+}
+
+// Frames in which the tool is far from the block launch nothing on the device; the CPU engine
+// culls every block in them. Back in the bone the elements' residency goes on alike.
+TEST(OpenCLIdentity, LazarFramesAwayFromTheBone) {
+  if (!HaveDevice())
+    GTEST_SKIP() << "no OpenCL device";
+  Case c;
+  c.excursion = true;
+  ExpectIdentical<bm::CpuEngine, bm::OpenCLEngine>(c, bm::Method::Lazar);
+  c.options.deviceHeldBone = true;
   ExpectIdentical<bm::CpuEngine, bm::OpenCLEngine>(c, bm::Method::Lazar);
 }
 
@@ -115,7 +170,7 @@ TEST(OpenCLIdentity, LazarGroupSumsAndInt64Atomics) {
   c.options.groups = 64;
   ExpectIdentical<bm::CpuEngine, bm::OpenCLEngine>(c, bm::Method::Lazar);
   bm::OpenCLDeviceInfo info;
-  bm::ChooseOpenCLDevice("", &info);
+  bm::ChooseOpenCLDevice(TestDevice(), &info);
   if (!info.int64Atomics)
     GTEST_SKIP() << "device lacks cl_khr_int64_base_atomics";
   c.options.int64Atomics = 1;
