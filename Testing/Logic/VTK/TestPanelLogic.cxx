@@ -97,13 +97,13 @@ TEST(PanelLogic, ExpectedCostOfASceneWithSessionMeasurements) {
   const std::vector<bm::SessionBenchRow> sessions = bm::ParseSessionBenchCsv(
       bm::SessionBenchCsvHeader() +
           "\nglenoid,96,170,1,incremental,1,1,10000,0.31,0.9,2.5,40,0,10,\"CPU, 2 "
-          "cores\",2026-11-26"
+          "cores\",2026-11-26,cpu"
           "\nglenoid,96,170,1,incremental,1,2,10000,0.35,0.8,3.5,42,1,10,\"CPU, 2 "
-          "cores\",2026-11-26"
-          "\nglenoid,96,170,1,incremental,0,1,10000,0.2,0.5,1.5,0,0,10,\"CPU, 2 cores\",2026-11-26"
-          "\nglenoid,96,170,1,full,1,1,10000,3.1,9.0,12.5,9000,80,10,\"CPU, 2 cores\",2026-11-26"
+          "cores\",2026-11-26,cpu"
+          "\nglenoid,96,170,1,incremental,0,1,10000,0.2,0.5,1.5,0,0,10,\"CPU, 2 cores\",2026-11-26,cpu"
+          "\nglenoid,96,170,1,full,1,1,10000,3.1,9.0,12.5,9000,80,10,\"CPU, 2 cores\",2026-11-26,cpu"
           "\nglenoid,192,340,1,incremental,0,1,10000,2.3,10.9,20,3000,40,10,\"CPU, 2 cores\","
-          "2026-11-26\n",
+          "2026-11-26,cpu\n",
       "sessions");
   const PL::ExpectedCost cost(bm::BenchmarkTable::Load(path), sessions);
   std::remove(path.c_str());
@@ -140,7 +140,7 @@ TEST(PanelLogic, ExpectedCostOfASceneWithSessionMeasurements) {
   // A damaged table names the line and column.
   try {
     bm::ParseSessionBenchCsv(bm::SessionBenchCsvHeader() +
-                                 "\nglenoid,96,170,1,sideways,0,1,1,1,1,1,0,0,1,m,d\n",
+                                 "\nglenoid,96,170,1,sideways,0,1,1,1,1,1,0,0,1,m,d,cpu\n",
                              "t.csv");
     ADD_FAILURE() << "a path other than incremental/full was accepted";
   } catch (const std::runtime_error& e) {
