@@ -184,7 +184,9 @@ void Proxy::CuttingStep(const Eigen::Vector3d& xd, const Eigen::Vector3d& vd,
   const FrameResult r = Setup_.GetEngine().Step(in);
   const double full = Balance_.FullThrust(in.feedMmPerRev, n);
   Fraction_ = full > 0 ? std::clamp(r.thrustN / full, 0.0, 2.0) : 0.0;
-  f.feedMmPerRev = feed;
+  // The feed the forces were computed at: an advance shorter than the feed balance's least feed
+  // (the last hundredth of a mouse notch, say) is cut at that feed, and the frame says so.
+  f.feedMmPerRev = feed > 0 ? in.feedMmPerRev : 0.0;
   f.thrustN = feed > 0 ? r.thrustN : 0.0;
   f.torqueNmm = feed > 0 ? r.torqueNmm : 0.0;
   f.removedVoxels = r.removedVoxels;

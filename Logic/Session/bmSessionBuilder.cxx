@@ -168,8 +168,12 @@ BuiltSession BuildSession(const Scene& scene, Voxmap bone, const SessionRequest&
   case SessionDevice::Mouse: {
     b.mouse = std::make_shared<ProgrammableDevice>(PositionSourceLimits());
     b.mouse->SetPose(ToolPoseAtDepth(setup, r.mouseDepthMm));
-    // A depth step (a wheel click, a typed depth) reaches the tool over frames, at 20 mm/s.
+    // A depth step (a wheel click, a typed depth) reaches the tool over frames, at 20 mm/s, and
+    // the tool cuts it at the scene's feed, a surgeon's: the stiff arm behind the mouse would
+    // otherwise drive every notch at the force model's largest feed, ten times the scene's
+    // force for the frames the notch takes (a wheel click, or a depth moved while paused).
     b.mouse->SetMaxSpeed(20.0);
+    o.proxy.maxFeedMmPerRev = std::min(o.proxy.maxFeedMmPerRev, t.feedMmPerRev);
     b.device = b.mouse;
     break;
   }

@@ -17,10 +17,10 @@ from paraview import simple
 # reamer's 532.8 N at 0.1 mm/rev (the glenoid scene's reference), 10 % more for voxmap 64's
 # discretisation (Docs/Session.md, "Tests of a reaming session"), N per mm/rev.
 BM_THRUST_PER_FEED = 1.1 * 532.8 / 0.1
-# Whatever the feed, no frame above this, N: the stiff mouse proxy reams at up to about 1600 N
-# after a move (Docs/Session.md), the scripted hand at about 125 N; a proxy jump gives
+# Whatever the feed, no frame above this, N: the mouse proxy reams at the scene's feed, about
+# 470 N (Docs/Session.md), the scripted hand at about 125-260 N; a proxy jump gives
 # 3 000 - 24 000 N.
-BM_MAX_THRUST_N = 3000.0
+BM_MAX_THRUST_N = 1.1 * 532.8
 # Less thrust than this in every row means the reamer never met bone, N.
 BM_MIN_PEAK_THRUST_N = 20.0
 

@@ -191,6 +191,11 @@ def mouse_back_to_back():
     check(info(s, "StateInfo") == RUNNING, "mouse: running after the resume (state %d, '%s')"
           % (info(s, "StateInfo"), info(s, "PauseReasonInfo")))
     depth = wheel(1.2, 1.4, step)
+    # The reamer cuts each notch at the scene's feed (0.1 mm/rev at 500 rpm, 0.83 mm/s), not as
+    # fast as the wheel turns: up to 2 s more for it to reach the mouse.
+    last = info(s, "FrameInfo")
+    while info(s, "DepthInfo") < depth - 0.3 and info(s, "FrameInfo") < last + 2000:
+        wait_frames(s, info(s, "FrameInfo") + 100)
     s.SMProxy.InvokeCommand("Pause")
     wait_paused(s)
     h = history(s)
@@ -201,6 +206,9 @@ def mouse_back_to_back():
     check(depth - 0.3 < final <= depth + 1e-6,
           "mouse: the tool follows the mouse to within 0.3 mm (%.3f mm)" % final)
     check_frames("mouse", h, info(s, "FrameInfo"))
+    check(h["feed_mm_per_rev"].max() <= 0.1 + 1e-9,
+          "mouse: every notch cut at the scene's feed, at most 0.1 mm/rev (%.4f)"
+          % h["feed_mm_per_rev"].max())
     after = h["time_s"] > paused_at * PERIOD_S - 1e-9
     print("mouse: largest thrust in the 0.3 s after the resume %.1f N"
           % h["thrust_N"][after][:300].max())

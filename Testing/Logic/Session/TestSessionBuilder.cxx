@@ -3,11 +3,14 @@
 // at the same pose and run the same frames; bad overrides and requests are refused by name.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include <unistd.h>
 
@@ -256,6 +259,56 @@ TEST(SessionBuilder, DurationsFramesAndTouchPlacementFollowTheDevice) {
   EXPECT_EQ(mb.device, mb.mouse);
   const bm::DevicePose p = bm::ToolPoseAtDepth(*mb.setup, -1.25);
   EXPECT_NEAR(bm::ToolDepthMm(*mb.setup, p.positionMm, p.rotation), -1.25, 1e-12);
+}
+
+// The mouse proxy reams each wheel notch at the scene's feed: the thrust of a notch stays the
+// steady cut's, where the stiff arm behind the mouse drove it at the force model's largest feed
+// (1 mm/rev, 50 times the drill's 0.02) for the frames the notch took.
+TEST(SessionBuilder, AMouseWheelNotchIsCutAtTheScenesFeedWithoutABurst) {
+  const bm::Scene scene = SmallDrilling();
+  auto run = [&](double maxFeed) {
+    bm::SessionRequest mouse;
+    mouse.device = bm::SessionDevice::Mouse;
+    mouse.mouseDepthMm = 0.3; // the lips already in the block
+    mouse.realTime = false;
+    mouse.maxFrames = 3000;
+    bm::BuiltSession b = bm::BuildSession(scene, mouse);
+    if (maxFeed > 0)
+      b.options.proxy.maxFeedMmPerRev = maxFeed;
+    b.options.recordCapacity = 4000;
+    bm::HapticSession session(*b.setup, b.device, b.options);
+    session.Start();
+    // A notch (0.1 mm deeper) every 500 frames, as a hand turns the wheel.
+    for (int notch = 1; notch <= 4; ++notch) {
+      while (session.Snapshot().frame < 500 * notch &&
+             session.Snapshot().state == bm::SessionState::Running)
+        std::this_thread::sleep_for(std::chrono::microseconds(200));
+      b.mouse->SetPose(bm::ToolPoseAtDepth(*b.setup, 0.3 + 0.1 * notch));
+    }
+    EXPECT_TRUE(session.WaitUntilPaused(600));
+    session.Stop();
+    std::vector<bm::FrameRecord> rec;
+    session.DrainRecords(rec);
+    double maxFeedSeen = 0, maxThrust = 0;
+    for (const auto& f : rec) {
+      maxFeedSeen = std::max(maxFeedSeen, f.feedMmPerRev);
+      maxThrust = std::max(maxThrust, f.thrustN);
+    }
+    return std::make_pair(maxFeedSeen, maxThrust);
+  };
+  const double feed = scene.trial.feedMmPerRev;
+  const auto [notchFeed, notchThrust] = run(0);
+  EXPECT_LE(notchFeed, feed * (1 + 1e-12));
+  EXPECT_GT(notchThrust, 0.0); // the notches cut
+  // The force model at the scene's feed, fully engaged: no notch pushes harder.
+  const bm::BuiltSession ref = bm::BuildSession(scene, bm::SessionRequest{});
+  const bm::EdgeIntegral steady =
+      bm::IntegrateEdges(ref.setup->Tool(), ref.setup->Model(), feed, scene.trial.speedRpm);
+  EXPECT_LE(notchThrust, 1.05 * steady.thrustN);
+  // At the force model's largest feed, as before, a notch pushed several times harder.
+  const auto [burstFeed, burstThrust] = run(1.0);
+  EXPECT_GT(burstFeed, 5 * feed);
+  EXPECT_GT(burstThrust, 3 * notchThrust);
 }
 
 TEST(SessionBuilder, BadRequestsAreRefusedByNameBeforeTheBoneIsBuilt) {
