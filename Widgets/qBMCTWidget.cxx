@@ -75,8 +75,8 @@ void qBMCTWidgetPrivate::init() {
     this->HUSlopeSpinBox->setVisible(mode == 2);
     this->HUInterceptSpinBox->setVisible(mode == 2);
   };
-  QObject::connect(this->IntensityComboBox, QOverload<int>::of(&QComboBox::currentIndexChanged),
-                   q, showMode);
+  QObject::connect(this->IntensityComboBox, QOverload<int>::of(&QComboBox::currentIndexChanged), q,
+                   showMode);
   showMode(0);
   for (QDoubleSpinBox* box :
        this->roiBoxes() + this->entryBoxes() + this->seedBoxes() + this->boxCentreBoxes()) {
@@ -107,10 +107,10 @@ void qBMCTWidgetPrivate::init() {
   QObject::connect(this->UseSuggestedEntryButton, &QPushButton::clicked, q,
                    [this, q]() { q->setEntry(this->SuggestedEntry); });
   QObject::connect(this->BrowseCTFileButton, &QPushButton::clicked, q, [this, q]() {
-    const QString path = QFileDialog::getOpenFileName(
-        q, qBMCTWidget::tr("CT file"), this->CTFileLineEdit->text(),
-        qBMCTWidget::tr(
-            "CT volumes (*.nrrd *.nhdr *.mha *.mhd *.nii *.nii.gz *.dcm);;All files (*)"));
+    // Every format the import reads (bm::PanelLogic::CTFileFilter: the readers' own lists).
+    const QString path =
+        QFileDialog::getOpenFileName(q, qBMCTWidget::tr("CT file"), this->CTFileLineEdit->text(),
+                                     QString::fromStdString(bm::PanelLogic::CTFileFilter()));
     if (!path.isEmpty())
       this->CTFileLineEdit->setText(path);
   });
@@ -208,6 +208,16 @@ void qBMCTWidget::setEntry(const QVector<double>& entry) {
 void qBMCTWidget::setUseCTBone(bool use) {
   Q_D(qBMCTWidget);
   d->UseCTCheckBox->setChecked(use);
+}
+
+bool qBMCTWidget::keepAllBones() const {
+  Q_D(const qBMCTWidget);
+  return d->KeepAllBonesCheckBox->isChecked();
+}
+
+void qBMCTWidget::setKeepAllBones(bool keep) {
+  Q_D(qBMCTWidget);
+  d->KeepAllBonesCheckBox->setChecked(keep);
 }
 
 bool qBMCTWidget::useSeed() const {

@@ -47,6 +47,9 @@ public:
   bool useCTBone() const;
   /// Whether the bone at seed() is kept (else the largest bone). Default false.
   bool useSeed() const;
+  /// Whether every bone is kept (the scapula and the humeral head together, for planning), not
+  /// only the largest or the seeded one. Default false.
+  bool keepAllBones() const;
   /// The include seed, world mm. Default 0, 0, 0.
   QVector<double> seed() const;
   /// The exclude points as typed ("x y z; x y z", world mm). Default "".
@@ -73,6 +76,7 @@ public Q_SLOTS:
   void setEntry(const QVector<double>& entry);
   void setUseCTBone(bool use);
   void setUseSeed(bool use);
+  void setKeepAllBones(bool keep);
   /// Sets the include seed (world mm) and keeps the bone there (useSeed() true).
   void setSeed(const QVector<double>& point);
   void setExcludePointsText(const QString& text);

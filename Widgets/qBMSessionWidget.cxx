@@ -10,6 +10,7 @@
 
 #include <QFileDialog>
 #include <QStandardItemModel>
+#include <QApplication>
 #include <QWheelEvent>
 
 #include <string>
@@ -33,6 +34,12 @@ public:
   qBMTouchProbe* Probe = nullptr;
   QString TouchStatus = QStringLiteral("probing");
   bool Running = false;
+  bool Paused = false; ///< the session is paused (by the user or by itself)
+  /// Start is enabled unless a session runs (a paused one is replaced by the new one) or a start
+  /// is under way.
+  void updateStart() {
+    this->StartButton->setEnabled((!this->Running || this->Paused) && !this->Busy);
+  }
   bool Busy = false;
 };
 
@@ -123,8 +130,13 @@ void qBMSessionWidgetPrivate::initDevice() {
   this->ToolDepthSpinBox->setDecimals(2);
   this->ToolDepthSpinBox->setValue(-2.0);
   // The wheel over the depth control moves the depth, never the dock's scroll area (also at the
-  // end of the range, where a spin box would pass the wheel on).
-  this->ToolDepthSpinBox->installEventFilter(q);
+  // end of the range, where a spin box would pass the wheel on), without a click first while a
+  // mouse-proxy session runs (eventFilter). The filter is the application's: ParaView's
+  // WheelNeedsFocusBehavior eats, in an application filter of its own, every wheel event of a
+  // spin box without the focus, before any filter on the spin box sees it; application filters
+  // run last installed first, and this one is installed after ParaView's (when the plugin's dock
+  // is made).
+  qApp->installEventFilter(q);
   QObject::connect(this->ToolDepthSpinBox, QOverload<double>::of(&QDoubleSpinBox::valueChanged), q,
                    [q](double depth) { Q_EMIT q->toolDepthChanged(depth); });
 }
@@ -170,7 +182,16 @@ qBMSessionWidget::~qBMSessionWidget() = default;
 
 bool qBMSessionWidget::eventFilter(QObject* watched, QEvent* event) {
   Q_D(qBMSessionWidget);
-  if (watched == d->ToolDepthSpinBox && event->type() == QEvent::Wheel) {
+  // Every event of the application passes here (see initDevice): the type is tested first. The
+  // depth control takes the wheel when it has the focus, and without it while a mouse-proxy
+  // session runs (the wheel is then the hand on the tool); otherwise ParaView's rule stands and
+  // a panel scrolled past it is not changed.
+  if (event->type() == QEvent::Wheel &&
+      (watched == d->ToolDepthSpinBox ||
+       (watched->isWidgetType() &&
+        d->ToolDepthSpinBox->isAncestorOf(static_cast<QWidget*>(watched)))) &&
+      (d->ToolDepthSpinBox->hasFocus() ||
+       (d->Running && this->deviceType() == vtkBMSessionSource::MOUSE))) {
     const int delta = static_cast<QWheelEvent*>(event)->angleDelta().y();
     if (delta != 0)
       this->stepToolDepth(delta > 0 ? 1 : -1);
@@ -338,18 +359,22 @@ void qBMSessionWidget::setSessionState(bm::SessionState state, const QString& pa
   const QString text =
       QString::fromStdString(bm::PanelLogic::StateText(state, pauseReason.toStdString()));
   d->SessionStateLabel->setText(text.isEmpty() ? QString() : tr("Session %1").arg(text));
-  d->showPaused(bm::PanelLogic::IsPaused(state));
+  d->Paused = bm::PanelLogic::IsPaused(state);
+  d->showPaused(d->Paused);
+  d->updateStart();
 }
 
 void qBMSessionWidget::setSessionStatus(const QString& message, bool running) {
   Q_D(qBMSessionWidget);
   d->SessionStatusLabel->setText(message);
   d->Running = running;
-  d->StartButton->setEnabled(!running && !d->Busy);
   d->PauseButton->setEnabled(running);
   d->StopButton->setEnabled(running);
-  if (!running)
+  if (!running) {
+    d->Paused = false;
     d->showPaused(false);
+  }
+  d->updateStart();
 }
 
 void qBMSessionWidget::setBusy(bool busy, const QString& message) {
@@ -358,5 +383,5 @@ void qBMSessionWidget::setBusy(bool busy, const QString& message) {
   d->StartProgressBar->setVisible(busy);
   if (!message.isEmpty())
     d->SessionStatusLabel->setText(message);
-  d->StartButton->setEnabled(!d->Running && !busy);
+  d->updateStart();
 }

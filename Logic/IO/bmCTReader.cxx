@@ -1,4 +1,5 @@
 #include "bmCTReader.h"
+#include "bmCTFileTypes.h"
 
 #include "bmDicomFileCheck.h"
 #include "bmHeaderCheck.h"
@@ -537,8 +538,8 @@ ReadOutcome ReadVolumeFile(const fs::path& file, const ReadOptions& opt, const P
     format = "NIfTI";
   } else {
     throw std::runtime_error("'" + file.string() +
-                             "': unknown file type (expected a DICOM folder or file, .nrrd, "
-                             ".nhdr, .mha, .mhd, .nii, .nii.gz or .inv3)");
+                             "': unknown file type (expected a DICOM folder or " +
+                             ExtensionList(CTFileExtensions()) + ")");
   }
   // Our own header check first: ITK would allocate, follow data file paths or abort on these.
   const VolumeHeader header =

@@ -17,7 +17,9 @@
 #include "pqServer.h"
 #include "pqView.h"
 #include "vtkNew.h"
+#include "vtkPVArrayInformation.h"
 #include "vtkPVDataInformation.h"
+#include "vtkPVDataSetAttributesInformation.h"
 #include "vtkSMParaViewPipelineControllerWithRendering.h"
 #include "vtkSMPropertyHelper.h"
 #include "vtkSMSourceProxy.h"
@@ -30,14 +32,6 @@
 #include <string>
 
 namespace {
-/// Whether `source`'s first output is image data (a bone-fraction image the plan can read).
-bool OutputsImage(pqPipelineSource* source) {
-  if (!source || source->getNumberOfOutputPorts() < 1)
-    return false;
-  vtkPVDataInformation* info = source->getOutputPort(0)->getDataInformation();
-  return info && info->GetDataSetType() == VTK_IMAGE_DATA;
-}
-
 QVector<double> Get3(vtkSMProxy* proxy, const char* name) {
   QVector<double> v(3);
   vtkSMPropertyHelper(proxy, name).Get(v.data(), 3);
@@ -53,7 +47,8 @@ void pqBMDockWindow::planGlenoid() {
   // The bone: the selected image source (a voxmap opened, a BM CT Bone), else the one planned
   // on before, else the CT section's preview.
   pqPipelineSource* active = pqActiveObjects::instance().activeSource();
-  if (active && active != this->GlenoidPlan && active != this->Session && OutputsImage(active))
+  if (active && active != this->GlenoidPlan && active != this->Session &&
+      pqBMDockWindow::HoldsBoneFraction(active))
     this->PlanInput = active;
   if (!this->PlanInput)
     this->PlanInput = this->CTBone;
@@ -155,17 +150,34 @@ void pqBMDockWindow::runPlanStep(int step) {
     return;
   }
   file.close();
+  // The reaming runs on the bone this plan's guide-pin step left, and on no other: another
+  // session's bone (the built-in phantom, another CT) would be reamed at this plan's place.
+  if (step == 1 && (!this->Session || this->Session != this->PinStepSession)) {
+    session->setSessionStatus(tr("Cannot run the reaming: run this plan's guide pin first (the "
+                                 "reaming cuts the bone the guide-pin step leaves)."),
+                              false);
+    return;
+  }
   // The step's own tool and bone: not the tool section's, not the CT section's bone.
   session->setUseChosenTool(false);
   this->Panel->ctWidget()->setUseCTBone(false);
-  if (step == 1 && this->Session) {
+  if (step == 1) {
     // Ream the bone the guide-pin step left.
     const QString bone = dir.filePath("after-guide-pin.nrrd");
+    this->SavedBone.clear();
     this->saveBone(bone);
+    if (this->SavedBone != bone) { // saveBone said why in the session's status
+      session->setSessionStatus(tr("Cannot run the reaming: the guide-pin step's bone could not "
+                                   "be saved to %1.")
+                                    .arg(bone),
+                                false);
+      return;
+    }
     session->setBoneFile(bone);
-    session->setStartFromBoneFile(QFile::exists(bone));
+    session->setStartFromBoneFile(true);
   } else {
     session->setStartFromBoneFile(false);
   }
   this->startSession(path, 0, 0, session->deviceType());
+  this->PinStepSession = step == 0 ? this->Session : nullptr;
 }

@@ -13,11 +13,16 @@
 #include "pqActiveObjects.h"
 #include "pqApplicationCore.h"
 #include "pqObjectBuilder.h"
+#include "pqOutputPort.h"
 #include "pqPipelineSource.h"
 #include "pqServer.h"
 #include "pqUndoStack.h"
 #include "pqView.h"
 #include "vtkDataObject.h"
+#include "vtkDataSetAttributes.h"
+#include "vtkPVArrayInformation.h"
+#include "vtkPVDataInformation.h"
+#include "vtkPVDataSetAttributesInformation.h"
 #include "vtkNew.h"
 #include "vtkSMParaViewPipelineControllerWithRendering.h"
 #include "vtkSMPVRepresentationProxy.h"
@@ -86,6 +91,31 @@ pqBMDockWindow::pqBMDockWindow(QWidget* parent)
 
 pqBMDockWindow::~pqBMDockWindow() = default;
 
+bool pqBMDockWindow::HoldsImage(pqPipelineSource* source) {
+  if (!source || source->getNumberOfOutputPorts() < 1)
+    return false;
+  vtkPVDataInformation* info = source->getOutputPort(0)->getDataInformation();
+  return info && info->GetDataSetType() == VTK_IMAGE_DATA;
+}
+
+bool pqBMDockWindow::HoldsBoneFraction(pqPipelineSource* source) {
+  if (!HoldsImage(source))
+    return false;
+  vtkPVDataSetAttributesInformation* points =
+      source->getOutputPort(0)->getDataInformation()->GetPointDataInformation();
+  if (points->GetArrayInformation("BoneFraction"))
+    return true;
+  // A voxmap file opened by ParaView's reader: its one array holds fill fractions in [0, 1]
+  // (bmVoxmapFile.h), where a CT holds HU or a display window's 0-255.
+  vtkPVArrayInformation* scalars = points->GetAttributeInformation(vtkDataSetAttributes::SCALARS);
+  if (!scalars && points->GetNumberOfArrays() > 0)
+    scalars = points->GetArrayInformation(0);
+  if (!scalars || scalars->GetNumberOfComponents() != 1)
+    return false;
+  const double* range = scalars->GetComponentRange(0);
+  return range[0] >= 0.0 && range[1] <= 1.0 && range[1] > 0.0;
+}
+
 namespace {
 /// The bone's and the tool's colours in the view (RGB 0..1): bone ivory, tool steel blue.
 const double kBoneColour[3] = {0.93, 0.87, 0.74};
@@ -102,6 +132,26 @@ vtkSMProxy* ShowInColour(vtkSMSourceProxy* proxy, int port, pqView* view, const 
     repr->UpdateVTKObjects();
   }
   return repr;
+}
+
+/// Points the view's camera at what `port` of `proxy` holds (its data bounds, as ParaView's Reset
+/// Camera does for the whole scene) and renders. A representation's own bounds are not known
+/// until the view has rendered it once, so vtkSMRenderViewProxy::ZoomTo on a new representation
+/// left the camera where it was, often looking at nothing.
+void FrameOutput(pqView* view, vtkSMSourceProxy* proxy, int port) {
+  auto* renderView = vtkSMRenderViewProxy::SafeDownCast(view->getViewProxy());
+  vtkPVDataInformation* info = proxy->GetDataInformation(port);
+  double b[6];
+  if (renderView && info) {
+    info->GetBounds(b);
+    if (b[0] <= b[1] && b[2] <= b[3] && b[4] <= b[5]) {
+      renderView->ResetCamera(b);
+      view->render();
+      return;
+    }
+  }
+  view->resetDisplay();
+  view->render();
 }
 } // namespace
 
@@ -190,7 +240,9 @@ void pqBMDockWindow::startSession(const QString& scene, int voxmapResolution, in
     return;
   }
   std::string boneCT;
-  if (ct->useCTBone()) {
+  // A saved bone replaces the CT's (it is that bone, cut): the CT bone is not imported again.
+  const bool fromFile = panel->startFromBoneFile();
+  if (ct->useCTBone() && !fromFile) {
     this->previewCT(); // the CT settings as they are now, checked before the session starts
     if (!this->CTBone) {
       panel->setSessionStatus(tr("Cannot start: no BM CT Bone source."), false);
@@ -227,9 +279,17 @@ void pqBMDockWindow::startSession(const QString& scene, int voxmapResolution, in
       .Set(panel->startFromBoneFile() ? panel->boneFile().toUtf8().constData() : "");
   vtkSMPropertyHelper(proxy, "VolumeOutput").Set(panel->volumeRendering() ? 1 : 0);
   vtkSMPropertyHelper(proxy, "BoneCT").Set(boneCT.c_str());
-  vtkSMPropertyHelper(proxy, "OverrideTrial").Set(ct->useCTBone() ? 1 : 0);
-  vtkSMPropertyHelper(proxy, "Entry").Set(ct->entry().constData(), 3);
-  vtkSMPropertyHelper(proxy, "Axis").Set(ct->axis().constData(), 3);
+  // The trial: the saved bone's own session's, when starting again from it; else the CT's entry
+  // and axis when machining the CT bone; else the scene's.
+  if (fromFile && panel->boneFile() == this->SavedBone && this->SavedEntry.size() == 3) {
+    vtkSMPropertyHelper(proxy, "OverrideTrial").Set(1);
+    vtkSMPropertyHelper(proxy, "Entry").Set(this->SavedEntry.constData(), 3);
+    vtkSMPropertyHelper(proxy, "Axis").Set(this->SavedAxis.constData(), 3);
+  } else {
+    vtkSMPropertyHelper(proxy, "OverrideTrial").Set(ct->useCTBone() ? 1 : 0);
+    vtkSMPropertyHelper(proxy, "Entry").Set(ct->entry().constData(), 3);
+    vtkSMPropertyHelper(proxy, "Axis").Set(ct->axis().constData(), 3);
+  }
   // The panel's force scale is a Touch's; other devices keep theirs (0).
   vtkSMPropertyHelper(proxy, "ForceScale")
       .Set(deviceType == vtkBMSessionSource::TOUCH ? panel->forceScale() : 0.0);
@@ -253,17 +313,12 @@ void pqBMDockWindow::startSession(const QString& scene, int voxmapResolution, in
   source->setModifiedState(pqProxy::UNMODIFIED);
   this->Session = source;
   if (pqView* view = pqActiveObjects::instance().activeView()) {
-    vtkSMProxy* bone = ShowInColour(proxy, 0, view, kBoneColour);
+    ShowInColour(proxy, 0, view, kBoneColour);
     ShowInColour(proxy, 1, view, kToolColour);
     if (panel->volumeRendering())
       this->setVolumeRendering(true);
     // The camera frames the bone (the tool may start far above it).
-    auto* renderView = vtkSMRenderViewProxy::SafeDownCast(view->getViewProxy());
-    if (renderView && bone)
-      renderView->ZoomTo(bone);
-    else
-      view->resetDisplay();
-    view->render();
+    FrameOutput(view, proxy, 0);
     if (deviceType == vtkBMSessionSource::MOUSE && view->widget()) {
       this->WheelView = view->widget();
       this->WheelView->installEventFilter(this);
@@ -322,6 +377,18 @@ void pqBMDockWindow::saveBone(const QString& path) {
   const std::string error = vtkSMPropertyHelper(proxy, "LastErrorInfo").GetAsString();
   vtkSMPropertyHelper(proxy, "SaveBone").Set(""); // so that the same path can be saved again
   proxy->UpdateVTKObjects();
+  if (error.empty()) {
+    this->SavedBone = path;
+    this->SavedEntry.clear();
+    this->SavedAxis.clear();
+    if (auto* logic = vtkBMSessionSource::SafeDownCast(proxy->GetClientSideObject())) {
+      double entry[3], axis[3];
+      if (logic->GetSessionTrial(entry, axis)) {
+        this->SavedEntry = {entry[0], entry[1], entry[2]};
+        this->SavedAxis = {axis[0], axis[1], axis[2]};
+      }
+    }
+  }
   panel->setSessionStatus(
       error.empty() ? tr("Saved the bone of %1 to %2.").arg(this->Session->getSMName(), path)
                     : tr("Could not save the bone: %1").arg(QString::fromStdString(error)),
@@ -365,15 +432,28 @@ void pqBMDockWindow::previewCT() {
     ct->setCTPreview(0, 0, {}, {}, tr("exclude points: %1").arg(excludeError));
     return;
   }
+  pqObjectBuilder* builder = pqApplicationCore::instance()->getObjectBuilder();
+  // The CT: the file named in the section, else an image open in the pipeline (a reader's
+  // output selected, or the one used before), never one of the dock's own outputs.
+  pqPipelineSource* active = pqActiveObjects::instance().activeSource();
+  if (ct->ctFileName().isEmpty() && active && active != this->CTBone && active != this->CTSurface &&
+      active != this->Session && active != this->GlenoidPlan && HoldsImage(active) &&
+      !HoldsBoneFraction(active))
+    this->CTImage = active;
+  if (!ct->ctFileName().isEmpty())
+    this->CTImage = nullptr;
   if (!this->CTBone) {
-    this->CTBone = pqApplicationCore::instance()->getObjectBuilder()->createSource(
-        "sources", "BMCTBoneSource", server);
+    this->CTBone = builder->createSource("sources", "BMCTBoneSource", server);
     if (!this->CTBone) {
       ct->setCTPreview(0, 0, {}, {}, tr("could not create a BM CT Bone source"));
       return;
     }
   }
   vtkSMSourceProxy* proxy = vtkSMSourceProxy::SafeDownCast(this->CTBone->getProxy());
+  if (this->CTImage)
+    vtkSMPropertyHelper(proxy, "Input").Set(this->CTImage->getProxy(), 0);
+  else
+    vtkSMPropertyHelper(proxy, "Input").RemoveAllValues();
   vtkSMPropertyHelper(proxy, "FileName").Set(ct->ctFileName().toUtf8().constData());
   vtkSMPropertyHelper(proxy, "IntensityMode").Set(ct->intensityMode());
   if (ct->intensityMode() == 1)
@@ -386,6 +466,7 @@ void pqBMDockWindow::previewCT() {
   vtkSMPropertyHelper(proxy, "Axis").Set(ct->axis().constData(), 3);
   vtkSMPropertyHelper(proxy, "UseSeed").Set(ct->useSeed() ? 1 : 0);
   vtkSMPropertyHelper(proxy, "Seed").Set(ct->seed().constData(), 3);
+  vtkSMPropertyHelper(proxy, "KeepAllBones").Set(ct->keepAllBones() ? 1 : 0);
   vtkSMPropertyHelper(proxy, "ExcludePoints").Set(exclude.constData(), exclude.size());
   vtkSMPropertyHelper(proxy, "UseBox").Set(ct->useBox() ? 1 : 0);
   vtkSMPropertyHelper(proxy, "BoxCentre").Set(ct->boxCentre().constData(), 3);
@@ -406,14 +487,34 @@ void pqBMDockWindow::previewCT() {
   pqView* view = pqActiveObjects::instance().activeView();
   if (!view || !error.isEmpty())
     return;
+  // The bone as a surface: the bone fraction's 0.5 contour, made once and kept (a new preview
+  // updates it; its display stays as the user left it).
   vtkNew<vtkSMParaViewPipelineControllerWithRendering> controller;
-  if (vtkSMProxy* repr = controller->Show(proxy, 0, view->getViewProxy())) {
-    vtkSMPVRepresentationProxy::SetScalarColoring(repr, "BoneFraction", vtkDataObject::POINT);
-    vtkSMPropertyHelper(repr, "Representation").Set("Slice");
-    repr->UpdateVTKObjects();
+  const bool firstSurface = !this->CTSurface;
+  if (!this->CTSurface) {
+    this->CTSurface = builder->createFilter("filters", "Contour", this->CTBone);
+    if (vtkSMProxy* c = this->CTSurface ? this->CTSurface->getProxy() : nullptr) {
+      vtkSMPropertyHelper(c, "SelectInputScalars")
+          .SetInputArrayToProcess(vtkDataObject::POINT, "BoneFraction");
+      vtkSMPropertyHelper(c, "ContourValues").Set(0.5);
+      c->UpdateVTKObjects();
+    }
   }
-  view->resetDisplay();
-  view->render();
+  if (this->CTSurface) {
+    this->CTSurface->updatePipeline();
+    this->CTSurface->setModifiedState(pqProxy::UNMODIFIED);
+    controller->Hide(proxy, 0, view->getViewProxy()); // the image itself: hidden by the surface
+    if (firstSurface)
+      ShowInColour(vtkSMSourceProxy::SafeDownCast(this->CTSurface->getProxy()), 0, view,
+                   kBoneColour);
+    else
+      controller->Show(vtkSMSourceProxy::SafeDownCast(this->CTSurface->getProxy()), 0,
+                       view->getViewProxy());
+    FrameOutput(view, vtkSMSourceProxy::SafeDownCast(this->CTSurface->getProxy()), 0);
+  } else if (vtkSMProxy* repr = controller->Show(proxy, 0, view->getViewProxy())) {
+    vtkSMPVRepresentationProxy::SetScalarColoring(repr, "BoneFraction", vtkDataObject::POINT);
+    FrameOutput(view, proxy, 0);
+  }
 }
 
 void pqBMDockWindow::pollSession() {

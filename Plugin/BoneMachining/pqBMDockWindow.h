@@ -59,8 +59,10 @@ private Q_SLOTS:
   /// Creates (once) or updates a "BM CT Bone" source (vtkBMCTBoneSource) with the panel's CT
   /// settings (the include seed, exclude points and oriented box too; malformed exclude points are
   /// refused naming the point; Ctrl+Shift+E / Ctrl+Shift+I over the 3D view pick them on the shown
-  /// bone), shows its bone as a slice coloured by BoneFraction and reports the preview (bone
-  /// voxels, volume, bounds, suggested entry, or the import error) in the panel.
+  /// bone), shows its bone as a surface (the fraction's 0.5 contour) with the camera framing it,
+  /// and reports the preview (bone voxels, volume, bounds, suggested entry, or the import error)
+  /// in the panel. With no CT file named, an image open in the pipeline and selected (a reader's
+  /// output) is the CT.
   void previewCT();
   /// The Planning section's settings onto a "BM Glenoid Plan" filter (created once) on the
   /// selected image source (a voxmap, a BM CT Bone), else the CT section's preview; its result,
@@ -70,6 +72,13 @@ private Q_SLOTS:
   /// Runs step `step` of the plan (0 guide pin, 1 reaming) as a session on the step's scene (the
   /// step's tool, the CT's bone; the reaming on the bone the last session left, saved first).
   void runPlanStep(int step);
+
+  /// Whether `source`'s first output is image data.
+  static bool HoldsImage(pqPipelineSource* source);
+  /// Whether it is a bone-fraction image the plan can read (a BM CT Bone, a voxmap opened: the
+  /// BoneFraction array, or one scalar array within [0, 1]); a CT as read is not one (its values
+  /// are HU or a window's 0-255, and its slices are seldom isotropic).
+  static bool HoldsBoneFraction(pqPipelineSource* source);
 
 private:
   Q_DISABLE_COPY(pqBMDockWindow);
@@ -83,9 +92,17 @@ private:
   QPointer<QWidget> WheelView;
   QPointer<pqPipelineSource> Session;
   QPointer<pqPipelineSource> CTBone;
-  QPointer<pqPipelineSource> GlenoidPlan; ///< the Planning section's BM Glenoid Plan filter
-  QPointer<pqPipelineSource> PlanInput;   ///< the image it plans on
+  QPointer<pqPipelineSource> CTSurface;      ///< the preview's bone surface: a Contour of CTBone
+  QPointer<pqPipelineSource> CTImage;        ///< the open image BM CT Bone reads (null: its file)
+  QPointer<pqPipelineSource> GlenoidPlan;    ///< the Planning section's BM Glenoid Plan filter
+  QPointer<pqPipelineSource> PlanInput;      ///< the image it plans on
+  QPointer<pqPipelineSource> PinStepSession; ///< the session running the plan's guide-pin step
   QTimer* Poll;
+  /// The bone last saved (Save bone, or the plan's pin step) and the trial of the session that cut
+  /// it: a session started from that file keeps the entry and axis (world mm; the bone file keeps
+  /// its place in the world).
+  QString SavedBone;
+  QVector<double> SavedEntry, SavedAxis;
   /// Session frame the charts show, and the time since they were drawn.
   vtkIdType ChartedFrame = -1;
   QElapsedTimer ChartClock;

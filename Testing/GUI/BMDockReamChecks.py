@@ -8,6 +8,7 @@
 #
 # Units: mm, mm^3, N, ms, s.
 import functools
+import math
 import os
 import traceback
 
@@ -121,6 +122,19 @@ def bm_ream_started(above_bone=True):
                      "%g mm)" % (removed, bm_ream_value(source, "TimeInfo"),
                                  bm_ream_value(source, "FrameInfo"),
                                  bm_ream_value(source, "DepthInfo")))
+    # The camera frames the bone: its focal point inside the bone's bounds and the bone within
+    # the view's angle (the distance at most what the bone's bounding sphere needs, twice over).
+    b = source.GetDataInformation(0).GetBounds()
+    view = simple.GetActiveView()
+    focal, position = view.CameraFocalPoint, view.CameraPosition
+    if not all(b[2 * a] - 1e-6 <= focal[a] <= b[2 * a + 1] + 1e-6 for a in range(3)):
+        bm_ream_fail("the camera looks at %s, outside the bone's bounds %s" % (list(focal), b))
+    radius = 0.5 * math.sqrt(sum((b[2 * a + 1] - b[2 * a]) ** 2 for a in range(3)))
+    distance = math.sqrt(sum((position[a] - focal[a]) ** 2 for a in range(3)))
+    fits = radius / math.sin(math.radians(view.CameraViewAngle / 2.0))
+    if not 0 < distance <= 2.0 * fits:
+        bm_ream_fail("the camera is %.1f mm from the bone, farther than the %.1f mm that frames "
+                     "it" % (distance, fits))
 
 
 @bm_ream_check

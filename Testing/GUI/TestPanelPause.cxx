@@ -27,6 +27,8 @@
 #include <QSpinBox>
 #include <QStandardItemModel>
 #include <QSurfaceFormat>
+#include <QAbstractSpinBox>
+#include <QSlider>
 #include <QWheelEvent>
 
 #include <cstdio>
@@ -41,6 +43,22 @@ void Expect(bool ok, const char* what) {
   failures += ok ? 0 : 1;
 }
 
+/// ParaView's WheelNeedsFocusBehavior (pqParaViewBehaviors.cxx, ParaView 5.11): an application
+/// filter that eats the wheel events of spin boxes, combo boxes and sliders without the focus, so
+/// that scrolling a panel does not change the values it passes over. Installed before the panel,
+/// as ParaView installs it before loading plugins.
+class WheelNeedsFocus : public QObject {
+public:
+  bool eventFilter(QObject* obj, QEvent* event) override {
+    if (event->type() == QEvent::Wheel &&
+        (qobject_cast<QAbstractSpinBox*>(obj) || qobject_cast<QComboBox*>(obj) ||
+         qobject_cast<QSlider*>(obj)) &&
+        !static_cast<QWidget*>(obj)->hasFocus())
+      return true;
+    return QObject::eventFilter(obj, event);
+  }
+};
+
 void Wheel(QWidget* widget, int delta) {
   const QPointF at(widget->width() / 2.0, widget->height() / 2.0);
   QWheelEvent event(at, widget->mapToGlobal(at.toPoint()), QPoint(), QPoint(0, delta), Qt::NoButton,
@@ -52,6 +70,8 @@ void Wheel(QWidget* widget, int delta) {
 int main(int argc, char* argv[]) {
   QSurfaceFormat::setDefaultFormat(QVTKOpenGLNativeWidget::defaultFormat());
   QApplication app(argc, argv);
+  WheelNeedsFocus paraviewWheel;
+  app.installEventFilter(&paraviewWheel);
   qBMPanel panel;
   qBMSessionWidget* session = panel.sessionWidget();
   // The Touch probe answers on the GUI thread, queued (BM_LIBHD names a missing library).
@@ -104,6 +124,7 @@ int main(int argc, char* argv[]) {
   session->setSessionStatus("running", true);
   session->setSessionState(bm::SessionState::Running, "none");
   Expect(pause->text() == "Pause" && !pause->isChecked(), "a running session shows Pause");
+  Expect(!start->isEnabled(), "a running session: Start is disabled");
   pause->click(); // the user pauses
   Expect(pause->text() == "Resume" && pause->isChecked(), "after a click the button reads Resume");
   Expect(requests.size() == 1 && requests[0], "the click asked to pause");
@@ -112,11 +133,13 @@ int main(int argc, char* argv[]) {
   Expect(requests.size() == 2 && !requests[1], "the second click asked to resume");
   session->setSessionState(bm::SessionState::Paused, "overrun"); // the session paused itself
   Expect(pause->text() == "Resume" && pause->isChecked(), "a self-paused session reads Resume");
+  Expect(start->isEnabled(), "a paused session can be replaced: Start is enabled");
   auto* state = session->findChild<QLabel*>("SessionStateLabel");
   Expect(state && state->text() == "Session paused: overrun", "the state names the reason");
   Expect(requests.size() == 2, "showing the state requests nothing");
   session->setSessionState(bm::SessionState::Running, "none");
   Expect(pause->text() == "Pause" && !pause->isChecked(), "running again reads Pause");
+  Expect(!start->isEnabled(), "running again: Start is disabled again");
   session->setSessionState(bm::SessionState::Paused, "device error");
   session->setSessionStatus("stopped", false);
   Expect(pause->text() == "Pause" && !pause->isChecked() && !pause->isEnabled(),
@@ -130,10 +153,20 @@ int main(int argc, char* argv[]) {
          "busy: the indicator shows, Start is disabled and the status says why");
   session->setBusy(false);
   Expect(progress && !progress->isVisible() && start->isEnabled(), "done: the indicator goes");
-  // The wheel over the depth control moves the depth (0.1 mm a notch) and is not passed on.
+  // The wheel over the depth control moves the depth (0.1 mm a notch) and is not passed on: while
+  // a mouse-proxy session runs without a click on the control first (ParaView's filter above eats
+  // wheels without the focus); with no session it is ParaView's rule, so scrolling the panel past
+  // the control leaves the depth as it was.
   auto* depth = session->findChild<QDoubleSpinBox*>("ToolDepthSpinBox");
+  auto* devices = session->findChild<QComboBox*>("DeviceComboBox");
   QSignalSpy depthChanged(session, &qBMSessionWidget::toolDepthChanged);
-  if (depth) {
+  if (depth && devices) {
+    Expect(!depth->hasFocus(), "the depth control has not the focus");
+    Wheel(depth, 120);
+    Expect(session->toolDepth() == -2.0 && depthChanged.count() == 0,
+           "no session: a wheel passing over the depth control leaves it");
+    devices->setCurrentIndex(devices->findText("Mouse proxy"));
+    session->setSessionStatus("Started BMSession1.", true);
     Wheel(depth, 120);
     Expect(std::abs(session->toolDepth() - (-1.9)) < 1e-9 && depthChanged.count() == 1,
            "a wheel notch deepens the proxy by 0.1 mm");

@@ -2,10 +2,12 @@
 #include "bmPanelLogic.h"
 
 #include "bmBenchmark.h"
+#include "bmCTFileTypes.h"
 #include "bmHapticSession.h"
 #include "bmScene.h"
 #include "bmSessionBenchTable.h"
 #include "bmSessionGrid.h"
+#include "bmVTKImageVolume.h"
 #include "bmVirtualCoupling.h"
 #include "vtkBMSessionSource.h"
 
@@ -69,6 +71,14 @@ std::string ParameterToolTip(const std::string& key) {
       {"web_half_width_mm", "Half the drill's web thickness at the point, mm"}};
   const auto it = tips.find(key);
   return it != tips.end() ? it->second : "Tool parameter: " + ParameterLabel(key);
+}
+
+std::string CTFileFilter() {
+  std::string patterns;
+  for (const auto* list : {&CTFileExtensions(), &VTKImageExtensions()})
+    for (const std::string& ext : *list)
+      patterns += (patterns.empty() ? "*" : " *") + ext;
+  return "CT volumes (" + patterns + ");;All files (*)";
 }
 
 std::string WithVoxmapExtension(const std::string& path, const std::string& defaultSuffix) {

@@ -29,6 +29,10 @@ std::string ParameterLabel(const std::string& key);
 /// <label>" for others).
 std::string ParameterToolTip(const std::string& key);
 
+/// The CT file dialog's filter: "CT volumes (*.nrrd ... *.vti *.vtk);;All files (*)", every file
+/// type the CT import reads (bm::CTFileExtensions, bm::VTKImageExtensions).
+std::string CTFileFilter();
+
 /// `path` with a voxmap extension: a name without any extension gets "." + defaultSuffix
 /// (default "nrrd"); a name with an extension is returned unchanged (the save refuses formats
 /// other than .nrrd and .mha, naming them), and so is "". A dot in a folder name is not an

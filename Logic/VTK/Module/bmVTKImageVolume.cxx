@@ -16,6 +16,8 @@
 #include "vtkStructuredPointsReader.h"
 #include "vtkXMLImageDataReader.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -111,9 +113,17 @@ std::string Trimmed(std::string s) {
 
 } // namespace
 
+const std::vector<std::string>& VTKImageExtensions() {
+  static const std::vector<std::string> kExtensions{".vti", ".vtk"};
+  return kExtensions;
+}
+
 bool IsVTKImageFile(const std::string& path) {
-  const std::string ext = std::filesystem::path(path).extension().string();
-  return ext == ".vti" || ext == ".vtk" || ext == ".VTI" || ext == ".VTK";
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext)
+    c = char(std::tolower(static_cast<unsigned char>(c)));
+  const auto& known = VTKImageExtensions();
+  return std::find(known.begin(), known.end(), ext) != known.end();
 }
 
 /// Refuses an image extent that is inverted or larger than 2^31 points, before the reader

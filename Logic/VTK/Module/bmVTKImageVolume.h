@@ -17,6 +17,8 @@ namespace bm {
 
 /// Whether the path names a VTK image file (.vti XML image data, .vtk legacy structured points).
 bool IsVTKImageFile(const std::string& path);
+/// The VTK image files read here: ".vti" (XML image data) and ".vtk" (legacy).
+const std::vector<std::string>& VTKImageExtensions();
 
 /// Reads a VTK image file; throws std::runtime_error naming the file when it is missing, not a
 /// regular file, or holds no image points.

@@ -208,6 +208,19 @@ int vtkBMSessionSource::GetSessionThreads() {
   return setup ? setup->GetScene().threads : 0;
 }
 
+bool vtkBMSessionSource::GetSessionTrial(double entryMm[3], double axis[3]) {
+  const auto& setup = this->Internals->Setup;
+  if (!setup)
+    return false;
+  const bm::TrialSpec& t = setup->GetScene().trial;
+  const Eigen::Vector3d a = t.axis.normalized();
+  for (int i = 0; i < 3; ++i) {
+    entryMm[i] = t.entry(i);
+    axis[i] = a(i);
+  }
+  return true;
+}
+
 const char* vtkBMSessionSource::GetSessionGridReason() {
   return this->Internals->GridReason.c_str();
 }

@@ -172,6 +172,10 @@ public:
   int GetSessionThreads();
   /// How the session last started chose its resolutions, in words ("" when they were set).
   const char* GetSessionGridReason();
+  /// The trial of the session last started: its entry point (world mm) and axis (unit, from the
+  /// bone out), what a restart from its saved bone must keep. False (nothing written) before
+  /// Start().
+  bool GetSessionTrial(double entryMm[3], double axis[3]);
 
   /// Builds the scene (imports its bone), starts the session. Errors go to vtkErrorMacro and
   /// GetLastError(); returns false then.

@@ -28,6 +28,16 @@ TEST(PanelLogic, EachParameterHasItsOwnToolTip) {
   EXPECT_EQ(PL::ParameterToolTip("wobble_mm"), "Tool parameter: Wobble (mm)");
 }
 
+// The CT dialog offers every type the import reads: ITK's volumes, DICOM, InVesalius projects and
+// VTK images (the .vti a tester could not pick although the import reads it).
+TEST(PanelLogic, TheCTFileDialogOffersEveryTypeTheImportReads) {
+  const std::string filter = PL::CTFileFilter();
+  for (const char* ext : {"*.nrrd", "*.nhdr", "*.mha", "*.mhd", "*.nii", "*.nii.gz", "*.dcm",
+                          "*.inv3", "*.vti", "*.vtk"})
+    EXPECT_NE(filter.find(ext), std::string::npos) << ext << " missing from " << filter;
+  EXPECT_EQ(filter.rfind(";;All files (*)"), filter.size() - std::string(";;All files (*)").size());
+}
+
 TEST(PanelLogic, BoneFileGetsAVoxmapExtension) {
   EXPECT_EQ(PL::WithVoxmapExtension("/tmp/cut"), "/tmp/cut.nrrd");
   EXPECT_EQ(PL::WithVoxmapExtension("/tmp/cut", "mha"), "/tmp/cut.mha");
@@ -100,8 +110,10 @@ TEST(PanelLogic, ExpectedCostOfASceneWithSessionMeasurements) {
           "cores\",2026-11-26,cpu"
           "\nglenoid,96,170,1,incremental,1,2,10000,0.35,0.8,3.5,42,1,10,\"CPU, 2 "
           "cores\",2026-11-26,cpu"
-          "\nglenoid,96,170,1,incremental,0,1,10000,0.2,0.5,1.5,0,0,10,\"CPU, 2 cores\",2026-11-26,cpu"
-          "\nglenoid,96,170,1,full,1,1,10000,3.1,9.0,12.5,9000,80,10,\"CPU, 2 cores\",2026-11-26,cpu"
+          "\nglenoid,96,170,1,incremental,0,1,10000,0.2,0.5,1.5,0,0,10,\"CPU, 2 "
+          "cores\",2026-11-26,cpu"
+          "\nglenoid,96,170,1,full,1,1,10000,3.1,9.0,12.5,9000,80,10,\"CPU, 2 "
+          "cores\",2026-11-26,cpu"
           "\nglenoid,192,340,1,incremental,0,1,10000,2.3,10.9,20,3000,40,10,\"CPU, 2 cores\","
           "2026-11-26,cpu\n",
       "sessions");
