@@ -10,6 +10,8 @@
 
 #include <QFileDialog>
 #include <QStandardItemModel>
+#include <algorithm>
+#include <cmath>
 #include <QApplication>
 #include <QWheelEvent>
 
@@ -377,10 +379,28 @@ void qBMSessionWidget::setSessionStatus(const QString& message, bool running) {
   d->updateStart();
 }
 
+void qBMSessionWidget::setBusyProgress(double fraction, const QString& stage) {
+  Q_D(qBMSessionWidget);
+  if (fraction < 0) {
+    d->StartProgressBar->setRange(0, 0);
+  } else {
+    d->StartProgressBar->setRange(0, 100);
+    d->StartProgressBar->setValue(int(std::lround(100 * std::clamp(fraction, 0.0, 1.0))));
+  }
+  if (!stage.isEmpty())
+    d->StartProgressBar->setFormat(tr("%1: %p%").arg(stage));
+}
+
 void qBMSessionWidget::setBusy(bool busy, const QString& message) {
   Q_D(qBMSessionWidget);
   d->Busy = busy;
   d->StartProgressBar->setVisible(busy);
+  if (busy) {
+    d->StartProgressBar->setRange(0, 0); // no fraction known yet
+    d->StartProgressBar->setFormat("%p%");
+  }
+  // Stop cancels a start under way.
+  d->StopButton->setEnabled(busy || d->Running);
   if (!message.isEmpty())
     d->SessionStatusLabel->setText(message);
   d->updateStart();

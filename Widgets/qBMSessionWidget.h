@@ -92,6 +92,9 @@ public Q_SLOTS:
   /// Shows (true) or hides the busy indicator with `message` as the status while a session is
   /// being built; Start is disabled while busy.
   void setBusy(bool busy, const QString& message = QString());
+  /// While busy: how far the start has come, 0..1, and its stage (the indicator shows the
+  /// percentage; a fraction below 0 shows it busy with no known fraction).
+  void setBusyProgress(double fraction, const QString& stage);
 
 public:
   /// Show the session's state (vtkBMSessionSource's StateInfo as bm::SessionState) and why it

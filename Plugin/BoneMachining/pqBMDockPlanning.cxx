@@ -40,6 +40,8 @@ QVector<double> Get3(vtkSMProxy* proxy, const char* name) {
 } // namespace
 
 void pqBMDockWindow::planGlenoid() {
+  if (this->Starting)
+    return; // a session is being started
   pqServer* server = pqActiveObjects::instance().activeServer();
   qBMPlanWidget* w = this->Panel->planWidget();
   if (!server)
@@ -126,6 +128,8 @@ void pqBMDockWindow::planGlenoid() {
 }
 
 void pqBMDockWindow::runPlanStep(int step) {
+  if (this->Starting)
+    return;
   qBMPlanWidget* w = this->Panel->planWidget();
   qBMSessionWidget* session = this->Panel->sessionWidget();
   if (!this->GlenoidPlan || (step != 0 && step != 1))

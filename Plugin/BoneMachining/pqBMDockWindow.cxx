@@ -12,6 +12,7 @@
 
 #include "pqActiveObjects.h"
 #include "pqApplicationCore.h"
+#include "pqEventDispatcher.h"
 #include "pqObjectBuilder.h"
 #include "pqOutputPort.h"
 #include "pqPipelineSource.h"
@@ -32,6 +33,7 @@
 #include "vtkSMViewProxy.h"
 
 #include <QApplication>
+#include <QEventLoop>
 #include <QCursor>
 #include <QShortcut>
 #include <QWheelEvent>
@@ -138,20 +140,20 @@ vtkSMProxy* ShowInColour(vtkSMSourceProxy* proxy, int port, pqView* view, const 
 /// Camera does for the whole scene) and renders. A representation's own bounds are not known
 /// until the view has rendered it once, so vtkSMRenderViewProxy::ZoomTo on a new representation
 /// left the camera where it was, often looking at nothing.
-void FrameOutput(pqView* view, vtkSMSourceProxy* proxy, int port) {
+void FrameBounds(pqView* view, const double b[6]) {
   auto* renderView = vtkSMRenderViewProxy::SafeDownCast(view->getViewProxy());
-  vtkPVDataInformation* info = proxy->GetDataInformation(port);
-  double b[6];
-  if (renderView && info) {
-    info->GetBounds(b);
-    if (b[0] <= b[1] && b[2] <= b[3] && b[4] <= b[5]) {
-      renderView->ResetCamera(b);
-      view->render();
-      return;
-    }
-  }
-  view->resetDisplay();
+  if (renderView && b[0] < b[1] && b[2] < b[3] && b[4] < b[5])
+    renderView->ResetCamera(const_cast<double*>(b));
+  else
+    view->resetDisplay();
   view->render();
+}
+
+void FrameOutput(pqView* view, vtkSMSourceProxy* proxy, int port) {
+  double b[6] = {1, 0, 1, 0, 1, 0};
+  if (vtkPVDataInformation* info = proxy->GetDataInformation(port))
+    info->GetBounds(b);
+  FrameBounds(view, b);
 }
 } // namespace
 
@@ -228,6 +230,8 @@ void pqBMDockWindow::removeSession() {
 
 void pqBMDockWindow::startSession(const QString& scene, int voxmapResolution, int shellResolution,
                                   int deviceType) {
+  if (this->Starting)
+    return; // one start at a time (Start is disabled meanwhile)
   pqServer* server = pqActiveObjects::instance().activeServer();
   qBMSessionWidget* panel = this->Panel->sessionWidget();
   qBMToolWidget* tool = this->Panel->toolWidget();
@@ -293,19 +297,47 @@ void pqBMDockWindow::startSession(const QString& scene, int voxmapResolution, in
   // The panel's force scale is a Touch's; other devices keep theirs (0).
   vtkSMPropertyHelper(proxy, "ForceScale")
       .Set(deviceType == vtkBMSessionSource::TOUCH ? panel->forceScale() : 0.0);
+  // Building the bone takes seconds (a glenoid's import): on the source's worker thread, while
+  // the GUI goes on (the view redraws, the progress shows, Stop cancels).
+  vtkSMPropertyHelper(proxy, "StartInBackground").Set(1);
   proxy->UpdateVTKObjects();
-  // Building the bone takes seconds (a glenoid voxmap): say so before the GUI thread is busy.
   panel->setBusy(true, tr("Building %1's bone and tool...").arg(source->getSMName()));
-  QApplication::setOverrideCursor(Qt::WaitCursor);
-  QApplication::processEvents(QEventLoop::ExcludeUserInputEvents);
+  this->Starting = source;
   proxy->InvokeCommand("Start");
   proxy->UpdatePropertyInformation();
-  QApplication::restoreOverrideCursor();
+  if (vtkSMPropertyHelper(proxy, "StartingInfo").GetAsInt() != 0) {
+    // A played GUI test (ParaView's XML tests) must not go on to its next event while the
+    // session starts: QtTesting plays events in any nested loop unless told to defer them, as
+    // ParaView's own long waits do (pqLiveInsituManager).
+    pqEventDispatcher::deferEventsIfBlocked(true);
+    QEventLoop building;
+    QTimer tick;
+    tick.setInterval(30);
+    QObject::connect(&tick, &QTimer::timeout, &building, [&]() {
+      proxy->UpdatePropertyInformation();
+      if (vtkSMPropertyHelper(proxy, "StartingInfo").GetAsInt() == 0)
+        building.quit();
+      else
+        panel->setBusyProgress(
+            vtkSMPropertyHelper(proxy, "StartProgressInfo").GetAsDouble(),
+            QString::fromStdString(vtkSMPropertyHelper(proxy, "StartStageInfo").GetAsString()));
+    });
+    tick.start();
+    building.exec();
+    pqEventDispatcher::deferEventsIfBlocked(false);
+  }
+  this->Starting = nullptr;
+  proxy->InvokeCommand("FinishStart");
+  proxy->UpdatePropertyInformation();
   panel->setBusy(false);
   const std::string error = vtkSMPropertyHelper(proxy, "LastErrorInfo").GetAsString();
-  if (!error.empty()) { // Start() failed (bad scene, import error)
+  if (!error.empty()) { // Start() failed (bad scene, import error) or was cancelled
+    const QString name = source->getSMName();
+    pqApplicationCore::instance()->getObjectBuilder()->destroy(source); // no pile of failures
     panel->setSessionStatus(
-        tr("Could not start %1: %2").arg(source->getSMName(), QString::fromStdString(error)),
+        error == "cancelled"
+            ? tr("Start of %1 cancelled.").arg(name)
+            : tr("Could not start %1: %2").arg(name, QString::fromStdString(error)),
         false);
     return;
   }
@@ -317,8 +349,12 @@ void pqBMDockWindow::startSession(const QString& scene, int voxmapResolution, in
     ShowInColour(proxy, 1, view, kToolColour);
     if (panel->volumeRendering())
       this->setVolumeRendering(true);
-    // The camera frames the bone (the tool may start far above it).
-    FrameOutput(view, proxy, 0);
+    // The camera frames the bone (the tool may start far above it): the voxmap's bounds, known
+    // before the live surface's first extraction (which may take a few refreshes).
+    double bounds[6];
+    proxy->UpdatePropertyInformation();
+    vtkSMPropertyHelper(proxy, "BoneBoundsInfo").Get(bounds, 6);
+    FrameBounds(view, bounds);
     if (deviceType == vtkBMSessionSource::MOUSE && view->widget()) {
       this->WheelView = view->widget();
       this->WheelView->installEventFilter(this);
@@ -339,6 +375,10 @@ void pqBMDockWindow::pauseSession(bool paused) {
 }
 
 void pqBMDockWindow::stopSession() {
+  if (this->Starting) { // cancels the start under way; startSession says so
+    this->Starting->getProxy()->InvokeCommand("Stop");
+    return;
+  }
   this->Poll->stop();
   if (!this->Session)
     return;
@@ -422,6 +462,8 @@ void pqBMDockWindow::setVolumeRendering(bool on) {
 }
 
 void pqBMDockWindow::previewCT() {
+  if (this->Starting)
+    return; // the session's bone is being built from these settings
   pqServer* server = pqActiveObjects::instance().activeServer();
   qBMCTWidget* ct = this->Panel->ctWidget();
   if (!server)

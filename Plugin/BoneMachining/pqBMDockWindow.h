@@ -91,6 +91,8 @@ private:
   /// The view widget whose wheel steps the mouse proxy's depth (null: none).
   QPointer<QWidget> WheelView;
   QPointer<pqPipelineSource> Session;
+  /// The session whose bone is being built (startSession waits for it; Stop cancels it).
+  QPointer<pqPipelineSource> Starting;
   QPointer<pqPipelineSource> CTBone;
   QPointer<pqPipelineSource> CTSurface;      ///< the preview's bone surface: a Contour of CTBone
   QPointer<pqPipelineSource> CTImage;        ///< the open image BM CT Bone reads (null: its file)

@@ -11,8 +11,9 @@ usage: pvpython TestSessionSourcePlugin.py PLUGIN BASELINE_PNG WORK_DIR
 2. A screenshot of the final cut (bone, from outside along the axis) compared with BASELINE_PNG
    by VTK's regression test (vtkTesting, threshold 0.15). A missing baseline is written and the
    test fails.
-3. Mouse proxy: a session whose tool follows ToolDepth; moved from 2 mm above the face to 0.5 mm
-   below it, it must cut bone.
+3. Mouse proxy, started in the background as the dock starts it (Start returns while the bone
+   builds; Stop cancels that; started again, FinishStart runs it): a session whose tool follows
+   ToolDepth; moved from 2 mm above the face to 0.5 mm below it, it must cut bone.
 Exits non-zero on the first failed check.
 """
 import os
@@ -117,7 +118,42 @@ def main():
     mouse = globals()["BMSession"](Scene="glenoid", VoxmapResolution=64,
                                          ShellResolution=113, RealTime=0, MaxFrames=4000,
                                          DeviceType="Mouse proxy", ToolDepth=-2.0)
+    # Started in the background, as the dock starts it: Start returns while the bone builds,
+    # the progress only grows, Stop cancels; started again, it builds and FinishStart runs it.
+    mouse.StartInBackground = 1
     mouse.SMProxy.InvokeCommand("Start")
+    mouse.SMProxy.UpdatePropertyInformation()
+    check(info(mouse, "StartingInfo") == 1, "a background start returns while the bone builds")
+    mouse.SMProxy.InvokeCommand("Stop")
+    mouse.SMProxy.UpdatePropertyInformation()
+    check(info(mouse, "StartingInfo") == 0, "Stop cancels a background start")
+    mouse.SMProxy.InvokeCommand("FinishStart")
+    mouse.SMProxy.MarkModified(mouse.SMProxy)
+    mouse.UpdatePipeline()
+    mouse.SMProxy.UpdatePropertyInformation()
+    check(info(mouse, "LastErrorInfo") == "cancelled" and info(mouse, "StateInfo") == 0,
+          "the cancelled start says so and runs no session ('%s', state %d)"
+          % (info(mouse, "LastErrorInfo"), info(mouse, "StateInfo")))
+    mouse.SMProxy.InvokeCommand("Start")
+    progress, stages = [], set()
+    start = time.time()
+    while time.time() - start < 120:
+        mouse.SMProxy.UpdatePropertyInformation()
+        if not info(mouse, "StartingInfo"):
+            break
+        progress.append(info(mouse, "StartProgressInfo"))
+        stages.add(info(mouse, "StartStageInfo"))
+        time.sleep(0.01)
+    print("background start: %d polls, progress %s, stages %s"
+          % (len(progress), progress[-3:], sorted(s for s in stages if s)))
+    check(all(b >= a for a, b in zip(progress, progress[1:])), "the start's progress only grows")
+    mouse.SMProxy.InvokeCommand("FinishStart")
+    mouse.SMProxy.MarkModified(mouse.SMProxy)
+    mouse.UpdatePipeline()
+    mouse.SMProxy.UpdatePropertyInformation()
+    check(info(mouse, "LastErrorInfo") == "" and info(mouse, "StateInfo") == 1,
+          "FinishStart runs the session the background start built ('%s', state %d)"
+          % (info(mouse, "LastErrorInfo"), info(mouse, "StateInfo")))
     # Let the haptic thread pick up the starting pose (the proxy starts where the device is) and
     # run a while above the bone before the "mouse" moves into it.
     start = time.time()

@@ -34,14 +34,17 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <deque>
 #include <exception>
 #include <filesystem>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace {
@@ -76,6 +79,24 @@ public:
   vtkNew<vtkTable> HistoryTable;
   /// The cut bone's fill fractions for volume rendering, copied per changed brick.
   bm::BoneFractionImage Fraction;
+
+  /// A background start (StartInBackground): the worker building the session, whether it still
+  /// runs, a cancel request its progress callback answers, its progress and stage, and what it
+  /// built (or why it failed), handed over under BuildMutex.
+  std::thread Builder;
+  std::atomic<bool> Building{false}, CancelBuild{false};
+  std::atomic<double> BuildProgress{0};
+  std::mutex BuildMutex;
+  std::string BuildStage, StageCopy, BuildError;
+  std::unique_ptr<bm::BuiltSession> Built;
+  bm::Scene PendingScene;
+  /// Cancels and joins the background start's worker, if any.
+  void JoinBuilder() {
+    this->CancelBuild = true;
+    if (this->Builder.joinable())
+      this->Builder.join();
+    this->Building = false;
+  }
 
   /// Depth (mm) of the foremost cutting point of a tool at (pos, rot) below the entry point.
   double Depth(const Eigen::Vector3d& pos, const Eigen::Matrix3d& rot) const {
@@ -177,6 +198,7 @@ const char* vtkBMSessionSource::GetTouchStatus() {
 }
 
 vtkBMSessionSource::~vtkBMSessionSource() {
+  this->Internals->JoinBuilder();
   this->Stop();
   this->SetScene(nullptr);
   this->SetTool(nullptr);
@@ -228,8 +250,14 @@ const char* vtkBMSessionSource::GetSessionGridReason() {
 bool vtkBMSessionSource::Start() {
   vtkInternals& in = *this->Internals;
   this->Stop();
+  in.JoinBuilder();
   in.Session.reset();
+  in.Built.reset();
   in.Error.clear();
+  in.BuildError.clear();
+  in.BuildStage.clear();
+  in.BuildProgress = 0;
+  bm::SessionRequest request;
   try {
     bm::SceneOverrides o;
     o.voxmapResolution = this->VoxmapResolution;
@@ -243,10 +271,9 @@ bool vtkBMSessionSource::Start() {
       o.entryMm = Eigen::Vector3d(this->Entry[0], this->Entry[1], this->Entry[2]);
       o.axis = Eigen::Vector3d(this->Axis[0], this->Axis[1], this->Axis[2]);
     }
-    const bm::Scene scene =
+    in.PendingScene =
         bm::ApplyOverrides(bm::ResolveScene(this->Scene ? this->Scene : "glenoid"), o);
 
-    bm::SessionRequest request;
     request.device = this->DeviceType == MOUSE   ? bm::SessionDevice::Mouse
                      : this->DeviceType == TOUCH ? bm::SessionDevice::Touch
                      : this->DeviceType == HAND  ? bm::SessionDevice::Scripted
@@ -263,13 +290,92 @@ bool vtkBMSessionSource::Start() {
     // Resolutions left to the session: what it needs with the live view this source refreshes.
     request.chooseGrid = this->VoxmapResolution == 0 && this->ShellResolution == 0;
     request.liveView = true;
-    bm::BuiltSession built = bm::BuildSession(scene, request);
-    in.GridReason = built.gridReason;
-    in.Setup = std::move(built.setup);
-    in.Mouse = built.mouse;
-    in.Session = std::make_unique<bm::HapticSession>(*in.Setup, built.device, built.options);
+    bm::ValidateSessionRequest(request);
+    if (!this->StartInBackground) {
+      in.Built = std::make_unique<bm::BuiltSession>(bm::BuildSession(in.PendingScene, request));
+      return this->FinishStart();
+    }
+  } catch (const std::exception& e) {
+    in.Error = e.what();
+    vtkErrorMacro(<< "cannot start the session: " << in.Error);
+    return false;
+  }
+  // The bone on a worker; FinishStart() installs what it built, on this thread.
+  in.CancelBuild = false;
+  in.Building = true;
+  in.Builder = std::thread([&in, request, scene = in.PendingScene]() {
+    auto progress = [&in](double fraction, const std::string& stage) {
+      in.BuildProgress = fraction;
+      {
+        std::lock_guard<std::mutex> lock(in.BuildMutex);
+        in.BuildStage = stage;
+      }
+      return !in.CancelBuild.load();
+    };
+    std::unique_ptr<bm::BuiltSession> built;
+    std::string error;
+    try {
+      built = std::make_unique<bm::BuiltSession>(bm::BuildSession(scene, request, progress));
+      if (in.CancelBuild)
+        error = "cancelled";
+    } catch (const std::exception& e) {
+      error = in.CancelBuild ? "cancelled" : e.what();
+    }
+    {
+      std::lock_guard<std::mutex> lock(in.BuildMutex);
+      in.Built = error.empty() ? std::move(built) : nullptr;
+      in.BuildError = error;
+    }
+    in.Building = false;
+  });
+  return true;
+}
 
-    const nlohmann::json& tool = scene.tool;
+bool vtkBMSessionSource::GetStarting() {
+  return this->Internals->Building.load();
+}
+
+double vtkBMSessionSource::GetStartProgress() {
+  return this->Internals->BuildProgress.load();
+}
+
+const char* vtkBMSessionSource::GetStartStage() {
+  vtkInternals& in = *this->Internals;
+  std::lock_guard<std::mutex> lock(in.BuildMutex);
+  in.StageCopy = in.BuildStage;
+  return in.StageCopy.c_str();
+}
+
+bool vtkBMSessionSource::FinishStart() {
+  vtkInternals& in = *this->Internals;
+  if (in.Building)
+    return false;
+  if (in.Builder.joinable())
+    in.Builder.join();
+  std::unique_ptr<bm::BuiltSession> built;
+  {
+    std::lock_guard<std::mutex> lock(in.BuildMutex);
+    built = std::move(in.Built);
+    if (!in.BuildError.empty())
+      in.Error = in.BuildError;
+  }
+  if (!built) {
+    if (in.Error.empty())
+      in.Error = "no session was built (call Start() first)";
+    return false;
+  }
+  try {
+    in.GridReason = built->gridReason;
+    in.Setup = std::move(built->setup);
+    in.Mouse = built->mouse;
+    in.Session = std::make_unique<bm::HapticSession>(*in.Setup, built->device, built->options);
+    const bm::Box3 box = in.Setup->Bone().Bounds();
+    for (int a = 0; a < 3; ++a) {
+      this->BoneBounds[2 * a] = box.lo[size_t(a)];
+      this->BoneBounds[2 * a + 1] = box.hi[size_t(a)];
+    }
+
+    const nlohmann::json& tool = in.PendingScene.tool;
     const std::string kind = tool.value("type", "drill");
     in.Tool->SetToolType(kind == "reamer" ? vtkBMToolSource::REAMER
                          : kind == "burr" ? vtkBMToolSource::BURR
@@ -306,6 +412,8 @@ void vtkBMSessionSource::Resume() {
 }
 
 void vtkBMSessionSource::Stop() {
+  if (this->Internals->Building)
+    this->Internals->JoinBuilder(); // cancelled: FinishStart() reports it
   if (this->Internals->Session) {
     this->Internals->Session->Stop();
     this->Modified();

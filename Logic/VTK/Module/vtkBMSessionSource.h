@@ -176,13 +176,35 @@ public:
   /// bone out), what a restart from its saved bone must keep. False (nothing written) before
   /// Start().
   bool GetSessionTrial(double entryMm[3], double axis[3]);
+  /// World bounds (x0, x1, y0, y1, z0, z1 mm) of the session's bone voxmap, what a view frames
+  /// before the first surface is extracted; all 0 before Start().
+  vtkGetVector6Macro(BoneBounds, double);
 
   /// Builds the scene (imports its bone), starts the session. Errors go to vtkErrorMacro and
-  /// GetLastError(); returns false then.
+  /// GetLastError(); returns false then. With StartInBackground the bone is built on a worker
+  /// thread and Start() returns at once (false only for a request refused before building):
+  /// poll GetStarting() and GetStartProgress(), then call FinishStart().
   bool Start();
+  ///@{
+  /// Start() builds the bone on a worker thread, so that a GUI stays responsive for the seconds a
+  /// glenoid's import takes (default false: on the calling thread, as scripts expect).
+  vtkSetMacro(StartInBackground, bool);
+  vtkGetMacro(StartInBackground, bool);
+  vtkBooleanMacro(StartInBackground, bool);
+  ///@}
+  /// Whether a background start is still building its bone.
+  bool GetStarting();
+  /// The background start's progress, 0..1, and its stage in words ("" before any).
+  double GetStartProgress();
+  const char* GetStartStage();
+  /// After a background start has built its bone (GetStarting() false): installs the session and
+  /// starts it. False when the build failed or was cancelled (Stop()), GetLastError() saying why,
+  /// or when it is still building. Call it on the thread that owns the source.
+  bool FinishStart();
   void Pause();
   void Resume();
-  /// Stops the session; the cut bone stays for display and saving.
+  /// Stops the session; the cut bone stays for display and saving. A background start still
+  /// building is cancelled (its worker joined) and FinishStart() then reports it.
   void Stop();
   /// Saves the cut bone as a voxmap file (.nrrd or .mha; atomic: a temporary file renamed over
   /// the target when complete, so a failure leaves no partial file). A running session is paused
@@ -259,6 +281,8 @@ protected:
   int ShellResolution = 0;
   int DeviceType = SCRIPTED;
   bool RealTime = true;
+  bool StartInBackground = false;
+  double BoneBounds[6] = {0, 0, 0, 0, 0, 0};
   vtkIdType MaxFrames = -1;
   double ToolDepth = -2.0;
   double ForceScale = 0;
