@@ -53,6 +53,14 @@ def poll(source, timeout_s):
     return seen
 
 
+def finish_start(source):
+    """FinishStart after a background start, then the source updated as the GUI would."""
+    source.SMProxy.InvokeCommand("FinishStart")
+    source.SMProxy.MarkModified(source.SMProxy)
+    source.UpdatePipeline()
+    source.SMProxy.UpdatePropertyInformation()
+
+
 def main():
     check(len(sys.argv) == 4, "usage: TestSessionSourcePlugin.py PLUGIN BASELINE_PNG WORK_DIR")
     plugin, baseline, work = sys.argv[1], os.path.abspath(sys.argv[2]), sys.argv[3]
@@ -127,10 +135,7 @@ def main():
     mouse.SMProxy.InvokeCommand("Stop")
     mouse.SMProxy.UpdatePropertyInformation()
     check(info(mouse, "StartingInfo") == 0, "Stop cancels a background start")
-    mouse.SMProxy.InvokeCommand("FinishStart")
-    mouse.SMProxy.MarkModified(mouse.SMProxy)
-    mouse.UpdatePipeline()
-    mouse.SMProxy.UpdatePropertyInformation()
+    finish_start(mouse)
     check(info(mouse, "LastErrorInfo") == "cancelled" and info(mouse, "StateInfo") == 0,
           "the cancelled start says so and runs no session ('%s', state %d)"
           % (info(mouse, "LastErrorInfo"), info(mouse, "StateInfo")))
@@ -147,10 +152,7 @@ def main():
     print("background start: %d polls, progress %s, stages %s"
           % (len(progress), progress[-3:], sorted(s for s in stages if s)))
     check(all(b >= a for a, b in zip(progress, progress[1:])), "the start's progress only grows")
-    mouse.SMProxy.InvokeCommand("FinishStart")
-    mouse.SMProxy.MarkModified(mouse.SMProxy)
-    mouse.UpdatePipeline()
-    mouse.SMProxy.UpdatePropertyInformation()
+    finish_start(mouse)
     check(info(mouse, "LastErrorInfo") == "" and info(mouse, "StateInfo") == 1,
           "FinishStart runs the session the background start built ('%s', state %d)"
           % (info(mouse, "LastErrorInfo"), info(mouse, "StateInfo")))

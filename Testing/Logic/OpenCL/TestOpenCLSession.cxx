@@ -31,23 +31,11 @@ SessionRun HandSession(const std::string& backend, int frames) {
   const char* device = std::getenv("BM_TEST_OPENCL_DEVICE");
   bm::MachiningSetup setup(scene, bmtest::AnalyticGlenoidVoxmap(bmtest::AnalyticGlenoidSpacing(64)),
                            device ? device : "");
-  bm::ScriptedDeviceOptions d;
-  d.mode = bm::ScriptMode::Hand;
-  d.startMm = {0, 0, 1.0}; // the face 1 mm below the reamer's foremost ring
-  d.rotation = setup.ToolRotation();
-  d.appliedForceN = 2.5;
-  d.handTremorN = 0.1;
-  d.handRampS = 0.1;
-  bm::SessionOptions o;
-  o.realTime = false;
-  o.overrunLimit = -1;
-  o.maxFrames = frames;
-  o.speedRpm = 500;
-  o.recordCapacity = size_t(frames) + 16;
-  o.proxy.coupling.forceScale = 50;
   SessionRun r;
   {
-    bm::HapticSession session(setup, std::make_shared<bm::ScriptedDevice>(d), o);
+    bm::HapticSession session(setup,
+                              std::make_shared<bm::ScriptedDevice>(bmtest::GlenoidHand(setup)),
+                              bmtest::GlenoidHandSession(frames));
     session.Start();
     EXPECT_TRUE(session.WaitUntilPaused(600));
     session.Stop();

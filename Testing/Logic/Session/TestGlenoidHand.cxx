@@ -38,21 +38,8 @@ HandRun RunHand(int voxmapResolution, int shell, int frames, double averageRevol
   const bm::Scene scene = bmtest::AnalyticGlenoidScene(voxmapResolution, shell);
   bm::MachiningSetup setup(
       scene, bmtest::AnalyticGlenoidVoxmap(bmtest::AnalyticGlenoidSpacing(voxmapResolution)));
-  bm::ScriptedDeviceOptions d;
-  d.mode = bm::ScriptMode::Hand;
-  d.startMm = {0, 0, 1.0}; // the face 1 mm below the reamer's foremost ring
-  d.rotation = setup.ToolRotation();
-  d.appliedForceN = 2.5; // a firm push on the Touch
-  d.handTremorN = 0.1;
-  d.handRampS = 0.1;
-  auto dev = std::make_shared<bm::ScriptedDevice>(d);
-  bm::SessionOptions o;
-  o.realTime = false;
-  o.overrunLimit = -1;
-  o.maxFrames = frames;
-  o.speedRpm = 500;
-  o.recordCapacity = size_t(frames) + 16;
-  o.proxy.coupling.forceScale = 50;
+  auto dev = std::make_shared<bm::ScriptedDevice>(bmtest::GlenoidHand(setup));
+  bm::SessionOptions o = bmtest::GlenoidHandSession(frames);
   o.proxy.lateralAverageRevolutions = averageRevolutions;
   bm::HapticSession session(setup, dev, o);
   session.Start();
