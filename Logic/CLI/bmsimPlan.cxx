@@ -35,6 +35,8 @@ namespace {
 void RequireEmptyOut(const std::string& out) {
   if (out.empty())
     throw bm::cli::UsageError("--out DIR is required");
+  if (fs::is_directory(out))
+    bm::RemoveStaleTemporaries(out); // what a killed run left does not block this one
   if (fs::exists(out) && (!fs::is_directory(out) || !fs::is_empty(out)))
     throw std::runtime_error("--out " + out + " exists and is not an empty folder");
 }

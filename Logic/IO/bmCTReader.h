@@ -36,6 +36,7 @@
 
 #include "bmCTImage.h"
 #include "bmIntensityMapping.h"
+#include "bmMemoryBudget.h" // DefaultMemoryLimit, CheckMemoryBudget
 #include "bmProgress.h"
 
 #include <cstdint>
@@ -74,9 +75,6 @@ struct DicomSeriesInfo {
   bool hasUID = true;       ///< false: grouped by other attributes (see above)
 };
 
-/// Default memory budget: 75 % of the machine's physical memory, in bytes.
-uint64_t DefaultMemoryLimit();
-
 /// The DICOM image series in a folder (files without pixel data are left out). Throws
 /// std::runtime_error when the folder is missing, empty, or holds files GDCM cannot parse.
 std::vector<DicomSeriesInfo> ListDicomSeries(const std::string& folder);
@@ -88,9 +86,6 @@ CTImage ReadCT(const std::string& path, const ReadOptions& options = {},
 } // namespace bm
 
 namespace bm {
-/// Throw std::runtime_error "<what> needs N MiB ..., more than the M MiB allowed" when bytes
-/// exceeds limitBytes (0 = DefaultMemoryLimit()). Called before any large allocation.
-void CheckMemoryBudget(uint64_t bytes, uint64_t limitBytes, const std::string& what);
 /// Set ct.huMin/huMax from the voxels (remarks on the range come from DecideIntensity).
 void UpdateHURange(CTImage& ct);
 

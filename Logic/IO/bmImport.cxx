@@ -1,5 +1,7 @@
 #include "bmImport.h"
 
+#include "bmAtomicFile.h"
+
 #include "bmHeaderCheck.h"
 #include "bmPhantom.h"
 #include "bmVoxmapFile.h"
@@ -9,6 +11,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <unistd.h>
+
 #include <filesystem>
 #include <iomanip>
 #include <sstream>
@@ -86,6 +90,18 @@ void CheckVoxmapOutputPath(const std::string& output) {
     throw std::runtime_error("output folder '" + dir.string() + "' does not exist");
   if (fs::is_directory(output))
     throw std::runtime_error("output '" + output + "' is a folder");
+  // The save goes through a temporary beside it (".NAME.tmp-PID-N.EXT"): a name that the file
+  // system takes but its temporary's does not would fail after the whole import.
+  const std::string temporary = fs::path(TemporarySibling(output)).filename().string();
+  const long nameMax = ::pathconf(dir.empty() ? "." : dir.c_str(), _PC_NAME_MAX);
+  if (nameMax > 0 && long(temporary.size()) > nameMax)
+    throw std::runtime_error(
+        "output '" + output + "': its name is " +
+        std::to_string(fs::path(output).filename().string().size()) +
+        " characters long; with its temporary's " +
+        std::to_string(temporary.size() - fs::path(output).filename().string().size()) +
+        " more it exceeds the file system's limit of " + std::to_string(nameMax) +
+        " (choose a shorter name)");
 }
 
 ImportResult ImportVoxmap(const std::string& input, const ImportOptions& opt,

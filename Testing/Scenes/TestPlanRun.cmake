@@ -2,7 +2,8 @@
 # phantom` (DICOM written, glenoid found and measured, axis proposed), then `bmsim run plan.json`
 # (the guide-pin hole, then the nipple-guided reamer on the same bone) at voxmap 96, checked for
 # the plan summary's outcome; then the reaming step alone, without the pin hole, must stop at the
-# nipple's contact with a message and exit 1.
+# nipple's contact with a message and exit 1. A temporary a killed earlier run left in --out does
+# not block `bmsim plan` and is removed.
 #   cmake -DBMSIM=... -DWORK_DIR=... -P TestPlanRun.cmake
 foreach(v BMSIM WORK_DIR)
   if(NOT DEFINED ${v})
@@ -10,11 +11,18 @@ foreach(v BMSIM WORK_DIR)
   endif()
 endforeach()
 file(REMOVE_RECURSE ${WORK_DIR})
+# What a killed (or, before, aborted) earlier run left in --out: a hidden temporary of a process
+# that no longer runs. It must not block this run, and goes.
+file(MAKE_DIRECTORY ${WORK_DIR}/plan/.ct.d.tmp-999999999-1.d)
+file(WRITE ${WORK_DIR}/plan/.ct.d.tmp-999999999-1.d/IM00001.dcm "left by a killed run")
 
 execute_process(COMMAND ${BMSIM} plan phantom --quiet --out ${WORK_DIR}/plan
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0 OR NOT EXISTS ${WORK_DIR}/plan/plan.json)
   message(FATAL_ERROR "bmsim plan phantom failed (${rc}):\n${out}\n${err}")
+endif()
+if(EXISTS ${WORK_DIR}/plan/.ct.d.tmp-999999999-1.d)
+  message(FATAL_ERROR "bmsim plan phantom left the earlier run's temporary in --out")
 endif()
 
 execute_process(COMMAND ${BMSIM} run ${WORK_DIR}/plan/plan.json --voxmap-resolution 96 --no-report
