@@ -171,6 +171,7 @@ elseif(MODE STREQUAL "killed")
   file(GLOB staged LIST_DIRECTORIES true "${dir}/out/.run.tmp-*")
   list(LENGTH staged nStaged)
   file(GLOB visible RELATIVE "${dir}/out" "${dir}/out/*")
+  list(FILTER visible EXCLUDE REGEX "^\\.bmsim-outputs$") # the earlier run's list of outputs
   message(STATUS "after the kill: ${visible}; staging folders: ${nStaged}")
   if(NOT visible STREQUAL "forces.csv;summary.json" OR nStaged GREATER 1)
     message(FATAL_ERROR "a killed run left ${visible} and ${nStaged} staging folders")
