@@ -11,6 +11,8 @@
 #include "bmsimCommand.h"
 #include "bmsimRunSession.h"
 
+#include "bmInputFiles.h"
+
 namespace {
 
 void ReplayOptions(bm::cli::ParsedArgs& p) {
@@ -33,8 +35,14 @@ int ReplayCommand(const bm::cli::ParsedArgs& p) {
     throw bm::cli::UsageError("needs exactly one FILE");
   const double tol = p.GetDouble("tolerance", 0.0, 1e6).value_or(1e-9);
   const auto out = p.Get("out");
-  if (out)
+  if (out) {
     bm::cli::CheckWritableOutput("--out", *out, true);
+    // The replay's outputs may not replace the recording it reads.
+    bm::InputFiles inputs;
+    inputs.AddFile(p.Positional()[0], "the recording");
+    for (const char* name : {"replay.csv", "replay_summary.json"})
+      inputs.CheckOutput((std::filesystem::path(*out) / name).string(), "the output");
+  }
   const bm::Recording rec = bm::ReadRecording(p.Positional()[0]);
   bm::CheckReplayable(rec);
   bm::Scene scene;

@@ -547,10 +547,12 @@ ReadOutcome ReadDicomSeries(const fs::path& dir, std::vector<SliceHeader>& slice
     throw std::runtime_error(os.str());
   }
 
-  const uint64_t bytes = uint64_t(first.rows) * first.cols * ns * sizeof(float);
+  const uint64_t bytes =
+      uint64_t(first.rows) * first.cols * ns * (sizeof(float) + opt.extraBytesPerVoxel);
   CheckMemoryBudget(bytes, opt.maxMemoryBytes,
                     "the CT (" + std::to_string(first.cols) + " x " + std::to_string(first.rows) +
-                        " x " + std::to_string(ns) + " voxels)");
+                        " x " + std::to_string(ns) + " voxels" +
+                        (opt.extraBytesPerVoxel ? ", with the import's working memory" : "") + ")");
 
   ReadOutcome out;
   CTImage& ct = out.ct;
@@ -654,8 +656,8 @@ ReadOutcome ReadVolumeFile(const fs::path& file, const ReadOptions& opt, const P
                              ".nhdr, .mha, .mhd, .nii, .nii.gz or .inv3)");
   }
   // Our own header check first: ITK would allocate, follow data file paths or abort on these.
-  const VolumeHeader header =
-      CheckVolumeHeader(file, format, {opt.maxMemoryBytes, opt.allowDataOutsideFolder});
+  const VolumeHeader header = CheckVolumeHeader(
+      file, format, {opt.maxMemoryBytes, opt.allowDataOutsideFolder, 1, opt.extraBytesPerVoxel});
   if (!io->CanReadFile(file.c_str()))
     throw std::runtime_error("'" + file.string() + "' cannot be read as " + format +
                              " (corrupt or not " + format + ")");

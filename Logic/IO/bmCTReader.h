@@ -51,6 +51,10 @@ struct ReadOptions {
   std::string seriesUID;
   /// Largest CT (bytes of float HU voxels) the reader may allocate; 0 = DefaultMemoryLimit().
   uint64_t maxMemoryBytes = 0;
+  /// Bytes per CT voxel the caller needs beside the voxel's own 4 (bmImport's segmentation of a
+  /// whole CT: 18), counted against maxMemoryBytes with them when the size is first known (from
+  /// a header), so that a CT too large to import is refused before it is read. Default 0.
+  uint64_t extraBytesPerVoxel = 0;
   /// Accept modalities other than CT (values are then not HU; segmentation thresholds will be off).
   bool allowNonCT = false;
   /// Largest accepted deviation of a slice gap from the mean gap, mm, and relative to the mean

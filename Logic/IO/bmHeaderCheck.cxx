@@ -353,15 +353,22 @@ std::vector<std::string> HeaderLines(const fs::path& file, uint64_t& headerBytes
   return lines;
 }
 
+/// ", with the import's working memory (N bytes per voxel)" when there is some.
+std::string WorkingMemory(uint64_t extra) {
+  return extra ? ", with the import's working memory (" + std::to_string(4 + extra) +
+                     " bytes per voxel)"
+               : std::string();
+}
+
 void CheckMemory(const fs::path& file, const VolumeHeader& h, const HeaderLimits& limits) {
   const uint64_t voxels = h.dims[0] * h.dims[1] * h.dims[2]; // each <= 10^9: product < 2^90?
   const long double exact = (long double)h.dims[0] * h.dims[1] * h.dims[2];
-  const uint64_t bytes = exact * h.components > 1e18L
-                             ? uint64_t(1e18)
-                             : voxels * sizeof(float) * uint64_t(h.components);
+  const uint64_t perVoxel = sizeof(float) * uint64_t(h.components) + limits.extraBytesPerVoxel;
+  const uint64_t bytes = exact * (long double)perVoxel > 1e18L ? uint64_t(1e18) : voxels * perVoxel;
   CheckMemoryBudget(bytes, limits.maxMemoryBytes,
                     "the CT " + Q(file) + " (" + std::to_string(h.dims[0]) + " x " +
-                        std::to_string(h.dims[1]) + " x " + std::to_string(h.dims[2]) + " voxels)");
+                        std::to_string(h.dims[1]) + " x " + std::to_string(h.dims[2]) + " voxels" +
+                        WorkingMemory(limits.extraBytesPerVoxel) + ")");
 }
 
 VolumeHeader CheckNrrd(const fs::path& file, const HeaderLimits& limits) {
@@ -560,7 +567,9 @@ VolumeHeader CheckMeta(const fs::path& file, const HeaderLimits& limits) {
     const double cs = std::strtod(csText.c_str(), &end);
     const uint64_t size = fs::file_size(h.dataFile);
     const uint64_t have = size > offset ? size - offset : 0;
-    if (end == csText.c_str() || *end != '\0' || !(cs >= 1) || cs != std::floor(cs))
+    // Digits only: ITK reads the field as an integer ("1e3" would be 1 byte to it).
+    if (end == csText.c_str() || *end != '\0' || !(cs >= 1) || cs != std::floor(cs) ||
+        csText.find_first_not_of("0123456789") != std::string::npos)
       throw std::runtime_error(Q(file) + ": CompressedDataSize '" + csText +
                                "' is not a whole number of bytes");
     if (cs > double(have))

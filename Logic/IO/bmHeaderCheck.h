@@ -35,6 +35,8 @@ struct HeaderLimits {
   /// Values per voxel accepted (NRRD: a 4-D image whose first axis holds them; MetaImage:
   /// ElementNumberOfChannels). 1 for a CT; a saved voxmap has 2 (bone fraction, material).
   int maxComponents = 1;
+  /// As ReadOptions::extraBytesPerVoxel: bytes per voxel the caller needs beside the CT's float.
+  uint64_t extraBytesPerVoxel = 0;
 };
 
 /// What the header check found (used as evidence for the intensity decision).

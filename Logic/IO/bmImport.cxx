@@ -79,6 +79,10 @@ bool Inside(const Box3& b, const std::array<double, 3>& p) {
 
 } // namespace
 
+/// Segmentation working memory per CT voxel, bytes: mask, two label images, fraction, bone HU,
+/// band.
+constexpr uint64_t kSegmentationBytesPerVoxel = 18;
+
 void CheckVoxmapOutputPath(const std::string& output) {
   std::string ext = fs::path(output).extension().string();
   for (auto& c : ext)
@@ -106,7 +110,12 @@ void CheckVoxmapOutputPath(const std::string& output) {
 
 ImportResult ImportVoxmap(const std::string& input, const ImportOptions& opt,
                           const Progress& progress) {
-  CTImage ct = ReadCT(input, opt.read, progress.Range(0, 0.35));
+  // Without a region the whole CT is segmented: a CT whose segmentation cannot fit is refused
+  // from its header, before it is read (the same need as the check before segmenting).
+  ReadOptions read = opt.read;
+  if (!opt.roiMm && !opt.segmentation.box)
+    read.extraBytesPerVoxel = kSegmentationBytesPerVoxel;
+  CTImage ct = ReadCT(input, read, progress.Range(0, 0.35));
   return ImportVoxmap(std::move(ct), opt, progress.Range(0.35, 1));
 }
 
@@ -165,7 +174,8 @@ ImportResult ImportVoxmap(CTImage ct, const ImportOptions& optIn, const Progress
   }
   // Segmentation working memory: mask, two label images, fraction, bone HU, band (per CT voxel).
   const uint64_t ctVoxels = uint64_t(ct.hu->GetLargestPossibleRegion().GetNumberOfPixels());
-  CheckMemoryBudget(ct.Bytes() + ctVoxels * 18, opt.read.maxMemoryBytes, "segmenting the CT");
+  CheckMemoryBudget(ct.Bytes() + ctVoxels * kSegmentationBytesPerVoxel, opt.read.maxMemoryBytes,
+                    "segmenting the CT");
 
   BoneSegmentation seg = SegmentBone(ct, opt.segmentation, progress.Range(0, 0.5));
   ct.hu = nullptr; // release the HU voxels

@@ -734,6 +734,11 @@ void RecordingCases() {
   Add("replay folder", {"replay", "{in}/dir.csv", "--out", "{out}/rp"}, {"dir.csv"},
       [](const fs::path& in) { fs::create_directory(in / "dir.csv"); });
   Add("replay missing", {"replay", "{in}/none.csv", "--out", "{out}/rp"}, {"none.csv"});
+  Add("replay --out holding the recording", {"replay", "{in}/rp/replay.csv", "--out", "{in}/rp"},
+      {"is the recording"}, [=](const fs::path& in) {
+        fs::create_directory(in / "rp");
+        WriteFile(in / "rp" / "replay.csv", head + Row());
+      });
   // HDF5 recordings: a real one made by bmsim, then damaged.
   const fs::path h5 = gBase / "rec.h5";
   if (fs::exists(h5)) {

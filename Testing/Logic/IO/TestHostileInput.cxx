@@ -249,6 +249,11 @@ TEST(HostileInput, MetaImageCorpus) {
        }},
       {"compressed-garbage.mha", "corrupt",
        mha({{"CompressedData", "True"}, {"CompressedDataSize", "128"}}, std::string(128, 'x'))},
+      {"compressed-size-1e2.mha", "is not a whole number of bytes",
+       [](const fs::path& p) {
+         WriteFile(p, Mha({{"CompressedData", "True"}, {"CompressedDataSize", "1e2"}},
+                          Zlib(Voxels()) + std::string(100, '\0')));
+       }},
       {"compressed-no-size.mha", "does not give CompressedDataSize",
        [](const fs::path& p) {
          WriteFile(p, Mha({{"CompressedData", "True"}}, Zlib(Voxels())));
