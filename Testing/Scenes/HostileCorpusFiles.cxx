@@ -673,6 +673,10 @@ void SceneCases() {
       {"run", "drilling", "--out", "{out}/r", "--no-report", "--device", "scripted", "--rate",
        "10000", "--duration", "361"},
       {"a recording holds at most 3600000"});
+  Add("run a hand at 10 Hz",
+      {"run", "drilling", "--out", "{out}/r", "--no-report", "--device", "scripted", "--mode",
+       "hand", "--rate", "10"},
+      {"passive only above 50 Hz"});
   Add("run --record is a file the run writes",
       run({"run", "drilling", "--out", "{in}/r", "--record", "{in}/r/session.csv"}),
       {"--record", "a file this run writes"},
