@@ -4,8 +4,8 @@
 // the Touch is ready, else why not) arrives as finished(), delivered queued to the GUI thread.
 // The destructor waits for the worker (a probe is bounded by the probe function's own timeout),
 // so no probe outlives the panel that asked. The default probe is bm::ProbeTouch()
-// (Logic/Session/bmTouchProbe.h): the library checked and the device opened in a child process
-// with force output never enabled, at most kTimeoutS; a library that crashes or hangs ends only
+// (Logic/Session/bmTouchProbe.h): the library checked, the device opened and its servo loop run
+// at zero force in a child process, at most kTimeoutS; a library that crashes or hangs ends only
 // the child, and the answer names the step.
 #pragma once
 

@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cstdint>
 #include <exception>
 #include <iostream>
 #include <memory>
@@ -22,6 +23,45 @@ std::map<std::string, Command>& Registry() {
   return r;
 }
 } // namespace bm::cli
+
+namespace {
+
+/// Whether `s` is well-formed UTF-8 (no overlong forms, surrogates or values above U+10FFFF).
+bool IsUtf8(const char* s) {
+  const auto* p = reinterpret_cast<const unsigned char*>(s);
+  while (*p) {
+    const unsigned char c = *p;
+    int extra = 0;
+    uint32_t cp = 0;
+    if (c < 0x80) {
+      ++p;
+      continue;
+    } else if ((c & 0xe0) == 0xc0) {
+      extra = 1;
+      cp = c & 0x1f;
+    } else if ((c & 0xf0) == 0xe0) {
+      extra = 2;
+      cp = c & 0x0f;
+    } else if ((c & 0xf8) == 0xf0) {
+      extra = 3;
+      cp = c & 0x07;
+    } else {
+      return false;
+    }
+    ++p;
+    for (int k = 0; k < extra; ++k, ++p) {
+      if ((*p & 0xc0) != 0x80)
+        return false;
+      cp = (cp << 6) | (*p & 0x3f);
+    }
+    static const uint32_t kMin[4] = {0, 0x80, 0x800, 0x10000};
+    if (cp < kMin[extra] || cp > 0x10ffff || (cp >= 0xd800 && cp <= 0xdfff))
+      return false;
+  }
+  return true;
+}
+
+} // namespace
 
 int main(int argc, char** argv) {
 #ifdef BM_WITH_OPENCL
@@ -43,6 +83,15 @@ int main(int argc, char** argv) {
     options[sub] = std::move(args);
   }
   std::string name;
+  // Paths and values end up in JSON outputs (summary.json, plan.json), which must be UTF-8: an
+  // argument that is not would fail after the work, when its output is written. Said first.
+  for (int i = 1; i < argc; ++i)
+    if (!IsUtf8(argv[i])) {
+      std::cerr << "bmsim: argument " << i
+                << " is not valid UTF-8 (a path in another encoding?); its outputs are written as "
+                   "UTF-8 JSON: rename the file or folder\n";
+      return 2;
+    }
   if (argc > 1 && argv[1][0] != '-' && !bm::cli::Registry().count(argv[1])) {
     std::cerr << "bmsim: unknown command '" << argv[1] << "'\n" << app.help();
     return 2;

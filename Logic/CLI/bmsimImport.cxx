@@ -3,6 +3,7 @@
 #include "bmsimArgs.h"
 #include "bmsimCommand.h"
 
+#include "bmAtomicFile.h"
 #include "bmImport.h"
 #include "bmVoxmapFile.h"
 #ifdef BM_WITH_VTK
@@ -81,7 +82,8 @@ static void ImportCommandOptions(ParsedArgs& p) {
              "values are not HU: HU = A x value + B (then --threshold is in HU)")
       .Flag("allow-outside-data", "accept a header's data file outside the header's folder")
       .Real("max-memory", 1, 1e9, "MB",
-            "memory the import may use (default 75 % of physical memory)")
+            "memory the import may use (default 75 % of the memory this process may use: physical, "
+            "or its cgroup limit)")
       .Flag("keep-all", "keep every bone component, not only the largest")
       .Flag("no-fill-holes", "do not fill cavities inside the bone")
       .Flag("q,quiet", "no progress bar");
@@ -102,8 +104,10 @@ static bm::ImportResult ImportVTKImageFile(const std::string& input, const std::
   const vtkSmartPointer<vtkImageData> image = bm::ReadVTKImageFile(input);
   bm::VTKImageVolume volume;
   bm::VolumeFromVTKImage(image, input, volume);
+  // A temporary of bm::TemporarySibling's pattern: what a killed import leaves, the next run in
+  // that folder removes (bm::RemoveStaleTemporaries).
   const fs::path copy =
-      fs::absolute(output).parent_path() / (".bmsim-import-" + std::to_string(::getpid()) + ".mha");
+      bm::TemporarySibling((fs::absolute(output).parent_path() / "bmsim-import-copy.mha").string());
   struct Remove {
     fs::path path;
     ~Remove() {

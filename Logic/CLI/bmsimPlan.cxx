@@ -35,6 +35,8 @@ namespace {
 void RequireEmptyOut(const std::string& out) {
   if (out.empty())
     throw bm::cli::UsageError("--out DIR is required");
+  if (fs::is_directory(out))
+    bm::RemoveStaleTemporaries(out); // what a killed run left does not block this one
   if (fs::exists(out) && (!fs::is_directory(out) || !fs::is_empty(out)))
     throw std::runtime_error("--out " + out + " exists and is not an empty folder");
 }
@@ -182,32 +184,45 @@ static int PlanCommand(const ParsedArgs& p) {
   std::string ctPath, ctRef, source;
   nlohmann::json truth;
   // A failure before the plan's outputs leaves nothing behind: the folder when made here, else
-  // (RequireEmptyOut: it was empty) the phantom's CT written into it.
+  // (RequireEmptyOut: it was empty) the phantom's CT written into it. The CT keeps a temporary's
+  // name (".ct.tmp-PID-N") until the plan is written: a killed run leaves only that, which the
+  // next run removes (RequireEmptyOut), not a DIR/ct that would block it.
   struct Cleanup {
-    fs::path dir;
+    fs::path dir, ct;
     bool created;
     bool armed = true;
     ~Cleanup() {
       std::error_code ec;
       if (armed)
-        fs::remove_all(created ? dir : dir / "ct", ec);
+        fs::remove_all(created ? dir : ct, ec);
     }
-  } cleanup{out, !fs::exists(out)};
+  } cleanup{out, fs::path(out) / "ct", !fs::exists(out)};
   fs::create_directories(out);
+  std::string stagedCT;
+  const auto placeCT = [&] {
+    if (!stagedCT.empty())
+      fs::rename(stagedCT, fs::path(out) / "ct");
+    stagedCT.clear();
+  };
   if (phantom) {
     const ScapulaPhantom ph(sp);
-    ctPath = (fs::path(out) / "ct").string();
+    stagedCT = TemporarySibling((fs::path(out) / "ct").string());
+    cleanup.ct = stagedCT;
+    ctPath = stagedCT;
     WriteScapulaSeries(ph, ctPath, ScapulaCTDefaults(), {}, progress.Range(0, 0.3));
-    ctRef = fs::absolute(ctPath).string();
+    ctRef = fs::absolute(fs::path(out) / "ct").string();
     truth = ScapulaTruthJson(ph);
-    source = ctPath + " (scapula phantom, version " + Fx(sp.versionDeg) + " deg, inclination " +
-             Fx(sp.inclinationDeg) + " deg" + (sp.wearDepthMm > 0 ? ", B2" : "") + ")";
+    source = (fs::path(out) / "ct").string() + " (scapula phantom, version " + Fx(sp.versionDeg) +
+             " deg, inclination " + Fx(sp.inclinationDeg) + " deg" +
+             (sp.wearDepthMm > 0 ? ", B2" : "") + ")";
   } else {
     ctPath = input;
     ctRef = fs::absolute(input).string();
     source = ctRef;
   }
   ImportResult r = ImportVoxmap(ctPath, io, progress.Range(phantom ? 0.3 : 0, 0.9));
+  if (phantom)
+    r.source = (fs::path(out) / "ct").string(); // where it is once the plan is written
   cleanup.armed = false;
   progress(0.95, "finding the glenoid");
   PlanReportInput rep;
@@ -224,6 +239,7 @@ static int PlanCommand(const ParsedArgs& p) {
     plan = MakeGlenoidPlan(L, m, po);
   } catch (const NoGlenoidFound& e) {
     rep.failure = e.what();
+    placeCT();
     WriteFilesAtomic(
         {{(fs::path(out) / "plan_report.md").string(), PlanReportMarkdown(rep)},
          {(fs::path(out) / "plan_report.html").string(), PlanReportHtml(rep)},
@@ -241,6 +257,7 @@ static int PlanCommand(const ParsedArgs& p) {
   nlohmann::json planScene = plan.SceneJson(boneJ);
   planScene["planning"]["landmarks"] = L.ToJson(); // edit and plan again with --landmarks
   planScene["planning"]["measurements"] = m.ToJson();
+  placeCT();
   WriteFilesAtomic(
       {{(fs::path(out) / "plan.json").string(), planScene.dump(2) + "\n"},
        {(fs::path(out) / "step1-guide-pin.json").string(),

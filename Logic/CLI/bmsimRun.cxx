@@ -77,6 +77,7 @@ int RunCommand(const bm::cli::ParsedArgs& p) {
   if (bm::cli::WantsSession(p))
     return bm::cli::RunSessionScene(scene, p, out);
   bm::cli::CheckWritableOutput("--out", out, true); // before the trial, not after it
+  bm::cli::CheckRunOutputs(scene, p, out, {"forces.csv", "summary.json"});
   bm::MachiningSetup setup(scene, bm::cli::SceneBone(scene), p.Get("cl-device", ""));
   bm::FeedTrial trial(setup);
   {

@@ -16,12 +16,17 @@
 #include "bmEdgeQuadrature.h"
 #include "bmHapticSession.h"
 #include "bmMachiningSetup.h"
+#include "bmSceneBone.h"
 #include "bmScriptedDevice.h"
 #include "bmSessionBuilder.h"
 #include "bmSessionRecorder.h"
 #include "bmTouchDevice.h"
+#include "bmTouchProbe.h"
 
 namespace bm::cli {
+
+/// How long the Touch's probe may take, s (opening a Touch takes about a second).
+constexpr double kTouchProbeTimeoutS = 10.0;
 
 void SessionRunOptions(ParsedArgs& p) {
   const std::string maxForce = [] {
@@ -84,6 +89,32 @@ void CheckWritableOutput(const std::string& what, const std::string& path, bool 
     throw UsageError(what + " '" + path + "': cannot write in '" + dir.string() + "'");
   if (!isFolder && fs::exists(p, ec) && ::access(p.c_str(), W_OK) != 0)
     throw UsageError(what + " '" + path + "': the file is not writable");
+}
+
+InputFiles RunInputs(const bm::Scene& scene, const ParsedArgs& args) {
+  InputFiles inputs;
+  std::error_code ec;
+  if (!args.Positional().empty() && std::filesystem::is_regular_file(args.Positional()[0], ec))
+    inputs.AddFile(args.Positional()[0], "the scene file");
+  AddSceneBoneInputs(scene, inputs);
+  if (const auto trajectory = args.Get("trajectory"))
+    inputs.AddFile(*trajectory, "the --trajectory file");
+  return inputs;
+}
+
+void CheckRunOutputs(const bm::Scene& scene, const ParsedArgs& args, const std::string& outDir,
+                     const std::vector<std::string>& written) {
+  const InputFiles inputs = RunInputs(scene, args);
+  InputFiles own;
+  for (const std::string& name : written) {
+    const std::string path = (std::filesystem::path(outDir) / name).string();
+    inputs.CheckOutput(path, "the output");
+    own.AddFile(path, "a file this run writes into --out,");
+  }
+  if (const auto record = args.Get("record")) {
+    inputs.CheckOutput(*record, "--record");
+    own.CheckOutput(*record, "--record");
+  }
 }
 
 bool WantsSession(const ParsedArgs& args) {
@@ -162,6 +193,8 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
        std::filesystem::path(*record).extension() == ".hdf5") &&
       !HasHdf5())
     throw UsageError("--record " + *record + ": this build has no HDF5; use a .csv file");
+  // No output may replace an input (the scene, its CT, the trajectory) or another output.
+  CheckRunOutputs(scene, args, outDir, {"session.csv", "summary.json"});
   if (req.mode == ScriptMode::Trajectory && req.device == SessionDevice::Scripted) {
     const auto file = args.Get("trajectory");
     if (!file)
@@ -174,6 +207,14 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
     throw UsageError(e.what());
   }
 
+  // A Touch's library is first tried in a child process, every step a session takes (force
+  // output and the servo loop at zero force): a driver that crashes or hangs ends the child, and
+  // bmsim refuses the device by name instead of dying with it (bmTouchProbe.h).
+  if (req.device == SessionDevice::Touch) {
+    const TouchProbeResult probe = ProbeTouch(kTouchProbeTimeoutS);
+    if (!probe.ready)
+      throw std::runtime_error(probe.message + " (tried in a child process; no session started)");
+  }
   // Unless resolutions or threads were given, the session models no more than it needs
   // (bmSessionGrid.h): no finer than the CT's spacing and this machine's measured limit.
   req.chooseGrid =
@@ -189,6 +230,15 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
   const std::shared_ptr<Device>& device = built.device;
   const SessionOptions& so = built.options;
   const double duration = built.durationS;
+  // Every frame is recorded (session.csv, --record): a session longer than a recording may hold
+  // would be written and then refused by bmsim replay.
+  if (std::isfinite(duration) && duration * so.rateHz > double(kMaxRecordingFrames)) {
+    std::ostringstream os;
+    os << "--duration " << duration << " s at --rate " << so.rateHz << " Hz makes "
+       << int64_t(std::ceil(duration * so.rateHz)) << " frames; a recording holds at most "
+       << kMaxRecordingFrames << " (one hour at 1 kHz): shorten the session or lower the rate";
+    throw UsageError(os.str());
+  }
   HapticSession session(setup, device, so);
   std::vector<FrameRecord> frames;
   if (so.maxFrames > 0) // < 0: no frame limit (the device ends the session)

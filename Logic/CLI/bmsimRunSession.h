@@ -12,7 +12,9 @@
 
 #include <set>
 #include <string>
+#include <vector>
 
+#include "bmInputFiles.h"
 #include "bmScene.h"
 #include "bmVoxmap.h"
 #include "bmsimArgs.h"
@@ -39,6 +41,15 @@ Voxmap SceneBone(const bm::Scene& scene);
 /// created with its parents) that is an existing file or whose nearest existing ancestor is not
 /// writable. Creates nothing.
 void CheckWritableOutput(const std::string& what, const std::string& path, bool isFolder);
+
+/// The files a run of `scene` reads (bmInputFiles.h): the scene file named on the command line,
+/// the scene's CT or voxmap (with a detached data file or DICOM folder) and --trajectory.
+InputFiles RunInputs(const bm::Scene& scene, const ParsedArgs& args);
+
+/// Throws std::runtime_error when an output of a run names one of its inputs, or --record is one
+/// of the files the run writes into outDir (`written`, e.g. session.csv and summary.json).
+void CheckRunOutputs(const bm::Scene& scene, const ParsedArgs& args, const std::string& outDir,
+                     const std::vector<std::string>& written);
 
 /// Runs the scene through a session; writes outDir/session.csv and outDir/summary.json. Returns the
 /// exit code (0, or 1 when the session paused on a fault). Throws UsageError on bad options.

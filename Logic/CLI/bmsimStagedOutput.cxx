@@ -4,6 +4,8 @@
 #include "bmAtomicFile.h"
 
 #include <filesystem>
+#include <fstream>
+#include <set>
 #include <stdexcept>
 #include <system_error>
 #include <vector>
@@ -37,6 +39,28 @@ void StagedOutput::Commit(const std::string& last) {
       entries.push_back(e.path());
   if (fs::exists(fs::path(Stage_) / last))
     entries.push_back(fs::path(Stage_) / last);
+  // What an earlier run wrote here and this one does not (another scene's report and pictures)
+  // goes before the new set is complete: the folder holds one run's outputs. Only names the
+  // earlier run listed are removed, never other files.
+  const fs::path manifest = fs::path(Out_) / kManifest;
+  std::set<std::string> now;
+  for (const fs::path& from : entries)
+    now.insert(from.filename().string());
+  {
+    std::ifstream in(manifest);
+    for (std::string name; std::getline(in, name);)
+      if (!name.empty() && name.find('/') == std::string::npos && name != "." && name != ".." &&
+          !now.count(name)) {
+        std::error_code ec;
+        fs::remove_all(fs::path(Out_) / name, ec);
+      }
+  }
+  {
+    std::string list;
+    for (const std::string& name : now)
+      list += name + "\n";
+    bm::WriteFileAtomic(manifest.string(), list);
+  }
   for (const fs::path& from : entries) {
     const fs::path to = fs::path(Out_) / from.filename();
     std::error_code ec;

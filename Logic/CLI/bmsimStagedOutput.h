@@ -3,6 +3,9 @@
 // moved into the output folder one by one, the file that says the set is complete (summary.json)
 // last. A run that fails or is killed leaves nothing in the output folder but, when killed, its
 // staging folder, which the next run writing to that folder removes (bm::RemoveStaleTemporaries).
+// A run into the folder of an earlier run removes that run's outputs it does not write itself (a
+// report and pictures of another scene beside the new summary), as the folder's manifest lists
+// them.
 #pragma once
 
 #include <string>
@@ -24,8 +27,13 @@ public:
   const std::string& Path() const { return Stage_; }
   /// Moves every file and folder of the staging folder into the output folder (replacing what
   /// is there of the same name), `last` (e.g. "summary.json") after all others, then removes the
-  /// staging folder. Throws std::runtime_error naming the file that cannot be moved.
+  /// staging folder. The outputs an earlier run listed in the folder's manifest (kManifest) that
+  /// this run does not write are removed first, and the manifest then lists this run's. Throws
+  /// std::runtime_error naming the file that cannot be moved.
   void Commit(const std::string& last = "summary.json");
+
+  /// The hidden file, in the output folder, that lists the outputs of the run that wrote it.
+  static constexpr const char* kManifest = ".bmsim-outputs";
 
 private:
   std::string Out_, Stage_;

@@ -1,6 +1,8 @@
 // bmSessionGrid.cxx - see bmSessionGrid.h.
 #include "bmSessionGrid.h"
 
+#include "bmRegularFile.h"
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -47,18 +49,20 @@ std::optional<SessionLimit> MeasuredSessionLimit(const std::vector<SessionBenchR
   return l;
 }
 
+/// Largest session table read (bytes): the shipped one is a few KiB.
+constexpr uint64_t kMaxSessionTableBytes = uint64_t(64) << 20;
+
 std::vector<SessionBenchRow> LoadDefaultSessionTable(std::string* error) {
   const std::string path = DefaultSessionBenchPath();
-  std::ifstream in(path);
-  if (!in) {
+  if (NotARegularFile(path) == "missing or unreadable") {
     if (error)
       *error = "no session table at " + path;
     return {};
   }
-  std::stringstream text;
-  text << in.rdbuf();
   try {
-    return ParseSessionBenchCsv(text.str(), path);
+    // A FIFO, a device or /proc file as the table would block or never end: refused, named.
+    return ParseSessionBenchCsv(ReadRegularFile(path, kMaxSessionTableBytes, "the session table"),
+                                path);
   } catch (const std::exception& e) {
     if (error)
       *error = e.what();

@@ -1,5 +1,7 @@
 #include "bmVoxmap.h"
 
+#include "bmMemoryBudget.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -44,6 +46,10 @@ Voxmap::Voxmap(std::array<int, 3> dims, double spacingMm, std::array<double, 3> 
   if (!(spacingMm > 0) || !std::isfinite(spacingMm))
     throw std::invalid_argument("Voxmap: spacing must be a positive number of mm");
   Pitch_ = PitchFor(dims);
+  // A grid the machine cannot hold is refused with a message, not killed by the kernel.
+  CheckMemoryBudget(uint64_t(StorageSize()) * sizeof(Fill), 0,
+                    "the voxmap (" + std::to_string(dims[0]) + " x " + std::to_string(dims[1]) +
+                        " x " + std::to_string(dims[2]) + " voxels)");
   Fill_.assign(size_t(StorageSize()), 0);
   InitBricks();
   for (auto& c : BrickCount_)

@@ -4,6 +4,7 @@
 #include "bmDicomFileCheck.h"
 #include "bmHeaderCheck.h"
 #include "bmInvesaliusReader.h"
+#include "bmTiltedStack.h"
 
 #include <gdcmDicts.h>
 #include <gdcmExplicitDataElement.h>
@@ -39,13 +40,6 @@ namespace fs = std::filesystem;
 
 namespace bm {
 
-uint64_t DefaultMemoryLimit() {
-  long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
-  if (pages <= 0 || page <= 0)
-    return uint64_t(4) << 30;
-  return uint64_t(double(pages) * double(page) * 0.75);
-}
-
 namespace {
 
 std::string Trim(std::string s) {
@@ -63,11 +57,15 @@ std::string ToLower(std::string s) {
   return s;
 }
 
-std::string MiB(uint64_t bytes) {
-  std::ostringstream os;
-  os << (bytes + (1u << 20) - 1) / (1u << 20) << " MiB";
-  return os.str();
+double Dot(const std::array<double, 3>& a, const std::array<double, 3>& b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
+
+/// Largest deviation of a direction cosine's length from 1, and of the dot product of two
+/// directions from 0 (GDCM's own tolerance for ImageOrientationPatient).
+constexpr double kOrientationTolerance = 1e-3;
+/// Largest angle between the slice positions' line and the slice normal (gantry tilts reach 30).
+constexpr double kMaxTiltDeg = 45;
 
 /// "a\b\c" -> numbers; empty when any part does not parse.
 std::vector<double> ParseNumbers(const std::string& s) {
@@ -91,14 +89,6 @@ std::vector<double> ParseNumbers(const std::string& s) {
 }
 
 } // namespace
-
-void CheckMemoryBudget(uint64_t bytes, uint64_t limitBytes, const std::string& what) {
-  uint64_t limit = limitBytes ? limitBytes : DefaultMemoryLimit();
-  if (bytes > limit)
-    throw std::runtime_error(what + " needs " + MiB(bytes) + " of memory, more than the " +
-                             MiB(limit) +
-                             " allowed (raise the memory limit or crop the volume first)");
-}
 
 void UpdateHURange(CTImage& ct) {
   const float* p = ct.hu->GetBufferPointer();
@@ -134,7 +124,7 @@ bool IgnorableFile(const fs::path& p) {
 struct SliceHeader {
   fs::path file;
   std::string seriesUID, modality, description, transferSyntax, frames;
-  std::string seriesNumber, studyUID, rescaleType;
+  std::string seriesNumber, studyUID, rescaleType, sopClassUID;
   std::vector<double> rescaleSlope, rescaleIntercept; // empty when absent
   int bitsAllocated = 0;
   std::string seriesId; // seriesUID, or a "noUID-..." id from other attributes
@@ -171,9 +161,12 @@ std::string FallbackSeriesId(const SliceHeader& h) {
 }
 
 SliceHeader ReadSliceHeader(const fs::path& file) {
-  if (!CheckDicomElements(file)) {
+  const DicomFileSummary check = CheckDicomElements(file);
+  if (!check.hasPixelData) {
     SliceHeader none;
-    none.file = file; // a complete DICOM file without pixel data: not an image
+    none.file = file; // a complete DICOM file without pixel data: not an image (or cut short)
+    none.seriesUID = check.seriesUID;
+    none.sopClassUID = check.sopClassUID;
     return none;
   }
   gdcm::Trace::WarningOff(); // problems are reported as errors below, not as GDCM console warnings
@@ -195,6 +188,7 @@ SliceHeader ReadSliceHeader(const fs::path& file) {
   h.file = file;
   h.seriesUID = str(0x0020, 0x000e);
   h.modality = str(0x0008, 0x0060);
+  h.sopClassUID = str(0x0008, 0x0016);
   h.description = str(0x0008, 0x103e);
   h.frames = str(0x0028, 0x0008);
   h.seriesNumber = str(0x0020, 0x0011);
@@ -242,14 +236,32 @@ SliceHeader ReadSliceHeader(const fs::path& file) {
                                std::to_string(uint64_t(px.GetVL())) + " bytes of the " +
                                std::to_string(need) + " its size needs");
   }
-  // ReadUpToTag stops before the pixel data, so "has pixels" = it is an image (rows and columns).
-  h.hasPixelData = h.rows > 0 && h.cols > 0;
+  // The data set reaches its pixel data: an image, which needs rows and columns.
+  if (h.rows <= 0 || h.cols <= 0)
+    throw std::runtime_error("'" + file.string() +
+                             "' holds pixel data but no valid Rows (0028,0010) and Columns "
+                             "(0028,0011): a damaged image");
+  h.hasPixelData = true;
   h.seriesId = h.seriesUID.empty() ? FallbackSeriesId(h) : h.seriesUID;
   return h;
 }
 
+/// "skipped N files that are not DICOM: a, b, c" (at most 5 named).
+std::string SkippedText(const std::vector<std::string>& names) {
+  std::string s = "skipped " + std::to_string(names.size()) + " file" +
+                  (names.size() == 1 ? "" : "s") + " that " + (names.size() == 1 ? "is" : "are") +
+                  " not DICOM: ";
+  for (size_t i = 0; i < names.size() && i < 5; ++i)
+    s += (i ? ", '" : "'") + names[i] + "'";
+  if (names.size() > 5)
+    s += ", ...";
+  return s;
+}
+
 struct ScannedFolder {
   std::map<std::string, std::vector<SliceHeader>> series; // by series id
+  std::vector<SliceHeader> withoutImage;                  // DICOM files that end without pixel data
+  std::vector<std::string> notDicom;                      // names of files skipped as not DICOM
 };
 
 /// Read the headers of the folder's files. magicOnly: only files with the DICM magic (the folder
@@ -260,19 +272,30 @@ ScannedFolder ScanFolder(const fs::path& dir, const Progress& progress, bool mag
   if (!fs::is_directory(dir))
     throw std::runtime_error("'" + dir.string() + "' is not a folder");
   std::vector<fs::path> files;
-  for (const auto& e : fs::directory_iterator(dir))
-    if (e.is_regular_file() && !IgnorableFile(e.path()) && (!magicOnly || HasDicomMagic(e.path())))
-      files.push_back(e.path()); // FIFOs, devices, sockets and folders are not files to read
-  std::sort(files.begin(), files.end());
-  if (files.empty())
-    throw std::runtime_error("folder '" + dir.string() + "' is empty: no DICOM files to read");
   ScannedFolder out;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    // FIFOs, devices, sockets and folders are not files to read.
+    if (!e.is_regular_file() || IgnorableFile(e.path()) || (magicOnly && !HasDicomMagic(e.path())))
+      continue;
+    if (!MayBeDicom(e.path()))
+      out.notDicom.push_back(e.path().filename().string()); // a README, a picture: said, skipped
+    else
+      files.push_back(e.path());
+  }
+  std::sort(files.begin(), files.end());
+  std::sort(out.notDicom.begin(), out.notDicom.end());
+  if (files.empty())
+    throw std::runtime_error("folder '" + dir.string() + "' holds no DICOM files to read" +
+                             (out.notDicom.empty() ? std::string(" (it is empty)")
+                                                   : " (" + SkippedText(out.notDicom) + ")"));
   for (size_t i = 0; i < files.size(); ++i) {
     if (i % 16 == 0)
       progress(double(i) / files.size(), "scanning DICOM headers");
     SliceHeader h = ReadSliceHeader(files[i]);
-    if (!h.hasPixelData)
-      continue; // presentation states, reports, ... : not images
+    if (!h.hasPixelData) {
+      out.withoutImage.push_back(std::move(h)); // presentation states, reports, ...: not images
+      continue;
+    }
     out.series[h.seriesId].push_back(std::move(h));
   }
   if (out.series.empty())
@@ -328,9 +351,30 @@ std::vector<SliceHeader>& ChooseSeries(ScannedFolder& scanned, const fs::path& d
   return scanned.series.begin()->second;
 }
 
+/// A file of the chosen series that ends without its image (cut short at an element's end) is a
+/// damaged slice, not a file to leave out: refused by name.
+void CheckNoSliceWithoutImage(const ScannedFolder& scanned, const std::vector<SliceHeader>& slices,
+                              const fs::path& dir) {
+  const SliceHeader& first = slices.front();
+  if (first.seriesUID.empty())
+    return;
+  for (const auto& f : scanned.withoutImage)
+    if (f.seriesUID == first.seriesUID &&
+        (f.sopClassUID.empty() || f.sopClassUID == first.sopClassUID))
+      throw std::runtime_error("'" + f.file.filename().string() + "' in '" + dir.string() +
+                               "' belongs to series " + first.seriesId +
+                               " but ends without its image (no pixel data): the slice is "
+                               "truncated or damaged");
+}
+
 ReadOutcome ReadDicomFolder(const fs::path& dir, const ReadOptions& opt, const Progress& progress) {
   ScannedFolder scanned = ScanFolder(dir, progress.Range(0, 0.1));
-  return ReadDicomSeries(dir, ChooseSeries(scanned, dir, opt), opt, progress.Range(0.1, 1));
+  std::vector<SliceHeader>& slices = ChooseSeries(scanned, dir, opt);
+  CheckNoSliceWithoutImage(scanned, slices, dir);
+  ReadOutcome r = ReadDicomSeries(dir, slices, opt, progress.Range(0.1, 1));
+  if (!scanned.notDicom.empty())
+    r.ct.notes.push_back(SkippedText(scanned.notDicom) + " (in '" + dir.string() + "')");
+  return r;
 }
 
 /// A single DICOM file: the series it belongs to in its folder.
@@ -349,6 +393,7 @@ ReadOutcome ReadDicomFile(const fs::path& file, const ReadOptions& opt, const Pr
   if (!opt.seriesUID.empty() && opt.seriesUID != h.seriesId)
     throw std::runtime_error("'" + file.string() + "' belongs to series " + h.seriesId + ", not " +
                              opt.seriesUID);
+  CheckNoSliceWithoutImage(scanned, it->second, dir);
   ReadOutcome r = ReadDicomSeries(dir, it->second, opt, progress.Range(0.1, 1));
   r.ct.notes.push_back("'" + file.filename().string() + "' is one slice of series " + h.seriesId +
                        ": its " + std::to_string(r.ct.numFiles) + " slices in '" + dir.string() +
@@ -411,16 +456,40 @@ ReadOutcome ReadDicomSeries(const fs::path& dir, std::vector<SliceHeader>& slice
   if (slices.size() < 2)
     throw std::runtime_error(where + " has a single slice: a volume needs at least two");
 
-  // Slice ordering along the normal = row direction x column direction.
+  // Orientation: the row and column directions must be unit vectors at right angles (GDCM's
+  // tolerance, 0.001); a skewed or scaled pair would shrink or shear the volume.
   std::array<double, 3> r{first.iop[0], first.iop[1], first.iop[2]},
       c{first.iop[3], first.iop[4], first.iop[5]};
+  {
+    const std::string f = "'" + first.file.filename().string() + "' of " + where;
+    const double lr = std::sqrt(Dot(r, r)), lc = std::sqrt(Dot(c, c)), rc = Dot(r, c);
+    for (const auto& [len, which] : {std::pair{lr, "row"}, std::pair{lc, "column"}})
+      if (std::abs(len - 1) > kOrientationTolerance) {
+        std::ostringstream os;
+        os << f << ": the " << which << " direction of its ImageOrientationPatient (0020,0037) has "
+           << "length " << len << ", not 1 (direction cosines are unit vectors)";
+        throw std::runtime_error(os.str());
+      }
+    if (std::abs(rc) > kOrientationTolerance) {
+      std::ostringstream os;
+      os << f << ": the row and column directions of its ImageOrientationPatient (0020,0037) are "
+         << std::acos(std::clamp(rc / (lr * lc), -1.0, 1.0)) * 180 / M_PI
+         << " deg apart, not 90 (row . column = " << rc << ")";
+      throw std::runtime_error(os.str());
+    }
+    // Within the tolerance: make them exactly orthonormal for the image's direction matrix.
+    for (auto& v : r)
+      v /= lr;
+    const double rc1 = Dot(r, c);
+    for (int a = 0; a < 3; ++a)
+      c[size_t(a)] -= rc1 * r[size_t(a)];
+    const double lc1 = std::sqrt(Dot(c, c));
+    for (auto& v : c)
+      v /= lc1;
+  }
+  // Slice ordering along the normal = row direction x column direction.
   std::array<double, 3> n{r[1] * c[2] - r[2] * c[1], r[2] * c[0] - r[0] * c[2],
                           r[0] * c[1] - r[1] * c[0]};
-  double nn = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-  if (!(nn > 0.5))
-    throw std::runtime_error(where + " has an invalid ImageOrientationPatient");
-  for (auto& v : n)
-    v /= nn;
   for (auto& s : slices)
     s.position = s.ipp[0] * n[0] + s.ipp[1] * n[1] + s.ipp[2] * n[2];
   std::sort(slices.begin(), slices.end(),
@@ -443,11 +512,48 @@ ReadOutcome ReadDicomSeries(const fs::path& dir, std::vector<SliceHeader>& slice
       throw std::runtime_error(os.str());
     }
   }
+  // The positions must step uniformly (along a line): along the normal, or, with gantry tilt or
+  // sheared positions, along a line at an angle to it (resampled after reading, bmTiltedStack.h).
+  std::array<double, 3> step;
+  for (int a = 0; a < 3; ++a)
+    step[size_t(a)] =
+        (slices.back().ipp[size_t(a)] - slices.front().ipp[size_t(a)]) / double(ns - 1);
+  const double stepLen = std::sqrt(Dot(step, step));
+  for (size_t k = 1; k + 1 < ns; ++k) {
+    double off = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double e =
+          slices[k].ipp[size_t(a)] - slices.front().ipp[size_t(a)] - double(k) * step[size_t(a)];
+      off += e * e;
+    }
+    off = std::sqrt(off);
+    if (off > std::max(opt.sliceGapToleranceMm, opt.sliceGapToleranceRel * stepLen)) {
+      std::ostringstream os;
+      os << "'" << slices[k].file.filename().string() << "' of " << where << " lies " << off
+         << " mm off the line through the other slices' positions (ImagePositionPatient): slice "
+            "positions must step uniformly";
+      throw std::runtime_error(os.str());
+    }
+  }
+  // Gantry tilt or shear: the step's part in the slice plane, over the whole stack.
+  const double inPlaneStep = std::sqrt(std::max(0.0, stepLen * stepLen - meanGap * meanGap));
+  const double tiltDeg = std::atan2(inPlaneStep, meanGap) * 180 / M_PI;
+  const bool tilted =
+      inPlaneStep * double(ns - 1) > 0.1 * std::min(first.pixelSpacing[0], first.pixelSpacing[1]);
+  if (tilted && tiltDeg > kMaxTiltDeg) {
+    std::ostringstream os;
+    os << where << ": its slice positions move " << tiltDeg
+       << " deg away from the slice normal, more than the " << kMaxTiltDeg
+       << " deg a gantry tilt reaches (ImagePositionPatient or ImageOrientationPatient is wrong)";
+    throw std::runtime_error(os.str());
+  }
 
-  const uint64_t bytes = uint64_t(first.rows) * first.cols * ns * sizeof(float);
+  const uint64_t bytes =
+      uint64_t(first.rows) * first.cols * ns * (sizeof(float) + opt.extraBytesPerVoxel);
   CheckMemoryBudget(bytes, opt.maxMemoryBytes,
                     "the CT (" + std::to_string(first.cols) + " x " + std::to_string(first.rows) +
-                        " x " + std::to_string(ns) + " voxels)");
+                        " x " + std::to_string(ns) + " voxels" +
+                        (opt.extraBytesPerVoxel ? ", with the import's working memory" : "") + ")");
 
   ReadOutcome out;
   CTImage& ct = out.ct;
@@ -465,7 +571,7 @@ ReadOutcome ReadDicomSeries(const fs::path& dir, std::vector<SliceHeader>& slice
   HUImage::SpacingType sp;
   sp[0] = first.pixelSpacing[1]; // PixelSpacing = row spacing \ column spacing
   sp[1] = first.pixelSpacing[0];
-  sp[2] = meanGap;
+  sp[2] = tilted ? stepLen : meanGap; // tilted: one slice position to the next
   ct.hu->SetSpacing(sp);
   HUImage::PointType origin;
   for (int a = 0; a < 3; ++a)
@@ -475,7 +581,7 @@ ReadOutcome ReadDicomSeries(const fs::path& dir, std::vector<SliceHeader>& slice
   for (int a = 0; a < 3; ++a) {
     dirm[a][0] = r[a];
     dirm[a][1] = c[a];
-    dirm[a][2] = n[a];
+    dirm[a][2] = tilted ? step[size_t(a)] / stepLen : n[a];
   }
   ct.hu->SetDirection(dirm);
   ct.hu->Allocate();
@@ -501,6 +607,15 @@ ReadOutcome ReadDicomSeries(const fs::path& dir, std::vector<SliceHeader>& slice
     std::copy_n(img->GetBufferPointer(), perSlice, ct.hu->GetBufferPointer() + k * perSlice);
   }
   progress(1.0, "reading DICOM");
+  if (tilted) {
+    std::ostringstream os;
+    os.precision(3);
+    os << "the slice positions move " << tiltDeg
+       << " deg off the slice normal (gantry tilt or sheared positions): the slices were "
+          "resampled onto a grid along the normal, "
+       << meanGap << " mm apart (linear interpolation, every voxel at its place)";
+    ct.notes.push_back(os.str());
+  }
   if (first.seriesUID.empty())
     ct.notes.push_back("the series has no SeriesInstanceUID (0020,000E): its " +
                        std::to_string(ns) +
@@ -542,8 +657,8 @@ ReadOutcome ReadVolumeFile(const fs::path& file, const ReadOptions& opt, const P
                              ExtensionList(CTFileExtensions()) + ")");
   }
   // Our own header check first: ITK would allocate, follow data file paths or abort on these.
-  const VolumeHeader header =
-      CheckVolumeHeader(file, format, {opt.maxMemoryBytes, opt.allowDataOutsideFolder});
+  const VolumeHeader header = CheckVolumeHeader(
+      file, format, {opt.maxMemoryBytes, opt.allowDataOutsideFolder, 1, opt.extraBytesPerVoxel});
   if (!io->CanReadFile(file.c_str()))
     throw std::runtime_error("'" + file.string() + "' cannot be read as " + format +
                              " (corrupt or not " + format + ")");
@@ -569,6 +684,31 @@ ReadOutcome ReadVolumeFile(const fs::path& file, const ReadOptions& opt, const P
     for (double d : io->GetDirection(a))
       if (!std::isfinite(d))
         throw std::runtime_error("'" + file.string() + "' has a non-finite direction");
+    const std::vector<double> axis = io->GetDirection(a);
+    double len = 0;
+    for (double d : axis)
+      len += d * d;
+    len = std::sqrt(len);
+    if (std::abs(len - 1) > kOrientationTolerance) {
+      std::ostringstream os;
+      os << "'" << file.string() << "': its direction axis " << a << " has length " << len
+         << ", not 1 (a scaled direction matrix or TransformMatrix: the voxel size and "
+            "orientation are ambiguous)";
+      throw std::runtime_error(os.str());
+    }
+    for (unsigned b = 0; b < a; ++b) {
+      const std::vector<double> other = io->GetDirection(b);
+      double dot = 0;
+      for (size_t i = 0; i < 3 && i < axis.size() && i < other.size(); ++i)
+        dot += axis[i] * other[i];
+      if (std::abs(dot) > kOrientationTolerance) {
+        std::ostringstream os;
+        os << "'" << file.string() << "': its direction axes " << b << " and " << a << " are "
+           << std::acos(std::clamp(dot, -1.0, 1.0)) * 180 / M_PI
+           << " deg apart, not 90 (a skewed direction matrix)";
+        throw std::runtime_error(os.str());
+      }
+    }
     if (io->GetDimensions(a) != header.dims[a])
       throw std::runtime_error("'" + file.string() +
                                "': the header's sizes do not parse "
@@ -634,6 +774,12 @@ CTImage ReadCTUnguarded(const std::string& path, const ReadOptions& options,
   r.evidence.file = path;
   r.evidence.format = ct.format;
   ApplyIntensityDecision(ct, r.evidence, options.intensity);
+  // A tilted DICOM stack (sheared grid): onto a grid along the slice normal, after the values were
+  // judged as read (interpolation makes whole numbers fractional), air outside the stack.
+  if (StackTiltDeg(ct.hu) > 1e-6) {
+    ct.hu = ResampleTiltedStack(ct.hu, ct.huMin, options.maxMemoryBytes, progress.Range(0.95, 1));
+    UpdateHURange(ct);
+  }
   progress(1.0, "checking the values");
   return ct;
 }

@@ -36,6 +36,7 @@
 
 #include "bmCTImage.h"
 #include "bmIntensityMapping.h"
+#include "bmMemoryBudget.h" // DefaultMemoryLimit, CheckMemoryBudget
 #include "bmProgress.h"
 
 #include <cstdint>
@@ -50,6 +51,10 @@ struct ReadOptions {
   std::string seriesUID;
   /// Largest CT (bytes of float HU voxels) the reader may allocate; 0 = DefaultMemoryLimit().
   uint64_t maxMemoryBytes = 0;
+  /// Bytes per CT voxel the caller needs beside the voxel's own 4 (bmImport's segmentation of a
+  /// whole CT: 18), counted against maxMemoryBytes with them when the size is first known (from
+  /// a header), so that a CT too large to import is refused before it is read. Default 0.
+  uint64_t extraBytesPerVoxel = 0;
   /// Accept modalities other than CT (values are then not HU; segmentation thresholds will be off).
   bool allowNonCT = false;
   /// Largest accepted deviation of a slice gap from the mean gap, mm, and relative to the mean
@@ -74,9 +79,6 @@ struct DicomSeriesInfo {
   bool hasUID = true;       ///< false: grouped by other attributes (see above)
 };
 
-/// Default memory budget: 75 % of the machine's physical memory, in bytes.
-uint64_t DefaultMemoryLimit();
-
 /// The DICOM image series in a folder (files without pixel data are left out). Throws
 /// std::runtime_error when the folder is missing, empty, or holds files GDCM cannot parse.
 std::vector<DicomSeriesInfo> ListDicomSeries(const std::string& folder);
@@ -88,9 +90,6 @@ CTImage ReadCT(const std::string& path, const ReadOptions& options = {},
 } // namespace bm
 
 namespace bm {
-/// Throw std::runtime_error "<what> needs N MiB ..., more than the M MiB allowed" when bytes
-/// exceeds limitBytes (0 = DefaultMemoryLimit()). Called before any large allocation.
-void CheckMemoryBudget(uint64_t bytes, uint64_t limitBytes, const std::string& what);
 /// Set ct.huMin/huMax from the voxels (remarks on the range come from DecideIntensity).
 void UpdateHURange(CTImage& ct);
 

@@ -10,7 +10,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 namespace fs = std::filesystem;
@@ -141,9 +144,20 @@ std::string WriteDicomSeries(const CTImage& ct, const std::string& folder,
       char name[32];
       std::snprintf(name, sizeof name, "IM%05zu.dcm", k + 1);
       const fs::path file = tmp / name;
-      writer.SetFileName(file.c_str());
+      // GDCM asserts (aborts) when its output stream fails, e.g. on a full disk: it writes into
+      // memory, and the bytes go to the file here, where a failed write is an error.
+      std::ostringstream bytes;
+      writer.SetStream(bytes);
       if (!writer.Write())
-        throw std::runtime_error("cannot write DICOM file '" + file.string() + "'");
+        throw std::runtime_error("GDCM cannot encode slice " + std::to_string(k + 1) +
+                                 " of the DICOM series");
+      const std::string encoded = bytes.str();
+      std::ofstream os(file, std::ios::binary);
+      os.write(encoded.data(), std::streamsize(encoded.size()));
+      os.close();
+      if (!os)
+        throw std::runtime_error("cannot write DICOM file '" + file.string() + "' (" +
+                                 std::strerror(errno) + "; is the disk full?)");
     }
     if (fs::exists(out))
       fs::remove(out); // an empty folder (checked above)

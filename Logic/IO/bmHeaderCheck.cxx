@@ -1,6 +1,9 @@
 #include "bmHeaderCheck.h"
 
 #include "bmCTReader.h" // CheckMemoryBudget
+#include "bmDicomFileCheck.h"
+#include "bmInputFiles.h"
+#include "bmRegularFile.h"
 
 #include <zlib.h>
 
@@ -250,6 +253,54 @@ uint64_t GzipBytes(const fs::path& file, uint64_t offset, uint64_t need) {
   return total;
 }
 
+/// Bytes a zlib (or gzip) stream of at most `maxIn` bytes starting at `offset` of `file` inflates
+/// to, reading until `need` bytes came out or the stream or its bytes end. Throws when the stream
+/// is corrupt. `complete` says whether the stream reached its end marker.
+uint64_t ZlibBytes(const fs::path& header, const fs::path& file, uint64_t offset, uint64_t maxIn,
+                   uint64_t need, bool& complete) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in || !in.seekg(std::streamoff(offset)))
+    throw std::runtime_error("cannot read " + Q(file));
+  z_stream z{};
+  if (inflateInit2(&z, 15 + 32) != Z_OK) // zlib or gzip header, as MetaIO's reader
+    throw std::runtime_error("zlib cannot be initialised");
+  std::vector<unsigned char> src(1 << 16), dst(1 << 16);
+  uint64_t total = 0, read = 0;
+  int rc = Z_OK;
+  complete = false;
+  while (total < need && rc != Z_STREAM_END) {
+    if (z.avail_in == 0) {
+      const uint64_t want = std::min<uint64_t>(src.size(), maxIn - read);
+      if (want == 0)
+        break;
+      in.read(reinterpret_cast<char*>(src.data()), std::streamsize(want));
+      const uint64_t got = uint64_t(in.gcount());
+      if (got == 0)
+        break;
+      read += got;
+      z.next_in = src.data();
+      z.avail_in = unsigned(got);
+    }
+    z.next_out = dst.data();
+    z.avail_out = unsigned(dst.size());
+    rc = inflate(&z, Z_NO_FLUSH);
+    total += dst.size() - z.avail_out;
+    if (rc == Z_STREAM_END) {
+      complete = true;
+      break;
+    }
+    if (rc != Z_OK && rc != Z_BUF_ERROR) {
+      const std::string msg = z.msg ? z.msg : "error " + std::to_string(rc);
+      inflateEnd(&z);
+      throw std::runtime_error(Q(header) + ": its compressed data are corrupt (zlib: " + msg + ")");
+    }
+    if (rc == Z_BUF_ERROR && z.avail_in != 0)
+      break; // no progress possible
+  }
+  inflateEnd(&z);
+  return total;
+}
+
 void CheckDataBytes(const fs::path& header, const fs::path& data, uint64_t offset, uint64_t need,
                     bool gzip) {
   uint64_t have = 0;
@@ -302,15 +353,22 @@ std::vector<std::string> HeaderLines(const fs::path& file, uint64_t& headerBytes
   return lines;
 }
 
+/// ", with the import's working memory (N bytes per voxel)" when there is some.
+std::string WorkingMemory(uint64_t extra) {
+  return extra ? ", with the import's working memory (" + std::to_string(4 + extra) +
+                     " bytes per voxel)"
+               : std::string();
+}
+
 void CheckMemory(const fs::path& file, const VolumeHeader& h, const HeaderLimits& limits) {
   const uint64_t voxels = h.dims[0] * h.dims[1] * h.dims[2]; // each <= 10^9: product < 2^90?
   const long double exact = (long double)h.dims[0] * h.dims[1] * h.dims[2];
-  const uint64_t bytes = exact * h.components > 1e18L
-                             ? uint64_t(1e18)
-                             : voxels * sizeof(float) * uint64_t(h.components);
+  const uint64_t perVoxel = sizeof(float) * uint64_t(h.components) + limits.extraBytesPerVoxel;
+  const uint64_t bytes = exact * (long double)perVoxel > 1e18L ? uint64_t(1e18) : voxels * perVoxel;
   CheckMemoryBudget(bytes, limits.maxMemoryBytes,
                     "the CT " + Q(file) + " (" + std::to_string(h.dims[0]) + " x " +
-                        std::to_string(h.dims[1]) + " x " + std::to_string(h.dims[2]) + " voxels)");
+                        std::to_string(h.dims[1]) + " x " + std::to_string(h.dims[2]) + " voxels" +
+                        WorkingMemory(limits.extraBytesPerVoxel) + ")");
 }
 
 VolumeHeader CheckNrrd(const fs::path& file, const HeaderLimits& limits) {
@@ -496,14 +554,34 @@ VolumeHeader CheckMeta(const fs::path& file, const HeaderLimits& limits) {
   const uint64_t offset = local ? headerBytes : uint64_t(std::max(0LL, skip));
   if (!compressed && skip >= 0) {
     CheckDataBytes(file, h.dataFile, offset, need, false);
-  } else if (compressed && f.count("compresseddatasize")) {
-    const double cs = std::strtod(f["compresseddatasize"].c_str(), nullptr);
+  } else if (compressed) {
+    // ITK's MetaImage reader inflates exactly CompressedDataSize bytes and hands on whatever came
+    // out (a stream cut in half reads as half a CT, the rest zero): inflate it here first.
+    if (!f.count("compresseddatasize"))
+      throw std::runtime_error(Q(file) +
+                               " is compressed but does not give CompressedDataSize: ITK's "
+                               "MetaImage reader cannot decode it (it reads zeros); write it "
+                               "with CompressedDataSize, or uncompressed");
+    const std::string csText = f["compresseddatasize"];
+    char* end = nullptr;
+    const double cs = std::strtod(csText.c_str(), &end);
     const uint64_t size = fs::file_size(h.dataFile);
     const uint64_t have = size > offset ? size - offset : 0;
-    if (!(cs >= 0) || cs > double(have))
-      throw std::runtime_error(Q(file) + " is truncated: CompressedDataSize is " +
-                               f["compresseddatasize"] + " bytes, the file holds " +
-                               std::to_string(have));
+    // Digits only: ITK reads the field as an integer ("1e3" would be 1 byte to it).
+    if (end == csText.c_str() || *end != '\0' || !(cs >= 1) || cs != std::floor(cs) ||
+        csText.find_first_not_of("0123456789") != std::string::npos)
+      throw std::runtime_error(Q(file) + ": CompressedDataSize '" + csText +
+                               "' is not a whole number of bytes");
+    if (cs > double(have))
+      throw std::runtime_error(Q(file) + " is truncated: CompressedDataSize is " + csText +
+                               " bytes, the file holds " + std::to_string(have));
+    bool complete = false;
+    const uint64_t out = ZlibBytes(file, h.dataFile, offset, uint64_t(cs), need, complete);
+    if (out < need)
+      throw std::runtime_error(Q(file) + " is truncated: its voxels need " + std::to_string(need) +
+                               " bytes, its compressed data (" + csText + " bytes) inflate to " +
+                               std::to_string(out) +
+                               (complete ? "" : " before they end mid-stream"));
   }
   return h;
 }
@@ -516,6 +594,60 @@ template <class T> T Get(const unsigned char* p, bool swap) {
   T v;
   std::memcpy(&v, b, sizeof(T));
   return v;
+}
+
+/// NIfTI's two orientations, when both are set, must place the volume alike: readers choose
+/// differently between them (ITK takes the sform), so a file whose two disagree has no one
+/// geometry. Compared at the volume's 8 corners; tolerance half a voxel, at least 0.5 mm.
+void CheckQformMatchesSform(const fs::path& file, const uint64_t dims[3],
+                            const std::vector<double>& pixdim, const std::vector<double>& q,
+                            const std::vector<double>& s) {
+  // nifti1_io's nifti_quatern_to_mat44.
+  double b = q[0], c = q[1], d = q[2], a = 1 - (b * b + c * c + d * d);
+  if (a < 1e-7) {
+    a = 1 / std::sqrt(b * b + c * c + d * d);
+    b *= a;
+    c *= a;
+    d *= a;
+    a = 0;
+  } else {
+    a = std::sqrt(a);
+  }
+  const double xd = pixdim[1] > 0 ? pixdim[1] : 1, yd = pixdim[2] > 0 ? pixdim[2] : 1;
+  const double zd = (pixdim[3] > 0 ? pixdim[3] : 1) * (pixdim[0] < 0 ? -1 : 1);
+  const double R[3][3] = {
+      {a * a + b * b - c * c - d * d, 2 * (b * c - a * d), 2 * (b * d + a * c)},
+      {2 * (b * c + a * d), a * a + c * c - b * b - d * d, 2 * (c * d - a * b)},
+      {2 * (b * d - a * c), 2 * (c * d + a * b), a * a + d * d - c * c - b * b}};
+  double worst = 0;
+  uint64_t at[3] = {0, 0, 0};
+  for (int corner = 0; corner < 8; ++corner) {
+    const double ijk[3] = {(corner & 1) ? double(dims[0] - 1) : 0.0,
+                           (corner & 2) ? double(dims[1] - 1) : 0.0,
+                           (corner & 4) ? double(dims[2] - 1) : 0.0};
+    double dist = 0;
+    for (int r = 0; r < 3; ++r) {
+      const double fromQ =
+          R[r][0] * xd * ijk[0] + R[r][1] * yd * ijk[1] + R[r][2] * zd * ijk[2] + q[size_t(3 + r)];
+      const double fromS = s[size_t(4 * r)] * ijk[0] + s[size_t(4 * r + 1)] * ijk[1] +
+                           s[size_t(4 * r + 2)] * ijk[2] + s[size_t(4 * r + 3)];
+      dist += (fromQ - fromS) * (fromQ - fromS);
+    }
+    dist = std::sqrt(dist);
+    if (dist > worst) {
+      worst = dist;
+      for (int k = 0; k < 3; ++k)
+        at[k] = uint64_t(ijk[k]);
+    }
+  }
+  const double tol = std::max(0.5, 0.5 * std::min({xd, yd, std::abs(zd)}));
+  if (worst > tol) {
+    std::ostringstream m;
+    m << Q(file) << ": its qform and sform (both set) place voxel (" << at[0] << ", " << at[1]
+      << ", " << at[2] << ") " << worst
+      << " mm apart: the file has two different geometries and which one is right is unknown";
+    throw std::runtime_error(m.str());
+  }
 }
 
 VolumeHeader CheckNifti(const fs::path& file, const HeaderLimits& limits) {
@@ -592,6 +724,8 @@ VolumeHeader CheckNifti(const fs::path& file, const HeaderLimits& limits) {
     CheckFinite(file, "qform (orientation and origin)", q, 6);
   if (scode > 0)
     CheckFinite(file, "sform (orientation and origin)", s, 12);
+  if (qcode > 0 && scode > 0)
+    CheckQformMatchesSform(file, h.dims, pixdim, q, s);
   if (!(voxOffset >= 348) || voxOffset > 1e9)
     throw std::runtime_error(Q(file) + ": NIfTI vox_offset " + std::to_string(voxOffset) +
                              " is not a valid data offset");
@@ -630,6 +764,9 @@ void CheckRegularFile(const fs::path& path, const std::string& role) {
     kind = "a socket";
   else if (!S_ISREG(st.st_mode))
     kind = "not a regular file";
+  const std::string why = kind ? std::string() : NotARegularFile(path.string());
+  if (!kind && !why.empty()) // a kernel interface file (/proc/kmsg blocks the first read)
+    kind = why.c_str();
   if (kind)
     throw std::runtime_error(role + " " + Q(path) + " is " + kind + ", not a regular file");
 }
@@ -646,23 +783,74 @@ VolumeHeader CheckVolumeHeader(const fs::path& file, const std::string& format,
   throw std::invalid_argument("CheckVolumeHeader: unknown format " + format);
 }
 
-void CheckOutputIsNotInput(const std::string& input, const std::string& output) {
+fs::path DetachedDataFile(const fs::path& header) {
+  const std::string ext = Lower(header.extension().string());
+  const bool nrrd = ext == ".nrrd" || ext == ".nhdr", meta = ext == ".mha" || ext == ".mhd";
+  if (!(nrrd || meta))
+    return {};
   std::error_code ec;
-  const fs::path in = fs::weakly_canonical(input, ec);
-  const fs::path out = fs::weakly_canonical(output, ec);
-  if (fs::exists(output) && fs::exists(input) && fs::equivalent(input, output, ec))
-    throw std::runtime_error("the output '" + output + "' is the input '" + input +
-                             "': it would overwrite the CT; choose another output");
-  if (!in.empty() && in == out)
-    throw std::runtime_error("the output '" + output + "' is the input '" + input +
-                             "': it would overwrite the CT; choose another output");
-  if (fs::is_directory(input)) {
-    auto rel = out.lexically_relative(in);
-    if (!rel.empty() && *rel.begin() != "..")
-      throw std::runtime_error("the output '" + output + "' lies inside the input folder '" +
-                               input +
-                               "': it would be mixed with the CT's files; write it "
-                               "elsewhere");
+  if (!fs::is_regular_file(header, ec))
+    return {};
+  try {
+    uint64_t bytes = 0;
+    const auto lines = HeaderLines(header, bytes, [&](const std::string& l) {
+      return nrrd ? l.empty() : Lower(Trim(l)).rfind("elementdatafile", 0) == 0;
+    });
+    for (const std::string& line : lines) {
+      const std::string l = Trim(line);
+      std::string key, value;
+      if (nrrd) {
+        const size_t colon = l.find(": ");
+        if (colon == std::string::npos || l.find(":=") != std::string::npos)
+          continue;
+        key = Lower(Trim(l.substr(0, colon)));
+        value = Trim(l.substr(colon + 2));
+        if (key != "data file" && key != "datafile")
+          continue;
+      } else {
+        const size_t eq = l.find('=');
+        if (eq == std::string::npos)
+          continue;
+        key = Lower(Trim(l.substr(0, eq)));
+        value = Trim(l.substr(eq + 1));
+        if (key != "elementdatafile" || Lower(value) == "local")
+          continue;
+      }
+      if (value.empty() || value.find('%') != std::string::npos || value.rfind("LIST", 0) == 0)
+        return {};
+      const fs::path p(value);
+      const fs::path folder = header.parent_path().empty() ? fs::path(".") : header.parent_path();
+      return p.is_absolute() ? p : folder / p;
+    }
+  } catch (const std::exception&) {
+  }
+  return {};
+}
+
+void AddCTInputs(InputFiles& inputs, const std::string& input, const std::string& role) {
+  std::error_code ec;
+  if (fs::is_directory(input, ec)) {
+    inputs.AddFolder(input, role + " folder");
+  } else {
+    inputs.AddFile(input, role);
+    const fs::path data = DetachedDataFile(input);
+    if (!data.empty())
+      inputs.AddFile(data.string(), "the data file of " + role);
+    if (NotARegularFile(input).empty() && HasDicomMagic(input)) { // a FIFO would block the read
+      const fs::path folder = fs::path(input).parent_path();
+      inputs.AddFolder(folder.empty() ? "." : folder.string(),
+                       "the folder of " + role + "'s DICOM series");
+    }
+  }
+}
+
+void CheckOutputIsNotInput(const std::string& input, const std::string& output) {
+  InputFiles inputs;
+  AddCTInputs(inputs, input);
+  try {
+    inputs.CheckOutput(output, "the output");
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(std::string(e.what()) + " (it would overwrite the CT)");
   }
 }
 

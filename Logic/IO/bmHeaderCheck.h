@@ -21,6 +21,8 @@
 #include <filesystem>
 #include <string>
 
+#include "bmInputFiles.h"
+
 namespace bm {
 
 /// Longest accepted text header (NRRD, MetaImage): lines and bytes.
@@ -33,6 +35,8 @@ struct HeaderLimits {
   /// Values per voxel accepted (NRRD: a 4-D image whose first axis holds them; MetaImage:
   /// ElementNumberOfChannels). 1 for a CT; a saved voxmap has 2 (bone fraction, material).
   int maxComponents = 1;
+  /// As ReadOptions::extraBytesPerVoxel: bytes per voxel the caller needs beside the CT's float.
+  uint64_t extraBytesPerVoxel = 0;
 };
 
 /// What the header check found (used as evidence for the intensity decision).
@@ -54,8 +58,20 @@ void CheckRegularFile(const std::filesystem::path& path, const std::string& role
 VolumeHeader CheckVolumeHeader(const std::filesystem::path& file, const std::string& format,
                                const HeaderLimits& limits);
 
-/// Throw when `output` is the same file as `input`, or lies inside the input folder (a DICOM
-/// folder): writing there would replace or alter the patient's data.
+/// The detached data file a NRRD (.nhdr/.nrrd "data file") or MetaImage (.mhd/.mha
+/// ElementDataFile) header names, taken relative to the header's folder; empty when the data are
+/// attached, the file is of another format or its header does not parse (the reader names that).
+std::filesystem::path DetachedDataFile(const std::filesystem::path& header);
+
+/// Adds to `inputs` the files reading the CT (or saved voxmap) `input` reads: the input, the
+/// detached data file its header names, and for a DICOM series its folder (the input folder, or
+/// the folder of a DICOM file given alone), each named after `role`.
+void AddCTInputs(InputFiles& inputs, const std::string& input,
+                 const std::string& role = "the input");
+
+/// Throw when `output` is a file the CT `input` is read from (the input, a detached data file
+/// its header names, through links) or lies inside the input folder (a DICOM series, also when
+/// one of its files is the input): writing there would replace or alter the patient's data.
 void CheckOutputIsNotInput(const std::string& input, const std::string& output);
 
 } // namespace bm

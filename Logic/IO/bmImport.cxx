@@ -1,5 +1,7 @@
 #include "bmImport.h"
 
+#include "bmAtomicFile.h"
+
 #include "bmHeaderCheck.h"
 #include "bmPhantom.h"
 #include "bmVoxmapFile.h"
@@ -9,6 +11,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <unistd.h>
+
 #include <filesystem>
 #include <iomanip>
 #include <sstream>
@@ -75,6 +79,10 @@ bool Inside(const Box3& b, const std::array<double, 3>& p) {
 
 } // namespace
 
+/// Segmentation working memory per CT voxel, bytes: mask, two label images, fraction, bone HU,
+/// band.
+constexpr uint64_t kSegmentationBytesPerVoxel = 18;
+
 void CheckVoxmapOutputPath(const std::string& output) {
   std::string ext = fs::path(output).extension().string();
   for (auto& c : ext)
@@ -86,11 +94,28 @@ void CheckVoxmapOutputPath(const std::string& output) {
     throw std::runtime_error("output folder '" + dir.string() + "' does not exist");
   if (fs::is_directory(output))
     throw std::runtime_error("output '" + output + "' is a folder");
+  // The save goes through a temporary beside it (".NAME.tmp-PID-N.EXT"): a name that the file
+  // system takes but its temporary's does not would fail after the whole import.
+  const std::string temporary = fs::path(TemporarySibling(output)).filename().string();
+  const long nameMax = ::pathconf(dir.empty() ? "." : dir.c_str(), _PC_NAME_MAX);
+  if (nameMax > 0 && long(temporary.size()) > nameMax)
+    throw std::runtime_error(
+        "output '" + output + "': its name is " +
+        std::to_string(fs::path(output).filename().string().size()) +
+        " characters long; with its temporary's " +
+        std::to_string(temporary.size() - fs::path(output).filename().string().size()) +
+        " more it exceeds the file system's limit of " + std::to_string(nameMax) +
+        " (choose a shorter name)");
 }
 
 ImportResult ImportVoxmap(const std::string& input, const ImportOptions& opt,
                           const Progress& progress) {
-  CTImage ct = ReadCT(input, opt.read, progress.Range(0, 0.35));
+  // Without a region the whole CT is segmented: a CT whose segmentation cannot fit is refused
+  // from its header, before it is read (the same need as the check before segmenting).
+  ReadOptions read = opt.read;
+  if (!opt.roiMm && !opt.segmentation.box)
+    read.extraBytesPerVoxel = kSegmentationBytesPerVoxel;
+  CTImage ct = ReadCT(input, read, progress.Range(0, 0.35));
   return ImportVoxmap(std::move(ct), opt, progress.Range(0.35, 1));
 }
 
@@ -149,7 +174,8 @@ ImportResult ImportVoxmap(CTImage ct, const ImportOptions& optIn, const Progress
   }
   // Segmentation working memory: mask, two label images, fraction, bone HU, band (per CT voxel).
   const uint64_t ctVoxels = uint64_t(ct.hu->GetLargestPossibleRegion().GetNumberOfPixels());
-  CheckMemoryBudget(ct.Bytes() + ctVoxels * 18, opt.read.maxMemoryBytes, "segmenting the CT");
+  CheckMemoryBudget(ct.Bytes() + ctVoxels * kSegmentationBytesPerVoxel, opt.read.maxMemoryBytes,
+                    "segmenting the CT");
 
   BoneSegmentation seg = SegmentBone(ct, opt.segmentation, progress.Range(0, 0.5));
   ct.hu = nullptr; // release the HU voxels

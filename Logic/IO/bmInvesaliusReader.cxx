@@ -252,9 +252,10 @@ CTImage ReadInvesaliusProject(const std::string& path, const ReadOptions& opt,
   if (ds == sizes.end())
     throw std::runtime_error("'" + path + "': unsupported matrix dtype '" + dtype + "'");
   const size_t nz = shape[0], ny = shape[1], nx = shape[2];
-  CheckMemoryBudget(uint64_t(nx) * ny * nz * sizeof(float), opt.maxMemoryBytes,
-                    "the CT (" + std::to_string(nx) + " x " + std::to_string(ny) + " x " +
-                        std::to_string(nz) + " voxels)");
+  CheckMemoryBudget(
+      uint64_t(nx) * ny * nz * (sizeof(float) + opt.extraBytesPerVoxel), opt.maxMemoryBytes,
+      "the CT (" + std::to_string(nx) + " x " + std::to_string(ny) + " x " + std::to_string(nz) +
+          " voxels" + (opt.extraBytesPerVoxel ? ", with the import's working memory" : "") + ")");
 
   CTImage ct;
   ct.source = path;

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 #include "bmVirtualCoupling.h"
@@ -28,19 +29,60 @@ void CheckReplayable(const Recording& rec) {
   };
   for (size_t i = 0; i < rec.frames.size(); ++i) {
     const FrameRecord& r = rec.frames[i];
-    const char* bad = !finite(r.devicePos)          ? "device position"
-                      : !finite(r.deviceQuat)       ? "device orientation"
-                      : !std::isfinite(r.speedRpm)  ? "spindle speed"
-                      : !finite(r.couplingForce)    ? "coupling force"
-                      : !finite(r.deviceForce)      ? "device force"
-                      : !std::isfinite(r.thrustN)   ? "thrust"
-                      : !std::isfinite(r.torqueNmm) ? "torque"
-                      : !finite(r.proxyPos)         ? "proxy position"
-                                                    : nullptr;
+    const char* bad = !finite(r.devicePos)                 ? "device position"
+                      : !finite(r.deviceQuat)              ? "device orientation"
+                      : !std::isfinite(r.speedRpm)         ? "spindle speed"
+                      : !finite(r.couplingForce)           ? "coupling force"
+                      : !finite(r.deviceForce)             ? "device force"
+                      : !std::isfinite(r.thrustN)          ? "thrust"
+                      : !std::isfinite(r.torqueNmm)        ? "torque"
+                      : !finite(r.proxyPos)                ? "proxy position"
+                      : !std::isfinite(r.feedMmPerRev)     ? "feed"
+                      : !std::isfinite(r.removedVolumeMm3) ? "removed volume"
+                      : !std::isfinite(r.timeS)            ? "time"
+                                                           : nullptr;
     if (bad)
       throw std::runtime_error("frame " + std::to_string(i) +
                                " of the recording has a non-finite " + bad);
   }
+  // The frames are the session's, in order: numbered 0, 1, 2, ... (a pause does not count), at
+  // time frame / rate. A gap, a repeat or an edited number or time is not what the session ran.
+  DeviceLimits limits;
+  const double rate =
+      SessionOptionsFromJson(rec.meta.value("session", nlohmann::json::object()), limits).rateHz;
+  for (size_t i = 0; i < rec.frames.size(); ++i) {
+    const FrameRecord& r = rec.frames[i];
+    if (r.frame != int64_t(i))
+      throw std::runtime_error("frame " + std::to_string(i) + " of the recording is numbered " +
+                               std::to_string(r.frame) +
+                               ": a recording's frames are numbered 0, 1, 2, ... (a frame is "
+                               "missing, repeated or renumbered)");
+    const double t = double(r.frame) / rate;
+    if (std::abs(r.timeS - t) > 1e-9 * std::max(1.0, t)) {
+      std::ostringstream os;
+      os.precision(12);
+      os << "frame " << i << " of the recording is at time " << r.timeS << " s, not " << t
+         << " s (frame / the session's " << rate << " Hz)";
+      throw std::runtime_error(os.str());
+    }
+  }
+}
+
+std::vector<std::string> ReplayResult::Differing(double tolerance) const {
+  std::vector<std::string> v;
+  const std::pair<double, const char*> continuous[] = {{maxCouplingForceDiffN, "coupling force"},
+                                                       {maxDeviceForceDiffN, "device force"},
+                                                       {maxThrustDiffN, "thrust"},
+                                                       {maxTorqueDiffNmm, "torque"},
+                                                       {maxProxyDiffMm, "proxy position"},
+                                                       {maxFeedDiffMmPerRev, "feed"},
+                                                       {maxRemovedVolumeDiffMm3, "removed volume"}};
+  for (const auto& [diff, name] : continuous)
+    if (!(diff <= tolerance))
+      v.push_back(name);
+  if (maxRemovedVoxelsDiff != 0)
+    v.push_back("removed voxels");
+  return v;
 }
 
 ReplayResult Replay(const Recording& rec, MachiningSetup& setup) {
@@ -79,6 +121,12 @@ ReplayResult Replay(const Recording& rec, MachiningSetup& setup) {
     out.maxThrustDiffN = std::max(out.maxThrustDiffN, std::abs(r.thrustN - f.thrustN));
     out.maxTorqueDiffNmm = std::max(out.maxTorqueDiffNmm, std::abs(r.torqueNmm - f.torqueNmm));
     out.maxProxyDiffMm = std::max(out.maxProxyDiffMm, diff3(r.proxyPos, f.proxyPositionMm));
+    out.maxFeedDiffMmPerRev =
+        std::max(out.maxFeedDiffMmPerRev, std::abs(r.feedMmPerRev - f.feedMmPerRev));
+    out.maxRemovedVolumeDiffMm3 =
+        std::max(out.maxRemovedVolumeDiffMm3, std::abs(r.removedVolumeMm3 - f.removedVolumeMm3));
+    out.maxRemovedVoxelsDiff = std::max<int64_t>(
+        out.maxRemovedVoxelsDiff, std::abs(int64_t(r.removedVoxels) - int64_t(f.removedVoxels)));
     out.replayed.push_back(q);
     ++out.frames;
   }

@@ -8,6 +8,7 @@
 // Units: N, N mm, mm.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "bmFrameRecord.h"
@@ -16,6 +17,10 @@
 
 namespace bm {
 
+/// Every quantity a frame produces, compared: the forces on the proxy and at the device (what the
+/// hand felt), thrust, torque, the proxy's position, the feed and the bone removed. The inputs
+/// (device pose, speed, buttons, resume marks) are what is replayed; the compute time is this
+/// machine's.
 struct ReplayResult {
   int64_t frames = 0;
   double maxCouplingForceDiffN = 0; ///< max |coupling force replayed - recorded|, N
@@ -23,11 +28,22 @@ struct ReplayResult {
   double maxThrustDiffN = 0;
   double maxTorqueDiffNmm = 0;
   double maxProxyDiffMm = 0;
+  double maxFeedDiffMmPerRev = 0;
+  double maxRemovedVolumeDiffMm3 = 0; ///< per frame
+  int64_t maxRemovedVoxelsDiff = 0;   ///< per frame
   std::vector<FrameRecord> replayed; ///< the replayed records (frameMs = this run's compute time)
+
+  /// The quantities whose largest difference exceeds `tolerance` (N, N mm, mm, mm/rev, mm^3;
+  /// removed voxels must match exactly), e.g. {"device force", "proxy position"}; empty when the
+  /// replay reproduced the recording.
+  std::vector<std::string> Differing(double tolerance) const;
 };
 
 /// Throws std::runtime_error naming the frame and the field when the recording cannot be replayed:
-/// no frames, or a non-finite device pose, spindle speed, or recorded force, thrust or torque.
+/// no frames; a non-finite device pose, spindle speed, recorded force, thrust, torque, proxy
+/// position, feed or removed volume; frames not numbered 0, 1, 2, ... (one missing, repeated or
+/// renumbered: the replay would not run the session's frames); a time column that is not
+/// frame / rate_hz (the recording's session rate).
 void CheckReplayable(const Recording& rec);
 
 /// Replays `rec` on `setup` (built from the recording's scene, with an untouched bone). Checks

@@ -6,6 +6,7 @@
 #include <functional>
 #include <string>
 
+#include "bmInputFiles.h"
 #include "bmScene.h"
 #include "bmVoxmap.h"
 
@@ -26,5 +27,10 @@ bool CanImportSceneBones();
 /// problem.
 Voxmap MakeSceneBone(const Scene& scene, const BoneProgress& progress = {},
                      bool noFinerThanCT = false, double toolVoxelMm = 0);
+
+/// Adds to `inputs` the files the scene's bone is read from (a CT with its detached data file or
+/// DICOM folder, a saved voxmap; relative paths from scene.baseDir), so that no output replaces
+/// one. A block or a phantom reads none.
+void AddSceneBoneInputs(const Scene& scene, InputFiles& inputs);
 
 } // namespace bm

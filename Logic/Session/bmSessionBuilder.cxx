@@ -101,6 +101,28 @@ void ValidateSessionRequest(const SessionRequest& r) {
                                 std::to_string(r.maxFrames));
   if (r.device == SessionDevice::Mouse && !std::isfinite(r.mouseDepthMm))
     throw std::invalid_argument("the mouse proxy's depth must be finite (mm)");
+  // A hand on a device feels the sampled virtual coupling, which is passive (cannot pump energy
+  // into the hand and grow unstable) only while its damping exceeds K T / 2 (Colgate and
+  // Schenkel). The damping is K T up to the device's nominal damping, so below K / (2 B_max) a
+  // scripted hand pushes through the bone unopposed (at 10 Hz on a Touch it went 190 mm): refused
+  // by name. A robot or the mouse is a position source, not a hand. The Touch's published limits
+  // are the scripted hand's and the Touch's before it reports its own.
+  const bool handHeld = r.device == SessionDevice::Touch ||
+                        (scripted && (r.mode == ScriptMode::Force || r.mode == ScriptMode::Hand));
+  if (handHeld) {
+    CouplingOptions co;
+    co.forceScale = r.forceScale != 0 ? r.forceScale : kDefaultSessionForceScale;
+    const double periodS = 1.0 / r.rateHz;
+    const VirtualCoupling c(co, DeviceLimits(), periodS);
+    if (!(c.Damping() > 0.5 * c.Stiffness() * periodS)) {
+      std::ostringstream m;
+      m << "the haptic rate " << r.rateHz << " Hz is too low for a hand on the device: its "
+        << "coupling (" << c.Stiffness() / co.forceScale << " N/mm, damping "
+        << c.Damping() / co.forceScale << " N s/mm at the device) is passive only above "
+        << std::ceil(c.Stiffness() / (2 * c.Damping())) << " Hz (damping > stiffness x period / 2)";
+      throw std::invalid_argument(m.str());
+    }
+  }
 }
 
 BuiltSession BuildSession(const Scene& scene, const SessionRequest& r,

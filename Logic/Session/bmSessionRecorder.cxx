@@ -1,5 +1,7 @@
 #include "bmSessionRecorder.h"
 
+#include "bmRegularFile.h"
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -290,10 +292,10 @@ Recording ReadRecording(const std::string& path, int64_t maxFrames) {
   {
     std::error_code ec;
     const auto st = std::filesystem::status(path, ec);
-    if (!ec && std::filesystem::exists(st) && !std::filesystem::is_regular_file(st))
-      throw std::runtime_error("recording '" + path +
-                               "' is not a regular file (a folder, FIFO or "
-                               "device); refused");
+    const std::string why = NotARegularFile(path);
+    if (!ec && std::filesystem::exists(st) && !why.empty())
+      throw std::runtime_error("recording '" + path + "' is not a regular file (it is " + why +
+                               "); refused");
   }
   Recording rec;
   const size_t ncols = FrameRecord::Columns().size();
@@ -305,9 +307,35 @@ Recording ReadRecording(const std::string& path, int64_t maxFrames) {
       throw std::runtime_error("cannot open HDF5 recording '" + path + "'");
     rec.meta = ParseJson(ReadStringAttribute(file.Get(), "meta"),
                          "the header of recording '" + path + "'");
+    // /frames must be this file's own data: a link to another file, external storage (raw data
+    // in other files) or a virtual dataset would make the replay read whatever file they name.
+    {
+      H5L_info_t link{};
+      if (H5Lexists(file.Get(), "frames", H5P_DEFAULT) <= 0 ||
+          H5Lget_info(file.Get(), "frames", &link, H5P_DEFAULT) < 0)
+        throw std::runtime_error("'" + path + "' has no /frames dataset");
+      if (link.type != H5L_TYPE_HARD)
+        throw std::runtime_error("'" + path +
+                                 "': /frames is a link (to another file or place), not the "
+                                 "file's own dataset; refused");
+    }
     H5Handle ds(H5Dopen2(file.Get(), "frames", H5P_DEFAULT), H5Dclose);
     if (!ds.Valid())
       throw std::runtime_error("'" + path + "' has no /frames dataset");
+    {
+      H5Handle dcpl(H5Dget_create_plist(ds.Get()), H5Pclose);
+      if (!dcpl.Valid())
+        throw std::runtime_error("'" + path + "': cannot read how /frames is stored");
+      if (H5Pget_external_count(dcpl.Get()) != 0)
+        throw std::runtime_error("'" + path +
+                                 "': /frames keeps its data in external files (HDF5 external "
+                                 "storage); only data inside the recording are read");
+      const H5D_layout_t layout = H5Pget_layout(dcpl.Get());
+      if (layout != H5D_CONTIGUOUS && layout != H5D_CHUNKED && layout != H5D_COMPACT)
+        throw std::runtime_error("'" + path +
+                                 "': /frames is not stored in the file itself (a virtual "
+                                 "dataset); refused");
+    }
     hsize_t dims[2] = {0, 0};
     const int nd = [&] {
       H5Handle space(H5Dget_space(ds.Get()), H5Sclose);

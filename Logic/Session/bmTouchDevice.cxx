@@ -1,5 +1,7 @@
 #include "bmTouchDevice.h"
 
+#include "bmHapticDeviceModel.h"
+
 #include <dlfcn.h>
 
 #include <cmath>
@@ -179,6 +181,9 @@ void TouchDevice::Start() {
                                  std::to_string(hd::kMinimumMajorVersion) +
                                  " (OpenHaptics 3 drives the Touch)");
       check("hdGetString(HD_VERSION)");
+      const char* model = Api_->getString(hd::kDeviceModelType);
+      Model_ = model ? std::string(model).substr(0, 80) : "";
+      Api_->getError(); // a library without the model's name: the Touch's limits apply
     }
     Api_->enable(hd::kForceOutput);
     check("hdEnable(HD_FORCE_OUTPUT)");
@@ -199,6 +204,8 @@ void TouchDevice::Start() {
     if (rate > 0)
       Limits_.rateHz = rate;
     check("querying the nominal limits");
+    // Never more than the model's own peak force, whatever the driver claims.
+    Limits_ = CapToModel(Limits_, Model_);
     Callback_ = Api_->scheduleAsynchronous(&TouchDevice::Servo, this, hd::kMaxSchedulerPriority);
     check("hdScheduleAsynchronous");
     Scheduled_ = true;
@@ -287,6 +294,11 @@ HDCallbackCode TouchDevice::ServoTick() {
   Eigen::Vector3d f = Error_.load(std::memory_order_relaxed) == hd::kSuccess
                           ? State_.GetForce()
                           : Eigen::Vector3d::Zero();
+  // The last guard: finite and within the (model-capped) limit, whatever was written.
+  if (!f.allFinite())
+    f.setZero();
+  else if (f.norm() > Limits_.maxForceN)
+    f *= Limits_.maxForceN / f.norm() * (1.0 - 1e-12);
   const HDdouble force[3] = {f(0), f(1), f(2)};
   Api_->setDoublev(hd::kCurrentForce, force);
   Api_->endFrame(Handle_);

@@ -16,9 +16,13 @@
 // that has not delivered a new sample for `stallTimeoutS` reads as NoResponse. Stop(): zero force,
 // stop the scheduler, unschedule, disable the device, close the library.
 //
+// The force limit is the smaller of the driver's nominal maximum and the model's published peak
+// force (bmHapticDeviceModel.h), and the servo callback clamps every force it sends to it.
+//
 // A library that crashes still brings the process down here: ask bm::ProbeTouch()
-// (bmTouchProbe.h), which runs the same checks and opens the device in a child process, before
-// starting a session on an unknown library.
+// (bmTouchProbe.h), which runs the same steps (force output and the servo loop included, at zero
+// force) in a child process, before starting a session on an unknown library; bmsim and the BM
+// Session source do.
 //
 // Units: mm, N, N/mm, N s/mm (OpenHaptics' own units), Hz.
 #pragma once
@@ -45,7 +49,9 @@ public:
   TouchDevice& operator=(const TouchDevice&) = delete;
 
   std::string Name() const override { return "touch"; }
-  /// Limits queried at Start() (before: the Touch's published ones).
+  /// Limits queried at Start(), the force at most the model's published peak force
+  /// (bmHapticDeviceModel.h) whatever the driver reports (before Start: the Touch's published
+  /// ones).
   DeviceLimits Limits() const override { return Limits_; }
   /// Returns once the servo loop has delivered its first pose sample (waits at most
   /// kFirstSampleTimeoutS). Throws std::runtime_error naming the failing step (library, symbol,
@@ -79,6 +85,7 @@ private:
   HDSchedulerHandle Callback_ = 0;
   bool Scheduled_ = false, Running_ = false;
   DeviceLimits Limits_;
+  std::string Model_; ///< hdGetString(HD_DEVICE_MODEL_TYPE), "" when not offered
   DeviceStateBuffer State_;
   DevicePose Last_;
   uint64_t LastSample_ = 0;

@@ -7,19 +7,25 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstring>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 #include "bmHDApi.h"
+#include "bmHapticDeviceModel.h"
 #include "bmSharedLibraryCheck.h"
 
 namespace bm {
 
 namespace {
+
+/// Servo callbacks the probe waits for (about 50 ms at the Touch's 1 kHz).
+constexpr int kProbeServoTicks = 50;
 
 // One line of at most 300 printable characters (a library's strings go into the protocol).
 std::string OneLine(const std::string& s) {
@@ -40,6 +46,29 @@ void Emit(int fd, const std::string& line) {
       _exit(3); // the parent is gone
     done += size_t(n);
   }
+}
+
+// The probe's servo callback (in the child): what the session's does, at zero force.
+struct ProbeServo {
+  void (*beginFrame)(HHD) = nullptr;
+  void (*endFrame)(HHD) = nullptr;
+  void (*getDoublev)(HDenum, HDdouble*) = nullptr;
+  void (*setDoublev)(HDenum, const HDdouble*) = nullptr;
+  HHD device = hd::kInvalidHandle;
+  std::atomic<int> ticks{0};
+};
+ProbeServo g_servo;
+
+HDCallbackCode ProbeServoTick(void*) {
+  g_servo.beginFrame(g_servo.device);
+  HDdouble pos[3] = {0, 0, 0}, m[16] = {};
+  g_servo.getDoublev(hd::kCurrentPosition, pos);
+  g_servo.getDoublev(hd::kCurrentTransform, m);
+  const HDdouble zero[3] = {0, 0, 0};
+  g_servo.setDoublev(hd::kCurrentForce, zero);
+  g_servo.endFrame(g_servo.device);
+  g_servo.ticks.fetch_add(1);
+  return hd::kCallbackContinue;
 }
 
 // The child: every step announced before it is taken, the answer last. Never returns.
@@ -88,6 +117,22 @@ void Emit(int fd, const std::string& line) {
         fail(step + " failed: " + hd::ErrorName(e.errorCode) + " (device code " +
              std::to_string(e.internalErrorCode) + ")");
     };
+    auto enable = reinterpret_cast<void (*)(HDenum)>(BindLibraryFunction(lib, "hdEnable", name));
+    auto schedule = reinterpret_cast<HDSchedulerHandle (*)(HDSchedulerCallback, void*, HDushort)>(
+        BindLibraryFunction(lib, "hdScheduleAsynchronous", name));
+    auto unschedule = reinterpret_cast<void (*)(HDSchedulerHandle)>(
+        BindLibraryFunction(lib, "hdUnschedule", name));
+    auto startScheduler =
+        reinterpret_cast<void (*)()>(BindLibraryFunction(lib, "hdStartScheduler", name));
+    auto stopScheduler =
+        reinterpret_cast<void (*)()>(BindLibraryFunction(lib, "hdStopScheduler", name));
+    g_servo.beginFrame =
+        reinterpret_cast<void (*)(HHD)>(BindLibraryFunction(lib, "hdBeginFrame", name));
+    g_servo.endFrame =
+        reinterpret_cast<void (*)(HHD)>(BindLibraryFunction(lib, "hdEndFrame", name));
+    g_servo.getDoublev = getDoublev;
+    g_servo.setDoublev = reinterpret_cast<void (*)(HDenum, const HDdouble*)>(
+        BindLibraryFunction(lib, "hdSetDoublev", name));
     Emit(fd, "step hdInitDevice");
     const HHD device = init(nullptr); // HD_DEFAULT_DEVICE; force output stays off
     check("hdInitDevice");
@@ -120,6 +165,28 @@ void Emit(int fd, const std::string& line) {
     limits.precision(17);
     limits << "limits " << force << " " << stiffness << " " << damping << " " << rate;
     Emit(fd, limits.str());
+    // What a session does next, at zero force: a driver that faults there ends only this child.
+    Emit(fd, "step hdEnable(HD_FORCE_OUTPUT)");
+    enable(hd::kForceOutput);
+    check("hdEnable(HD_FORCE_OUTPUT)");
+    Emit(fd, "step the servo callback (zero force)");
+    g_servo.device = device;
+    const HDSchedulerHandle callback =
+        schedule(&ProbeServoTick, nullptr, hd::kMaxSchedulerPriority);
+    check("hdScheduleAsynchronous");
+    startScheduler();
+    check("hdStartScheduler");
+    const auto started = std::chrono::steady_clock::now();
+    while (g_servo.ticks.load() < kProbeServoTicks) {
+      if (std::chrono::steady_clock::now() - started > std::chrono::seconds(2))
+        fail("the servo loop ran " + std::to_string(g_servo.ticks.load()) +
+             " callbacks in 2 s of hdStartScheduler");
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    check("the servo callback");
+    Emit(fd, "step hdStopScheduler");
+    stopScheduler();
+    unschedule(callback);
     Emit(fd, "step hdDisableDevice");
     disable(device);
     Emit(fd, "ok");
@@ -246,6 +313,7 @@ TouchProbeResult ProbeTouch(double timeoutS, std::string libraryPath) {
         result.limits.rateHz = rate;
     }
   }
+  result.limits = CapToModel(result.limits, result.model); // the model's own peak force at most
   const std::string lib = "'" + libraryPath + "'";
   if (timedOut) {
     result.message = "touch: " + lib + " did not answer within " + Seconds(timeoutS) +

@@ -4,12 +4,13 @@
 // dlopen()s it, checks every entry point the Touch device calls (bm::hd::kRequiredSymbols: each
 // exported, a function, defined by the library itself), calls hdInitDevice(HD_DEFAULT_DEVICE),
 // reads the HD API's version and the device's model (hdGetString, when the library has it; a
-// version older than bm::hd::kMinimumMajorVersion is refused), the nominal limits, and closes the
-// device again with hdDisableDevice. Force output is never enabled and no servo callback is
-// scheduled. The child reports each step and its answer through a pipe; a library that crashes
-// (SIGSEGV, SIGBUS...), exits or hangs ends only the child, which is killed at the timeout, and
-// the answer names the step it was in. The caller's thread waits at most the timeout (plus the
-// few ms of reaping the child); run it off a GUI thread.
+// version older than bm::hd::kMinimumMajorVersion is refused), the nominal limits, then does what a
+// session does next, at zero force: hdEnable(HD_FORCE_OUTPUT), a servo callback scheduled and run
+// for 50 ticks (hdBeginFrame, the pose, HD_CURRENT_FORCE = 0, hdEndFrame), the scheduler stopped,
+// and closes the device again with hdDisableDevice. The child reports each step and its answer
+// through a pipe; a library that crashes (SIGSEGV, SIGBUS...), exits or hangs ends only the child,
+// which is killed at the timeout, and the answer names the step it was in. The caller's thread
+// waits at most the timeout (plus the few ms of reaping the child); run it off a GUI thread.
 #pragma once
 
 #include <string>
@@ -24,7 +25,9 @@ struct TouchProbeResult {
   std::string library; ///< the library file checked ("" when the loader's cache found it)
   std::string version; ///< the HD API's version (hdGetString(HD_VERSION)); "" when not offered
   std::string model;   ///< the device model (hdGetString(HD_DEVICE_MODEL_TYPE)); "" if unknown
-  DeviceLimits limits; ///< the device's nominal limits when ready (else the published ones)
+  /// The device's nominal limits when ready, the force at most the model's published peak force
+  /// (bmHapticDeviceModel.h); else the Touch's published ones.
+  DeviceLimits limits;
 };
 
 /// Probes the Touch (see the file comment). timeoutS: how long the child may take, s (default

@@ -409,6 +409,34 @@ void DicomCases() {
       {"no/such", "does not exist"}, Writes("ct.nrrd", Nrrd({})));
   Add("import --out of another format", {"import", "{in}/ct.nrrd", "--out", "{out}/v.png", "-q"},
       {"v.png"}, Writes("ct.nrrd", Nrrd({})));
+  // The output is the header's detached data file: it would overwrite the CT's voxels.
+  Add("import --out is the data file", {"import", "{in}/ct.nhdr", "--out", "{in}/vol.nrrd", "-q"},
+      {"the data file of the input"}, [](const fs::path& in) {
+        WriteFile(in / "vol.nrrd", Voxels());
+        WriteFile(in / "ct.nhdr", Nrrd({{"data file", "vol.nrrd"}}));
+      });
+  Add("import --out is a link to the input",
+      {"import", "{in}/ct.nrrd", "--out", "{in}/link.nrrd", "-q"}, {"is the input"},
+      [](const fs::path& in) {
+        WriteFile(in / "ct.nrrd", Nrrd({}));
+        fs::create_symlink(in / "ct.nrrd", in / "link.nrrd");
+      });
+  // Refused before the work, not after it: an output name too long for its temporary's, a path
+  // that is not UTF-8 (the JSON outputs are).
+  Add("import --out with a 240-character name",
+      {"import", "{in}/ct.nrrd", "--out", "{out}/" + std::string(240, 'a') + ".nrrd", "-q"},
+      {"exceeds the file system's limit"}, Writes("ct.nrrd", Nrrd({})));
+  Add("import a path that is not UTF-8", {"import", "{in}/ct\xff.nrrd", "--out", "{out}/v.nrrd"},
+      {"not valid UTF-8"}, Writes("ct\xff.nrrd", Nrrd({})));
+  // A damaged first slice is named.
+  Add("import first slice cut before its pixels",
+      {"import", "{in}/ct", "--out", "{out}/v.nrrd", "-q"},
+      {"IM00001.dcm", "ends without its image"}, [=](const fs::path& in) {
+        fs::copy(base, in / "ct");
+        const fs::path f = in / "ct" / "IM00001.dcm";
+        const std::string bytes = ReadFile(f);
+        WriteFile(f, bytes.substr(0, bytes.find(std::string("\xe0\x7f\x10\x00", 4))));
+      });
 }
 
 const char* kColumns =
@@ -620,6 +648,47 @@ void SceneCases() {
       {"--record"});
   Add("run --out is a file", {"run", "drilling", "--out", "{in}/file", "--no-report"},
       {"--out", "is a file, expected a folder"}, Writes("file", "x"));
+  // No output may name an input (through links too) or another output of the run.
+  const std::vector<std::string> session = {"--no-report", "--device", "scripted", "--duration",
+                                            "0.005"};
+  auto run = [&](std::vector<std::string> args) {
+    args.insert(args.end(), session.begin(), session.end());
+    return args;
+  };
+  Add("run --record is the scene file",
+      run({"run", "{in}/s.json", "--out", "{out}/r", "--record", "{in}/s.json"}),
+      {"--record", "is the scene file"}, Writes("s.json", "{\"name\": \"s\"}"));
+  Add("run --record is a link to the scene file",
+      run({"run", "{in}/s.json", "--out", "{out}/r", "--record", "{in}/link.csv"}),
+      {"--record", "is the scene file", "through a link"}, [](const fs::path& in) {
+        WriteFile(in / "s.json", "{\"name\": \"s\"}");
+        fs::create_symlink(in / "s.json", in / "link.csv");
+      });
+  Add("run --record is the trajectory",
+      run({"run", "drilling", "--out", "{out}/r", "--mode", "trajectory", "--trajectory",
+           "{in}/t.csv", "--record", "{in}/t.csv"}),
+      {"--record", "is the --trajectory file"},
+      Writes("t.csv", "time_s,x_mm,y_mm,z_mm\n0,0,0,1\n0.01,0,0,0.9\n"));
+  Add("run longer than a recording holds",
+      {"run", "drilling", "--out", "{out}/r", "--no-report", "--device", "scripted", "--rate",
+       "10000", "--duration", "361"},
+      {"a recording holds at most 3600000"});
+  Add("run a hand at 10 Hz",
+      {"run", "drilling", "--out", "{out}/r", "--no-report", "--device", "scripted", "--mode",
+       "hand", "--rate", "10"},
+      {"passive only above 50 Hz"});
+  Add("run --record is a file the run writes",
+      run({"run", "drilling", "--out", "{in}/r", "--record", "{in}/r/session.csv"}),
+      {"--record", "a file this run writes"},
+      [](const fs::path& in) { fs::create_directory(in / "r"); });
+  const fs::path base = gBase / "ct";
+  Add("run --record is a slice of the scene's CT",
+      run({"run", "{in}/ct.json", "--out", "{out}/r", "--record", "{in}/ct/IM00002.dcm"}),
+      {"--record", "inside the scene's CT folder"}, [=](const fs::path& in) {
+        fs::copy(base, in / "ct");
+        WriteFile(in / "ct.json", "{\"name\": \"c\", \"bone\": {\"type\": \"ct\", \"ct\": "
+                                  "{\"ct\": \"ct\"}}}");
+      });
 }
 
 void RecordingCases() {
@@ -669,6 +738,11 @@ void RecordingCases() {
   Add("replay folder", {"replay", "{in}/dir.csv", "--out", "{out}/rp"}, {"dir.csv"},
       [](const fs::path& in) { fs::create_directory(in / "dir.csv"); });
   Add("replay missing", {"replay", "{in}/none.csv", "--out", "{out}/rp"}, {"none.csv"});
+  Add("replay --out holding the recording", {"replay", "{in}/rp/replay.csv", "--out", "{in}/rp"},
+      {"is the recording"}, [=](const fs::path& in) {
+        fs::create_directory(in / "rp");
+        WriteFile(in / "rp" / "replay.csv", head + Row());
+      });
   // HDF5 recordings: a real one made by bmsim, then damaged.
   const fs::path h5 = gBase / "rec.h5";
   if (fs::exists(h5)) {

@@ -1,8 +1,8 @@
 # bmsim import of a VTK image (.vti, read by VTK's reader): a 5 mm cube of 1500 HU in air (-1000 HU)
 # on a 0.5 mm grid, written here as ASCII XML image data (origin 10, 20, 30 mm), imports with the
 # cube's volume (125 mm^3 within 5 %) at the cube's place; a .vti without point data and a missing
-# file are refused (exit 1, the message naming the problem, no voxmap written). Args: -DBMSIM=
-# -DWORK_DIR=.
+# file are refused (exit 1, the message naming the problem, no voxmap written); the copy a killed
+# import left beside the output is removed. Args: -DBMSIM= -DWORK_DIR=.
 set(dir "${WORK_DIR}")
 file(REMOVE_RECURSE "${dir}")
 file(MAKE_DIRECTORY "${dir}")
@@ -40,11 +40,17 @@ ${values}        </DataArray>
       </PointData>")
 write_vti("${dir}/empty.vti" "<PointData></PointData>")
 
+# The MetaImage copy a killed import left (a process that no longer runs): removed by this one.
+file(WRITE "${dir}/.bmsim-import-copy.tmp-999999999-1.mha" "left by a killed import")
 execute_process(COMMAND "${BMSIM}" import "${dir}/cube.vti" --out "${dir}/cube.nrrd" --quiet
                         --resolution 16
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0 OR NOT EXISTS "${dir}/cube.nrrd")
   message(FATAL_ERROR "import cube.vti (${rc}):\n${out}\n${err}")
+endif()
+file(GLOB copies "${dir}/.bmsim-import-copy*")
+if(copies)
+  message(FATAL_ERROR "the import's copies are left: ${copies}")
 endif()
 if(NOT out MATCHES "read: +[^\n]*cube\\.vti \\(VTK XML image data, read by VTK\\)")
   message(FATAL_ERROR "the report does not name the .vti and its reader:\n${out}")

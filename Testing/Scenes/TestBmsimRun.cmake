@@ -3,6 +3,8 @@
 # MODE:
 #   outputs  drilling at shell 512 / voxmap 128 writes forces.csv and summary.json with the
 #            documented keys, thrust 5-30 N and torque 10-50 N mm (Lee et al.'s ranges)
+#            then a session run into the same folder leaves its session.csv and summary.json,
+#            not the feed trial's forces.csv beside them (another run's outputs are removed)
 #   threads  --threads 1 and --threads 2 give identical thrust, torque and removed voxels
 #   zheng    --method zheng runs through the same command and reports positive forces
 #   badargs  bad arguments exit non-zero with a message and leave no output folder
@@ -104,10 +106,20 @@ if(MODE STREQUAL "outputs")
     message(FATAL_ERROR "second run did not replace summary.json")
   endif()
   file(GLOB leftovers "${dir}/out/.*")
+  list(FILTER leftovers EXCLUDE REGEX "/\\.bmsim-outputs$") # the list of the run's outputs
   if(leftovers)
     message(FATAL_ERROR "temporary files left behind: ${leftovers}")
   endif()
 
+  bmsim_run("${dir}/mixed" ${low})
+  # A run of another kind into the same folder: only its own outputs remain (and a user's file).
+  file(WRITE "${dir}/mixed/notes.txt" "mine\n")
+  bmsim_run("${dir}/mixed" ${low} --device scripted --duration 0.05)
+  if(EXISTS "${dir}/mixed/forces.csv" OR NOT EXISTS "${dir}/mixed/session.csv"
+     OR NOT EXISTS "${dir}/mixed/notes.txt")
+    file(GLOB left "${dir}/mixed/*")
+    message(FATAL_ERROR "a session run into a feed trial's folder left: ${left}")
+  endif()
 elseif(MODE STREQUAL "threads")
   foreach(t 1 2)
     bmsim_run("${dir}/t${t}" ${low} --threads ${t})
@@ -159,6 +171,7 @@ elseif(MODE STREQUAL "killed")
   file(GLOB staged LIST_DIRECTORIES true "${dir}/out/.run.tmp-*")
   list(LENGTH staged nStaged)
   file(GLOB visible RELATIVE "${dir}/out" "${dir}/out/*")
+  list(FILTER visible EXCLUDE REGEX "^\\.bmsim-outputs$") # the earlier run's list of outputs
   message(STATUS "after the kill: ${visible}; staging folders: ${nStaged}")
   if(NOT visible STREQUAL "forces.csv;summary.json" OR nStaged GREATER 1)
     message(FATAL_ERROR "a killed run left ${visible} and ${nStaged} staging folders")
@@ -250,7 +263,7 @@ elseif(MODE STREQUAL "session")
   execute_process(COMMAND "${BMSIM}" replay "${dir}/rec.csv" --out "${dir}/replay"
                   RESULT_VARIABLE rc OUTPUT_VARIABLE stdout ERROR_VARIABLE stderr)
   message(STATUS "bmsim replay: exit ${rc}\n${stdout}")
-  if(NOT rc EQUAL 0 OR NOT stdout MATCHES "forces reproduced" OR NOT EXISTS "${dir}/replay/replay.csv"
+  if(NOT rc EQUAL 0 OR NOT stdout MATCHES "every recorded quantity reproduced" OR NOT EXISTS "${dir}/replay/replay.csv"
      OR NOT EXISTS "${dir}/replay/replay_summary.json")
     message(FATAL_ERROR "the glenoid recording did not replay (${rc}):\n${stderr}")
   endif()
@@ -279,7 +292,7 @@ elseif(MODE STREQUAL "session")
     expect_range(skull_removed_volume_mm3 "${v}" 0 100)
     execute_process(COMMAND "${BMSIM}" replay "${dir}/skull.csv" RESULT_VARIABLE rc
                     OUTPUT_VARIABLE stdout ERROR_VARIABLE stderr)
-    if(NOT rc EQUAL 0 OR NOT stdout MATCHES "forces reproduced")
+    if(NOT rc EQUAL 0 OR NOT stdout MATCHES "every recorded quantity reproduced")
       message(FATAL_ERROR "the skull recording did not replay (${rc}):\n${stdout}\n${stderr}")
     endif()
   endif()

@@ -2,7 +2,9 @@
 # phantom` (DICOM written, glenoid found and measured, axis proposed), then `bmsim run plan.json`
 # (the guide-pin hole, then the nipple-guided reamer on the same bone) at voxmap 96, checked for
 # the plan summary's outcome; then the reaming step alone, without the pin hole, must stop at the
-# nipple's contact with a message and exit 1.
+# nipple's contact with a message and exit 1. First a `bmsim plan phantom` stopped by SIGTERM
+# after 3 s must leave no ct/ folder, and its temporaries must not block the run into the same
+# folder, which removes them.
 #   cmake -DBMSIM=... -DWORK_DIR=... -P TestPlanRun.cmake
 foreach(v BMSIM WORK_DIR)
   if(NOT DEFINED ${v})
@@ -10,11 +12,29 @@ foreach(v BMSIM WORK_DIR)
   endif()
 endforeach()
 file(REMOVE_RECURSE ${WORK_DIR})
+file(MAKE_DIRECTORY ${WORK_DIR}/plan)
+# A run stopped (SIGTERM) while it writes or imports the phantom's CT leaves only hidden
+# temporaries in --out, no ct/ folder: the next run into the same folder is not blocked.
+execute_process(COMMAND sh -c "'${BMSIM}' plan phantom --quiet --out '${WORK_DIR}/plan' >/dev/null 2>&1 &
+                               pid=$!; sleep 3; kill -TERM $pid; wait $pid; echo $?"
+                OUTPUT_VARIABLE stopped OUTPUT_STRIP_TRAILING_WHITESPACE)
+if(NOT stopped STREQUAL "143")
+  message(FATAL_ERROR "bmsim plan phantom was not stopped while it worked (status ${stopped})")
+endif()
+file(GLOB visible RELATIVE ${WORK_DIR}/plan ${WORK_DIR}/plan/*)
+list(FILTER visible EXCLUDE REGEX "^\\.") # the temporaries are hidden
+if(visible)
+  message(FATAL_ERROR "a stopped bmsim plan phantom left ${visible} in --out")
+endif()
 
 execute_process(COMMAND ${BMSIM} plan phantom --quiet --out ${WORK_DIR}/plan
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0 OR NOT EXISTS ${WORK_DIR}/plan/plan.json)
   message(FATAL_ERROR "bmsim plan phantom failed (${rc}):\n${out}\n${err}")
+endif()
+file(GLOB leftovers LIST_DIRECTORIES true ${WORK_DIR}/plan/.*)
+if(leftovers)
+  message(FATAL_ERROR "the stopped run's temporaries are still in --out: ${leftovers}")
 endif()
 
 execute_process(COMMAND ${BMSIM} run ${WORK_DIR}/plan/plan.json --voxmap-resolution 96 --no-report

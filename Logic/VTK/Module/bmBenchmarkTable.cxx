@@ -1,6 +1,8 @@
 // bmBenchmarkTable.cxx - see bmBenchmarkTable.h.
 #include "bmBenchmarkTable.h"
 
+#include "bmRegularFile.h"
+
 #include <charconv>
 #include <cstdlib>
 #include <cmath>
@@ -14,6 +16,11 @@
 #include "bmResources.h"
 
 namespace bm {
+
+namespace {
+/// Largest benchmark table read, bytes (the shipped one is a few KiB).
+constexpr uint64_t kMaxTableBytes = uint64_t(64) << 20;
+} // namespace
 
 BenchmarkTable::BenchmarkTable() = default;
 BenchmarkTable::~BenchmarkTable() = default;
@@ -33,13 +40,10 @@ std::string BenchmarkTable::DefaultPath() {
 }
 
 BenchmarkTable BenchmarkTable::Load(const std::string& path) {
-  std::ifstream in(path);
-  if (!in)
-    throw std::runtime_error("cannot read the benchmark table '" + path + "'");
-  std::ostringstream text;
-  text << in.rdbuf();
+  // A FIFO, /dev/zero or a /proc file named as the table would block or never end.
+  const std::string text = ReadRegularFile(path, kMaxTableBytes, "the benchmark table");
   BenchmarkTable table;
-  for (const BenchCell& c : ParseBenchCsv(text.str(), path)) {
+  for (const BenchCell& c : ParseBenchCsv(text, path)) {
     if (c.status != "ok")
       continue;
     if (c.shell <= 0 || c.voxmap <= 0)

@@ -1,6 +1,8 @@
 // bmPanelLogic.cxx - see bmPanelLogic.h.
 #include "bmPanelLogic.h"
 
+#include "bmRegularFile.h"
+
 #include "bmBenchmark.h"
 #include "bmCTFileTypes.h"
 #include "bmHapticSession.h"
@@ -162,11 +164,11 @@ ExpectedCost::ExpectedCost() {
     this->Error_ = e.what();
   }
   const std::string sessions = DefaultSessionBenchPath();
-  if (std::ifstream in{sessions}) {
-    std::ostringstream text;
-    text << in.rdbuf();
+  if (NotARegularFile(sessions) != "missing or unreadable") {
     try {
-      this->Sessions_ = ParseSessionBenchCsv(text.str(), sessions);
+      // A FIFO, /dev/zero or a /proc file as the table would block the panel or never end.
+      this->Sessions_ = ParseSessionBenchCsv(
+          ReadRegularFile(sessions, uint64_t(64) << 20, "the session table"), sessions);
     } catch (const std::exception& e) {
       this->Error_ = e.what(); // a damaged table is named, not ignored
       this->Table_.reset();

@@ -187,7 +187,8 @@ vtkImageData* vtkBMSessionSource::GetBoneImage() {
 }
 
 std::string vtkBMSessionSource::ProbeTouch() {
-  // In a child process, force output never enabled: a faulting driver cannot take ParaView down.
+  // In a child process, every step a session takes at zero force (force output, the servo loop):
+  // a faulting driver cannot take ParaView down.
   const bm::TouchProbeResult r = bm::ProbeTouch(5.0);
   return r.ready ? std::string() : r.message;
 }
@@ -282,6 +283,12 @@ bool vtkBMSessionSource::Start() {
       request.mode = bm::ScriptMode::Hand;
       if (this->MaxFrames < 0)
         request.durationS = 60; // the benchmark's hand-like trial (Docs/RealTime.md)
+    }
+    if (this->DeviceType == TOUCH) {
+      // The driver is loaded into ParaView only after it ran in a child process (ProbeTouch).
+      const std::string why = ProbeTouch();
+      if (!why.empty())
+        throw std::runtime_error(why);
     }
     request.realTime = this->RealTime;
     request.maxFrames = this->MaxFrames >= 0 ? this->MaxFrames : -1;

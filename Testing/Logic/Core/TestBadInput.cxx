@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bmAtomicFile.h"
+#include "bmMemoryBudget.h"
 #include "bmScene.h"
 #include "bmToolModel.h"
 #include "bmVoxmap.h"
@@ -161,6 +162,48 @@ TEST(BadInput, AtomicWriteIntoMissingFolderThrowsAndLeavesNothing) {
   std::getline(in2, line);
   EXPECT_EQ(line, "new");
   std::filesystem::remove_all(root);
+}
+
+} // namespace
+
+namespace {
+
+// A voxmap larger than the memory budget is refused with a message before it is allocated (a
+// block scene at --voxmap-resolution 2400 was killed by the kernel, 3000 .. 4096 failed with
+// std::bad_alloc).
+TEST(BadInput, AVoxmapLargerThanTheMemoryBudgetIsRefusedByName) {
+  ExpectThrowNaming<std::runtime_error>(
+      [] {
+        bm::Voxmap v({4096, 4096, 4096}, 0.01, {0, 0, 0});
+      },
+      {"the voxmap (4096 x 4096 x 4096 voxels)", "more than"}, "a 4096^3 voxmap");
+}
+
+// The default budget follows the control group's limit (cgroup v2 and v1, at the root and at the
+// process's own group), not only the host's memory.
+TEST(BadInput, TheMemoryBudgetFollowsTheControlGroupLimit) {
+  namespace fs = std::filesystem;
+  const fs::path root = fs::temp_directory_path() / ("bm-cgroup-" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  fs::create_directories(root / "user.slice" / "app");
+  std::ofstream(root / "self-v2") << "0::/user.slice/app\n";
+  std::ofstream(root / "memory.max") << "max\n";
+  std::ofstream(root / "user.slice" / "app" / "memory.max") << "2147483648\n";
+  EXPECT_EQ(bm::CgroupMemoryLimit(root.string(), (root / "self-v2").string()), 2147483648u);
+  fs::remove(root / "user.slice" / "app" / "memory.max");
+  EXPECT_EQ(bm::CgroupMemoryLimit(root.string(), (root / "self-v2").string()), 0u); // "max"
+  // cgroup v1: memory.limit_in_bytes under the memory controller; "unlimited" is a huge number.
+  fs::create_directories(root / "memory" / "job");
+  std::ofstream(root / "self-v1") << "4:memory:/job\n0::/\n";
+  std::ofstream(root / "memory" / "memory.limit_in_bytes") << "9223372036854771712\n";
+  std::ofstream(root / "memory" / "job" / "memory.limit_in_bytes") << "1073741824\n";
+  EXPECT_EQ(bm::CgroupMemoryLimit(root.string(), (root / "self-v1").string()), 1073741824u);
+  fs::remove_all(root);
+  // This process's own budget is at most 75 % of its control group's limit, if it has one.
+  const uint64_t group = bm::CgroupMemoryLimit();
+  if (group > 0) {
+    EXPECT_LE(bm::DefaultMemoryLimit(), group * 3 / 4 + 1);
+  }
 }
 
 } // namespace

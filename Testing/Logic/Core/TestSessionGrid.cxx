@@ -6,7 +6,13 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -110,4 +116,27 @@ TEST(SessionGrid, TheNearestCellForOneThreadCount) {
 TEST(SessionGrid, ASmallToolKeepsEightVoxelsAcrossIt) {
   EXPECT_DOUBLE_EQ(bm::ToolVoxelMm(2.0), 0.5);      // the skull scene's 2 mm burr
   EXPECT_DOUBLE_EQ(bm::ToolVoxelMm(18.25), 4.5625); // the 36.5 mm glenoid reamer
+}
+
+// The session table named by BM_SESSION_BENCHMARK_CSV (or found in BM_RESOURCE_DIR) is a file a
+// user may point anywhere: a FIFO would block the read, /dev/zero never ends, a /proc file may
+// block (/proc/kmsg). Each is refused by name, at once.
+TEST(SessionGrid, ATableThatIsNotAPlainFileIsRefusedAtOnce) {
+  const std::string fifo =
+      (std::filesystem::temp_directory_path() / ("bm-table-fifo-" + std::to_string(::getpid())))
+          .string();
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::string link = fifo + ".csv";
+  std::filesystem::create_symlink("/proc/self/status", link);
+  for (const auto& [path, why] : std::vector<std::pair<std::string, std::string>>{
+           {fifo, "a FIFO"}, {"/dev/zero", "a device"}, {link, "a kernel interface file"}}) {
+    ::setenv("BM_SESSION_BENCHMARK_CSV", path.c_str(), 1);
+    std::string error;
+    const auto rows = bm::LoadDefaultSessionTable(&error);
+    EXPECT_TRUE(rows.empty()) << path;
+    EXPECT_NE(error.find(why), std::string::npos) << path << ": " << error;
+  }
+  ::unsetenv("BM_SESSION_BENCHMARK_CSV");
+  std::filesystem::remove(fifo);
+  std::filesystem::remove(link);
 }

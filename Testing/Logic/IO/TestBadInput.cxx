@@ -151,6 +151,17 @@ TEST(BadInput, TooLargeForTheMemoryAllowed) {
     std::ofstream(d / "huge.raw") << "x";
   }
   ExpectRefused(d, d / "huge.nhdr", "more than the");
+  // A CT that fits but whose segmentation does not (22 bytes per voxel in all): refused from its
+  // header with the import's need, not after it was read.
+  {
+    std::ofstream f(d / "mid.nhdr");
+    f << "NRRD0004\ntype: short\ndimension: 3\nsizes: 100 100 100\nspacings: 0.5 0.5 0.5\n"
+         "endian: little\nencoding: raw\ndata file: mid.raw\n\n";
+    std::ofstream(d / "mid.raw", std::ios::binary) << std::string(2000000, '\0');
+  }
+  bm::ImportOptions mid;
+  mid.read.maxMemoryBytes = 10 << 20; // the CT's 4 MB fit, the import's 22 MB do not
+  ExpectRefused(d, d / "mid.nhdr", "with the import's working memory (22 bytes per voxel)", mid);
 }
 
 TEST(BadInput, SeedOutsideTheImage) {

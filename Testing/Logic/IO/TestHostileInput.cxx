@@ -29,6 +29,16 @@ namespace {
 
 const float kNaN = std::numeric_limits<float>::quiet_NaN();
 
+/// `bytes` compressed as a zlib stream (what MetaImage's CompressedData holds).
+std::string Zlib(const std::string& bytes) {
+  uLongf size = compressBound(uLong(bytes.size()));
+  std::string out(size, '\0');
+  compress2(reinterpret_cast<Bytef*>(out.data()), &size,
+            reinterpret_cast<const Bytef*>(bytes.data()), uLong(bytes.size()), 9);
+  out.resize(size);
+  return out;
+}
+
 struct Case {
   std::string name;   ///< file or folder name of the hostile input
   std::string needle; ///< what the refusal must say
@@ -92,6 +102,13 @@ TEST(HostileInput, NrrdCorpus) {
   };
   std::vector<Case> cases = {
       {"fifo.nrrd", "FIFO", [](const fs::path& p) { ASSERT_EQ(::mkfifo(p.c_str(), 0600), 0); }},
+      // A link to a kernel file (stat calls /proc/kmsg regular; reading it blocks).
+      {"proc.nrrd", "kernel interface file",
+       [](const fs::path& p) { fs::create_symlink("/proc/self/status", p); }},
+      {"skewed.nrrd", "deg apart, not 90",
+       nrrd({{"spacings", "-"},
+             {"space", "left-posterior-superior"},
+             {"space directions", "(1,0,0) (0.5,0.8660254,0) (0,0,1)"}})},
       {"text.nrrd", "not a NRRD file", [](const fs::path& p) { WriteFile(p, "hello\n"); }},
       {"empty.nrrd", "not a NRRD file", [](const fs::path& p) { WriteFile(p, ""); }},
       {"4d.nrrd", "4-D", nrrd({{"dimension", "4"}, {"sizes", "4 4 4 3"}})},
@@ -220,6 +237,30 @@ TEST(HostileInput, MetaImageCorpus) {
       {"compressed-cut.mha", "truncated",
        mha({{"CompressedData", "True"}, {"CompressedDataSize", "100000"}}, "xx")},
       {"fifo.mha", "FIFO", [](const fs::path& p) { ASSERT_EQ(::mkfifo(p.c_str(), 0600), 0); }},
+      // A zlib stream cut in half with CompressedDataSize saying the cut size: ITK would read
+      // half the CT and zeros.
+      {"compressed-half.mha", "truncated",
+       [](const fs::path& p) {
+         const std::string z = Zlib(Voxels(64 * 16)).substr(0, Zlib(Voxels(64 * 16)).size() / 2);
+         WriteFile(p, Mha({{"DimSize", "4 4 64"},
+                           {"CompressedData", "True"},
+                           {"CompressedDataSize", std::to_string(z.size())}},
+                          z));
+       }},
+      {"compressed-garbage.mha", "corrupt",
+       mha({{"CompressedData", "True"}, {"CompressedDataSize", "128"}}, std::string(128, 'x'))},
+      {"compressed-size-1e2.mha", "is not a whole number of bytes",
+       [](const fs::path& p) {
+         WriteFile(p, Mha({{"CompressedData", "True"}, {"CompressedDataSize", "1e2"}},
+                          Zlib(Voxels()) + std::string(100, '\0')));
+       }},
+      {"compressed-no-size.mha", "does not give CompressedDataSize",
+       [](const fs::path& p) {
+         WriteFile(p, Mha({{"CompressedData", "True"}}, Zlib(Voxels())));
+       }},
+      {"skewed-transform.mha", "deg apart, not 90",
+       mha({{"TransformMatrix", "1 0 0 0.5 0.8660254 0 0 0 1"}})},
+      {"scaled-transform.mha", "has length 2", mha({{"TransformMatrix", "2 0 0 0 1 0 0 0 1"}})},
   };
   RunCorpus("mha", cases);
 }
@@ -271,6 +312,15 @@ TEST(HostileInput, NiftiCorpus) {
          fs::resize_file(p, fs::file_size(p) / 2);
        }},
   };
+  // qform and sform both set, 40 mm apart: two geometries in one file.
+  cases.push_back({"qform-sform-apart.nii", "qform and sform", nii([](char* h) {
+                     PutShort(h, 252, 1);
+                     PutShort(h, 254, 1);
+                     PutFloat(h, 280, 1);
+                     PutFloat(h, 300, 1);
+                     PutFloat(h, 320, 1);
+                     PutFloat(h, 292, 40); // srow_x[3]: the sform's origin 40 mm along x
+                   })});
   RunCorpus("nifti", cases);
 }
 
@@ -360,7 +410,50 @@ TEST(HostileInput, DicomCorpus) {
          fs::resize_file(SeriesFiles(p)[mid], 260);
        }},
       {"single-file.dcm", "single slice", [&](const fs::path& p) { fs::copy(files[mid], p); }},
+      // Orientation: row and column not at right angles (row . column = 0.3), or not unit.
+      {"skewed-orientation", "deg apart, not 90",
+       series(-1, tag(0x0020, 0x0037, gdcm::VR::DS, "1\\0\\0\\0.3\\0.9539392\\0"))},
+      {"long-orientation", "has length 2",
+       series(-1, tag(0x0020, 0x0037, gdcm::VR::DS, "2\\0\\0\\0\\2\\0"))},
   };
+  // A first, middle or last slice cut where its pixel data begin: a complete data set without an
+  // image, which must be named, not left out.
+  for (const size_t which : {size_t(0), mid, files.size() - 1})
+    cases.push_back({"cut-before-pixels-" + std::to_string(which),
+                     files[which].filename().string() + "' in '", [&, which](const fs::path& p) {
+                       fs::copy(base / "ct", p);
+                       const fs::path f = SeriesFiles(p)[which];
+                       fs::resize_file(f, FindBytes(f, std::string("\xe0\x7f\x10\x00", 4)));
+                     }});
+  // Damage after a sequence of undefined length (real CTs carry them): the element walk goes on
+  // through the sequence, so GDCM never sees the damage (it aborts on both).
+  auto withSequence = [&](const fs::path& p) {
+    fs::copy(base / "ct", p);
+    for (const auto& f : SeriesFiles(p))
+      EditDicom(f, AddUndefinedLengthSequence);
+    return SeriesFiles(p)[mid];
+  };
+  cases.push_back({"sequence-then-recognition-code", "RecognitionCode", [&](const fs::path& p) {
+                     EditDicom(withSequence(p), tag(0x0008, 0x0010, gdcm::VR::LO, "GARBAGE!"));
+                   }});
+  cases.push_back({"sequence-then-rows-length", "single 2-byte value", [&](const fs::path& p) {
+                     const fs::path f = withSequence(p);
+                     const size_t at = FindBytes(f, std::string("\x28\x00\x10\x00US\x02\x00", 8));
+                     ASSERT_NE(at, std::string::npos);
+                     PatchBytes(f, at + 6, std::string("\x04\x00", 2));
+                   }});
+  cases.push_back({"sequence-then-rows-past-end", "past the file's end", [&](const fs::path& p) {
+                     const fs::path f = withSequence(p);
+                     const size_t at = FindBytes(f, std::string("\x28\x00\x10\x00US\x02\x00", 8));
+                     ASSERT_NE(at, std::string::npos);
+                     PatchBytes(f, at + 6, std::string("\xff\xff", 2));
+                   }});
+  cases.push_back({"sequence-cut-inside", "truncated or corrupt", [&](const fs::path& p) {
+                     const fs::path f = withSequence(p);
+                     const size_t at = FindBytes(f, std::string("\x08\x00\x06\x00SQ", 6));
+                     ASSERT_NE(at, std::string::npos);
+                     fs::resize_file(f, at + 40);
+                   }});
   RunCorpus("dicom", cases);
 }
 
@@ -417,8 +510,72 @@ TEST(HostileInput, OutputEqualToTheInputIsRefused) {
   EXPECT_THROW(bm::ImportToFile((d / "dicom").string(), (d / "dicom" / "v.nrrd").string()),
                std::runtime_error);
   EXPECT_FALSE(fs::exists(d / "dicom" / "v.nrrd"));
+  // The header's detached data file, named directly or through a link, is the CT too.
+  WriteFile(d / "vol.nrrd", Voxels());
+  WriteFile(d / "ct.nhdr", Nrrd({{"data file", "vol.nrrd"}}));
+  fs::create_symlink(d / "vol.nrrd", d / "link.nrrd");
+  for (const char* out : {"vol.nrrd", "link.nrrd"}) {
+    try {
+      bm::ImportToFile((d / "ct.nhdr").string(), (d / out).string());
+      ADD_FAILURE() << "the output " << out << " overwrote the CT's voxels";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("the data file of the input"), std::string::npos)
+          << e.what();
+    }
+    EXPECT_EQ(ReadFile(d / "vol.nrrd"), Voxels()) << out;
+  }
+  // A link named as the output that leads to the input.
+  fs::create_symlink(d / "ct.nrrd", d / "to-ct.nrrd");
+  EXPECT_THROW(bm::ImportToFile((d / "ct.nrrd").string(), (d / "to-ct.nrrd").string()),
+               std::runtime_error);
+  EXPECT_EQ(fs::file_size(d / "ct.nrrd"), before);
+  // A name the file system takes but its temporary's does not: refused before the import.
+  try {
+    bm::ImportToFile((d / "ct.nrrd").string(), (d / (std::string(245, 'a') + ".nrrd")).string());
+    ADD_FAILURE() << "a 250-character output name was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("exceeds the file system's limit"), std::string::npos)
+        << e.what();
+  }
+  // A slice of a DICOM series given as the input: its folder is the CT.
+  EXPECT_THROW(
+      bm::ImportToFile(SeriesFiles(d / "dicom")[1].string(), SeriesFiles(d / "dicom")[0].string()),
+      std::runtime_error);
 }
 
+TEST(HostileInput, ValidGeometryAndCompressionStillRead) {
+  ScratchDir d("hostile-valid");
+  // A compressed MetaImage as ITK writes it (zlib, CompressedDataSize).
+  const std::string z = Zlib(Voxels());
+  WriteFile(d / "z.mha",
+            Mha({{"CompressedData", "True"}, {"CompressedDataSize", std::to_string(z.size())}}, z));
+  // qform and sform both set and agreeing; a rotated (orthonormal) direction.
+  WriteFile(d / "qs.nii", Nifti([](char* h) {
+              PutShort(h, 252, 1);
+              PutShort(h, 254, 1);
+              PutFloat(h, 280, 1);
+              PutFloat(h, 300, 1);
+              PutFloat(h, 320, 1);
+            }));
+  WriteFile(d / "rot.mha", Mha({{"TransformMatrix", "0.6 0.8 0 -0.8 0.6 0 0 0 1"}}));
+  for (const char* f : {"z.mha", "qs.nii", "rot.mha"}) {
+    bm::CTImage ct;
+    ASSERT_NO_THROW(ct = bm::ReadCT((d / f).string())) << f;
+    EXPECT_EQ(ct.huMax, 1000.0f) << f;
+  }
+  // A DICOM series with sequences of undefined length reads, and a README beside it is skipped
+  // and said.
+  WriteBlock(d / "ct");
+  const bm::CTImage plain = bm::ReadCT((d / "ct").string());
+  for (const auto& f : SeriesFiles(d / "ct"))
+    EditDicom(f, AddUndefinedLengthSequence);
+  WriteFile(d / "ct" / "README", "exported by a PACS\n");
+  const bm::CTImage ct = bm::ReadCT((d / "ct").string());
+  EXPECT_EQ(ct.Size(), plain.Size());
+  ASSERT_FALSE(ct.notes.empty());
+  EXPECT_NE(ct.notes.back().find("skipped 1 file that is not DICOM: 'README'"), std::string::npos)
+      << ct.notes.back();
+}
 
 TEST(HostileInput, SavedVoxmapCorpus) {
   ScratchDir d("hostile-voxmap");

@@ -155,3 +155,39 @@ TEST(InputMutations, DicomSlice) {
   }
   EXPECT_GT(refused, 0);
 }
+
+// A slice with sequences of undefined length (nested items, as real CTs carry them) before its
+// image attributes: mutants over the sequences and the elements after them reach the element
+// walk's sequence handling (GDCM aborts on damage after such a sequence).
+TEST(InputMutations, DicomSliceWithSequences) {
+  ScratchDir d("mutations-dicom-sq");
+  WriteBlock(d / "ct");
+  const auto files = SeriesFiles(d / "ct");
+  for (const auto& f : files)
+    EditDicom(f, AddUndefinedLengthSequence);
+  const fs::path victim = files[files.size() / 2];
+  const std::string valid = ReadBytes(victim);
+  std::mt19937 rng(5u * unsigned(Factor()));
+  int refused = 0;
+  for (int i = 0; i < 200 * Factor(); ++i) {
+    WriteBytes(victim, Mutate(valid, std::min<size_t>(valid.size(), 1500), rng));
+    ReadOrRefuse(d / "ct", "DICOM slice with sequences, mutant " + std::to_string(i), refused);
+  }
+  EXPECT_GT(refused, 0);
+}
+
+// A zlib-compressed MetaImage: mutants of the header and of the stream (a cut or changed stream
+// must be refused, not read as part of a CT and zeros).
+TEST(InputMutations, CompressedMetaImage) {
+  const std::string voxels = Voxels();
+  uLongf size = compressBound(uLong(voxels.size()));
+  std::string z(size, '\0');
+  compress2(reinterpret_cast<Bytef*>(z.data()), &size,
+            reinterpret_cast<const Bytef*>(voxels.data()), uLong(voxels.size()), 9);
+  z.resize(size);
+  const std::string header = "ObjectType = Image\nNDims = 3\nDimSize = 4 4 4\nElementType = "
+                             "MET_SHORT\nElementSpacing = 1 1 1\nCompressedData = True\n"
+                             "CompressedDataSize = " +
+                             std::to_string(z.size()) + "\nElementDataFile = LOCAL\n";
+  FuzzFile("z.mha", header + z, header.size() + z.size(), 400, 6);
+}

@@ -5,6 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <csignal>
 #include <filesystem>
 #include <random>
 
@@ -91,4 +96,33 @@ TEST(Phantom, GlenoidDicomImportVolumeWithinOnePercent) {
   bm::Voxmap back = bm::LoadVoxmap((dir / "v.nrrd").string());
   EXPECT_TRUE(back == r.voxmap);
   fs::remove_all(dir);
+}
+
+// A disk that fills while the series is written (simulated by the file size limit, with
+// SIGXFSZ ignored: each write past it fails as on a full disk): GDCM asserts (aborts) when its
+// own output stream fails, so the writer must refuse with a message and leave nothing, not
+// abort. Run in a child process: an abort there is the failure this test looks for.
+TEST(Phantom, FullDiskIsRefusedWithoutAbortOrLeftovers) {
+  const fs::path d = TempDir("fulldisk");
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    signal(SIGXFSZ, SIG_IGN);
+    rlimit lim{1000, 1000}; // bytes per file: less than one slice
+    setrlimit(RLIMIT_FSIZE, &lim);
+    int code = 3; // no refusal
+    try {
+      bm::WritePhantomSeries("block", (d / "ct").string());
+    } catch (const std::runtime_error& e) {
+      code = std::string(e.what()).find("cannot write") != std::string::npos ? 0 : 4;
+    }
+    if (code == 0 && !fs::is_empty(d))
+      code = 5; // something left behind
+    _exit(code);
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  ASSERT_FALSE(WIFSIGNALED(status)) << "the writer died of signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "3: written, 4: another message, 5: leftovers";
+  fs::remove_all(d);
 }

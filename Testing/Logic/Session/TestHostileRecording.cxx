@@ -13,6 +13,10 @@
 #include "bmSessionRecorder.h"
 #include "../bmTestRefusal.h"
 
+#ifdef BM_TEST_HDF5
+#include <hdf5.h>
+#endif
+
 #include <sys/stat.h>
 
 namespace {
@@ -146,5 +150,67 @@ TEST(HostileRecording, FilesThatAreTooLongNotFilesOrNotReplayableAreRefused) {
   EXPECT_TRUE(Has(Refusal([&] { bm::CheckReplayable(nanThrust); }),
                   "frame 1 of the recording has a non-finite thrust"));
 }
+
+#ifdef BM_TEST_HDF5
+/// A string attribute as the recorder writes "meta".
+void PutStringAttribute(hid_t obj, const char* name, const std::string& value) {
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, value.size());
+  H5Tset_strpad(type, H5T_STR_NULLPAD);
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t attr = H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
+  H5Awrite(attr, type, value.data());
+  H5Aclose(attr);
+  H5Sclose(space);
+  H5Tclose(type);
+}
+
+// An HDF5 recording whose /frames lives elsewhere (external storage naming another file, or a link
+// to another file's dataset) is refused before a byte of it is read: the replay would read the
+// named file and print its values.
+TEST(HostileRecording, AnHdf5RecordingWhoseFramesLiveElsewhereIsRefused) {
+  ScratchDir dir;
+  const size_t ncols = bm::FrameRecord::Columns().size();
+  const std::string secret = (dir.path / "secret.bin").string();
+  std::ofstream(secret) << std::string(3 * ncols * 8, 'S');
+  const std::string external = (dir.path / "external.h5").string();
+  {
+    const hid_t file = H5Fcreate(external.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    PutStringAttribute(file, "meta", "{\"scene\": {}}");
+    const hsize_t dims[2] = {3, hsize_t(ncols)};
+    const hid_t space = H5Screate_simple(2, dims, nullptr);
+    const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+    H5Pset_external(dcpl, secret.c_str(), 0, hsize_t(3 * ncols * 8));
+    const hid_t ds =
+        H5Dcreate2(file, "frames", H5T_IEEE_F64LE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    ASSERT_GE(ds, 0);
+    H5Dclose(ds);
+    H5Pclose(dcpl);
+    H5Sclose(space);
+    H5Fclose(file);
+  }
+  std::string why = Refusal([&] { bm::ReadRecording(external); });
+  EXPECT_TRUE(Has(why, "external storage")) << why;
+  EXPECT_FALSE(Has(why, "SSSS")) << why;
+  // /frames as a link into another recording.
+  bm::Recording r;
+  r.meta = {{"scene", nlohmann::json::object()}};
+  r.frames.resize(2);
+  r.frames[1].frame = 1;
+  const std::string other = (dir.path / "other.h5").string();
+  bm::WriteRecording(other, r);
+  const std::string linked = (dir.path / "linked.h5").string();
+  {
+    const hid_t file = H5Fcreate(linked.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    PutStringAttribute(file, "meta", "{\"scene\": {}}");
+    ASSERT_GE(
+        H5Lcreate_external(other.c_str(), "/frames", file, "frames", H5P_DEFAULT, H5P_DEFAULT), 0);
+    H5Fclose(file);
+  }
+  why = Refusal([&] { bm::ReadRecording(linked); });
+  EXPECT_TRUE(Has(why, "is a link")) << why;
+  EXPECT_EQ(bm::ReadRecording(other).frames.size(), 2u); // the control reads
+}
+#endif
 
 } // namespace

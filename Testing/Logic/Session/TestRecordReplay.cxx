@@ -1,7 +1,9 @@
 // Recording a session to CSV and HDF5, reading it back, and replaying it to the same forces.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <functional>
 
 #include "bmHapticSession.h"
 #include "bmReplay.h"
@@ -81,11 +83,59 @@ TEST(RecordReplay, CsvAndHdf5RoundTripAndReplayReproducesTheForces) {
   for (const auto& f : rec.frames)
     maxThrust = std::max(maxThrust, f.thrustN);
   EXPECT_GT(maxThrust, 0.5); // it did drill
+  EXPECT_EQ(r.maxProxyDiffMm, 0.0);
+  EXPECT_EQ(r.maxFeedDiffMmPerRev, 0.0);
+  EXPECT_EQ(r.maxRemovedVolumeDiffMm3, 0.0);
+  EXPECT_EQ(r.maxRemovedVoxelsDiff, 0);
+  EXPECT_TRUE(r.Differing(1e-9).empty());
   // A tampered recording does not reproduce.
   bm::Recording t = a;
   t.frames[150].devicePos[2] -= 0.05;
   bm::MachiningSetup fresh2(bm::RecordedScene(a), bm::MakeSceneBlock(bm::RecordedScene(a)));
   EXPECT_GT(bm::Replay(t, fresh2).maxCouplingForceDiffN, 1e-3);
+  // Every quantity a frame produces is compared: an edit of any one of them is found, named.
+  struct Edit {
+    const char* quantity;
+    std::function<void(bm::FrameRecord&)> change;
+  };
+  const std::vector<Edit> edits = {
+      {"device force", [](bm::FrameRecord& f) { f.deviceForce[2] *= 2; }},
+      {"device force",
+       [](bm::FrameRecord& f) {
+         f.deviceForce = {0, 0, 0};
+       }},
+      {"proxy position", [](bm::FrameRecord& f) { f.proxyPos[0] += 5; }},
+      {"removed volume",
+       [](bm::FrameRecord& f) { f.removedVolumeMm3 = 10 * f.removedVolumeMm3 + 1e-3; }},
+      {"removed voxels", [](bm::FrameRecord& f) { f.removedVoxels += 7; }},
+      {"feed", [](bm::FrameRecord& f) { f.feedMmPerRev += 0.01; }},
+      {"thrust", [](bm::FrameRecord& f) { f.thrustN += 0.5; }},
+      {"torque", [](bm::FrameRecord& f) { f.torqueNmm += 0.5; }}};
+  for (const Edit& e : edits) {
+    bm::Recording edited = a;
+    for (size_t i = 100; i < 200; ++i)
+      e.change(edited.frames[i]);
+    bm::MachiningSetup again(bm::RecordedScene(a), bm::MakeSceneBlock(bm::RecordedScene(a)));
+    const std::vector<std::string> differing = bm::Replay(edited, again).Differing(1e-9);
+    EXPECT_NE(std::find(differing.begin(), differing.end(), e.quantity), differing.end())
+        << e.quantity << " edited, not found";
+  }
+  // The frame and time columns: the session's frames in order, at frame / rate.
+  bm::Recording renumbered = a;
+  renumbered.frames[10].frame = 11;
+  EXPECT_THROW(bm::CheckReplayable(renumbered), std::runtime_error);
+  bm::Recording gap = a;
+  gap.frames.erase(gap.frames.begin() + 20);
+  EXPECT_THROW(bm::CheckReplayable(gap), std::runtime_error);
+  bm::Recording retimed = a;
+  retimed.frames[30].timeS += 0.5;
+  try {
+    bm::CheckReplayable(retimed);
+    ADD_FAILURE() << "an edited time was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("frame 30 of the recording is at time"), std::string::npos)
+        << e.what();
+  }
   // Bad files are refused.
   EXPECT_THROW(bm::ReadRecording((dir / "missing.csv").string()), std::runtime_error);
   std::filesystem::remove_all(dir);

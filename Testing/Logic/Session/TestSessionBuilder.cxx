@@ -332,6 +332,24 @@ TEST(SessionBuilder, BadRequestsAreRefusedByNameBeforeTheBoneIsBuilt) {
   r = {};
   r.mode = bm::ScriptMode::Trajectory;
   EXPECT_NE(refusal(r).find("needs trajectory samples"), std::string::npos);
+  // A hand on the device at a rate where the sampled coupling is not passive (it pushed 190 mm
+  // through the block at 10 Hz); a robot feeding at 10 Hz is a position source and runs.
+  for (const bm::ScriptMode mode : {bm::ScriptMode::Force, bm::ScriptMode::Hand}) {
+    r = {};
+    r.mode = mode;
+    r.rateHz = 10;
+    EXPECT_NE(refusal(r).find("passive only above 50 Hz"), std::string::npos) << refusal(r);
+    r.rateHz = 60;
+    EXPECT_NO_THROW(bm::ValidateSessionRequest(r));
+  }
+  r = {};
+  r.device = bm::SessionDevice::Touch;
+  r.rateHz = 20;
+  EXPECT_NE(refusal(r).find("too low for a hand on the device"), std::string::npos);
+  r = {};
+  r.device = bm::SessionDevice::Robot;
+  r.rateHz = 10;
+  EXPECT_NO_THROW(bm::ValidateSessionRequest(r));
   r = {};
   r.mode = bm::ScriptMode::Force;
   r.appliedForceN = 50;

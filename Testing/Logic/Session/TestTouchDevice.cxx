@@ -17,6 +17,7 @@
 #include "bmHapticSession.h"
 #include "bmSessionTestUtil.h"
 #include "bmTouchDevice.h"
+#include "bmHapticDeviceModel.h"
 #include "bmTouchProbe.h"
 
 namespace {
@@ -299,12 +300,10 @@ bool Has(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
 
-TEST(TouchProbe, OpensTheDeviceWithoutEnablingForceAndReportsItsVersionAndLimits) {
+TEST(TouchProbe, OpensTheDeviceRunsItsServoLoopAtZeroForceAndReportsItsVersionAndLimits) {
   FakeHD fake;
   ASSERT_NE(fake.lib, nullptr) << dlerror();
-  fake.setFault(4); // hdEnable(HD_FORCE_OUTPUT) aborts: the probe must not call it
   const bm::TouchProbeResult r = bm::ProbeTouch(10.0, BM_FAKE_HD_PATH);
-  fake.setFault(0);
   EXPECT_TRUE(r.ready) << r.message;
   EXPECT_EQ(r.message, "");
   EXPECT_EQ(r.library, BM_FAKE_HD_PATH);
@@ -347,6 +346,47 @@ TEST(TouchProbe, ALibraryThatCrashesOrHangsEndsOnlyTheProbeAndIsNamed) {
   r = bm::ProbeTouch(10.0, BM_FAKE_HD_PATH);
   fake.reset();
   EXPECT_TRUE(Has(r.message, "hdInitDevice failed: HD_DEVICE_FAULT")) << r.message;
+  // Faults where a session goes next: enabling force output, the servo callback.
+  fake.setFault(4); // SIGABRT in hdEnable(HD_FORCE_OUTPUT)
+  r = bm::ProbeTouch(10.0, BM_FAKE_HD_PATH);
+  EXPECT_FALSE(r.ready);
+  EXPECT_TRUE(Has(r.message, "crashed during hdEnable(HD_FORCE_OUTPUT)")) << r.message;
+  EXPECT_TRUE(Has(r.message, "SIGABRT")) << r.message;
+  fake.setFault(5); // SIGSEGV in hdBeginFrame, inside the servo callback
+  r = bm::ProbeTouch(10.0, BM_FAKE_HD_PATH);
+  fake.setFault(0);
+  EXPECT_FALSE(r.ready);
+  EXPECT_TRUE(Has(r.message, "crashed during the servo callback")) << r.message;
+  EXPECT_TRUE(Has(r.message, "SIGSEGV")) << r.message;
+}
+
+TEST(TouchDevice, ForceIsCappedAtTheModelsOwnLimitWhateverTheDriverClaims) {
+  EXPECT_DOUBLE_EQ(bm::PublishedMaxForceN("Touch"), 3.3);
+  EXPECT_DOUBLE_EQ(bm::PublishedMaxForceN("PHANTOM Omni"), 3.3);
+  EXPECT_DOUBLE_EQ(bm::PublishedMaxForceN("Touch X"), 7.9);
+  EXPECT_DOUBLE_EQ(bm::PublishedMaxForceN("PHANTOM Premium 1.5 High Force"), 37.5);
+  EXPECT_DOUBLE_EQ(bm::PublishedMaxForceN("something else"), 3.3);
+  FakeHD fake;
+  ASSERT_NE(fake.lib, nullptr);
+  auto setMaxForce = reinterpret_cast<void (*)(double)>(dlsym(fake.lib, "fakeHD_SetMaxForce"));
+  auto maxSent = reinterpret_cast<double (*)()>(dlsym(fake.lib, "fakeHD_MaxForceSent"));
+  ASSERT_TRUE(setMaxForce && maxSent);
+  setMaxForce(1e6); // a driver claiming a million newtons
+  const bm::TouchProbeResult r = bm::ProbeTouch(10.0, BM_FAKE_HD_PATH);
+  ASSERT_TRUE(r.ready) << r.message;
+  EXPECT_DOUBLE_EQ(r.limits.maxForceN, 3.3);
+  {
+    bm::TouchDevice touch(BM_FAKE_HD_PATH);
+    touch.Start();
+    EXPECT_DOUBLE_EQ(touch.Limits().maxForceN, 3.3);
+    // Whatever is written, the motors get at most the model's limit.
+    touch.Write(Eigen::Vector3d(50000, 0, 0));
+    ASSERT_TRUE(WaitForTicks(touch, 5));
+    touch.Stop();
+  }
+  EXPECT_GT(maxSent(), 3.0);
+  EXPECT_LE(maxSent(), 3.3);
+  setMaxForce(3.3);
 }
 
 TEST(TouchProbe, RefusesMissingSymbolsAndDamagedFilesBeforeCallingThem) {

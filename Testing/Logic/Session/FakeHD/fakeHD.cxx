@@ -3,8 +3,10 @@
 // callbacks at 1 kHz; forces written with hdSetDoublev(HD_CURRENT_FORCE) are logged; a force above
 // the nominal maximum raises HD_EXCEEDED_MAX_FORCE as the real device does; errors can be injected
 // and the servo loop stalled. fakeHD_SetFault makes hdInitDevice crash (SIGSEGV) or hang, or the
-// library report an HD API version too old. Built a second time with FAKEHD_WITHOUT_END_FRAME
-// (libHDnoEndFrame.so): a library that lacks one entry point.
+// library report an HD API version too old, or enable or the servo callback fault; a process
+// that loads it (bmsim) takes its fault from FAKEHD_FAULT. Built a second time with
+// FAKEHD_WITHOUT_END_FRAME (libHDnoEndFrame.so): a library that lacks one entry point.
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -12,6 +14,9 @@
 #include <deque>
 #include <mutex>
 #include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -35,8 +40,8 @@ struct Fake {
   std::atomic<int> fault{0}; // fakeHD_SetFault's mode
 };
 Fake& F() {
-  static Fake f;
-  return f;
+  static Fake* f = new Fake; // never destroyed: the unload hook below still reads it
+  return *f;
 }
 void PushError(HDerror code, int internal) {
   F().errors.push_back(HDErrorInfo{code, internal, 1});
@@ -63,7 +68,10 @@ void hdDisableDevice(HHD) {
   F().forceOutput = false;
 }
 void hdMakeCurrentDevice(HHD) {}
-void hdBeginFrame(HHD) {}
+void hdBeginFrame(HHD) {
+  if (F().fault.load() == 5)
+    std::raise(SIGSEGV); // a driver that faults in the servo callback
+}
 #ifndef FAKEHD_WITHOUT_END_FRAME
 void hdEndFrame(HHD) {}
 #endif
@@ -179,6 +187,36 @@ void hdStopScheduler() {
   F().callbacks.clear();
 }
 
+// A process that loads the fake (bmsim in the CLI tests) sets its fault from the environment:
+// FAKEHD_FAULT = constructor (SIGSEGV while the library loads), init, hang, old-version, enable,
+// servo (the modes of fakeHD_SetFault) or huge-limit (it reports a nominal maximum of 10^6 N).
+// Its process writes the largest force it was sent to FAKEHD_FORCE_LOG when the library unloads.
+__attribute__((constructor)) static void FakeHDFromEnvironment() {
+  const char* f = std::getenv("FAKEHD_FAULT");
+  const std::string fault = f ? f : "";
+  if (fault == "constructor")
+    std::raise(SIGSEGV);
+  static const std::pair<const char*, int> modes[] = {
+      {"init", 1}, {"hang", 2}, {"old-version", 3}, {"enable", 4}, {"servo", 5}};
+  for (const auto& [name, mode] : modes)
+    if (fault == name)
+      F().fault = mode;
+  if (fault == "huge-limit")
+    F().maxForce = 1e6;
+}
+__attribute__((destructor)) static void FakeHDLogForces() {
+  const char* log = std::getenv("FAKEHD_FORCE_LOG");
+  if (!log || !*log)
+    return;
+  if (FILE* out = std::fopen(log, "w")) {
+    double worst = 0;
+    for (const auto& v : F().forces)
+      worst = std::max(worst, std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
+    std::fprintf(out, "%.9g %zu\n", worst, F().forces.size());
+    std::fclose(out);
+  }
+}
+
 // Test controls.
 void fakeHD_Reset() {
   std::lock_guard<std::mutex> l(F().m);
@@ -189,11 +227,26 @@ void fakeHD_Reset() {
   F().stalled = false;
   F().initError = 0;
   F().fault = 0;
+  F().maxForce = 3.3;
 }
 // 0: none; 1: hdInitDevice raises SIGSEGV; 2: hdInitDevice blocks until the mode changes;
-// 3: hdGetString(HD_VERSION) says "2.10.0"; 4: hdEnable(HD_FORCE_OUTPUT) raises SIGABRT.
+// 3: hdGetString(HD_VERSION) says "2.10.0"; 4: hdEnable(HD_FORCE_OUTPUT) raises SIGABRT;
+// 5: hdBeginFrame (in the servo callback) raises SIGSEGV.
 void fakeHD_SetFault(int mode) {
   F().fault = mode;
+}
+// The nominal maximum force the fake reports (N); a faulty driver may claim anything.
+void fakeHD_SetMaxForce(double n) {
+  std::lock_guard<std::mutex> l(F().m);
+  F().maxForce = n;
+}
+// The largest force magnitude written with hdSetDoublev(HD_CURRENT_FORCE) so far (N).
+double fakeHD_MaxForceSent() {
+  std::lock_guard<std::mutex> l(F().m);
+  double worst = 0;
+  for (const auto& f : F().forces)
+    worst = std::max(worst, std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]));
+  return worst;
 }
 void fakeHD_SetPosition(double x, double y, double z) {
   std::lock_guard<std::mutex> l(F().m);
