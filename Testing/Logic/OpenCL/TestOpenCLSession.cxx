@@ -15,6 +15,7 @@
 #include "bmOpenCLDevice.h"
 #include "bmScriptedDevice.h"
 #include "../Session/bmTestGlenoid.h"
+#include "../Session/bmTestGlenoidHand.h"
 
 namespace {
 

@@ -18,6 +18,7 @@
 #include "bmHapticSession.h"
 #include "bmScriptedDevice.h"
 #include "bmTestGlenoid.h"
+#include "bmTestGlenoidHand.h"
 
 namespace {
 
