@@ -1,6 +1,8 @@
 // qBMPlanWidget.cxx - see qBMPlanWidget.h.
 #include "qBMPlanWidget.h"
 
+#include <cmath>
+
 #include <QCheckBox>
 #include <QDoubleSpinBox>
 #include <QFormLayout>
@@ -12,6 +14,7 @@
 #include <QVBoxLayout>
 
 #include <array>
+#include <cmath>
 
 namespace {
 constexpr int kLandmarks = 4; ///< glenoid centre, trigonum, inferior angle, face normal
@@ -233,14 +236,17 @@ void qBMPlanWidget::setTargets(double versionDeg, double inclinationDeg) {
 
 void qBMPlanWidget::setPlanResult(const qBMPlanResult& r) {
   Q_D(qBMPlanWidget);
-  auto deg = [](double v) { return qBMPlanWidget::tr("%1 deg").arg(v, 0, 'f', 1); };
-  d->FriedmanVersion->setText(deg(r.friedmanVersionDeg));
-  d->Version3D->setText(deg(r.version3DDeg));
-  d->Inclination->setText(deg(r.inclinationDeg));
-  d->Size->setText(tr("%1 x %2 mm, radius of curvature %3 mm")
-                       .arg(r.heightMm, 0, 'f', 1)
-                       .arg(r.widthMm, 0, 'f', 1)
-                       .arg(r.faceRadiusMm, 0, 'f', 1));
+  // A measurement the landmarks do not allow (NaN) reads "not available"; the warnings say why.
+  auto num = [](double v, const char* unit) {
+    return std::isfinite(v) ? qBMPlanWidget::tr("%1 %2").arg(v, 0, 'f', 1).arg(unit)
+                            : qBMPlanWidget::tr("not available");
+  };
+  d->FriedmanVersion->setText(num(r.friedmanVersionDeg, "deg"));
+  d->Version3D->setText(num(r.version3DDeg, "deg"));
+  d->Inclination->setText(num(r.inclinationDeg, "deg"));
+  d->Size->setText(
+      tr("%1 x %2, radius of curvature %3")
+          .arg(num(r.heightMm, "mm"), num(r.widthMm, "mm"), num(r.faceRadiusMm, "mm")));
   if (r.entry.size() >= 3 && r.axis.size() >= 3)
     d->Axis->setText(tr("from (%1, %2, %3) mm along (%4, %5, %6), correction %7 deg")
                          .arg(r.entry[0], 0, 'f', 1)
@@ -251,8 +257,9 @@ void qBMPlanWidget::setPlanResult(const qBMPlanResult& r) {
                          .arg(r.axis[2], 0, 'f', 3)
                          .arg(r.correctionDeg, 0, 'f', 1));
   QStringList status;
-  status << (r.reamerFits ? tr("The reamer fits the glenoid.")
-                          : tr("The reamer overhangs the glenoid."));
+  status << (r.reamerFits               ? tr("The reamer fits the glenoid.")
+             : std::isfinite(r.widthMm) ? tr("The reamer overhangs the glenoid.")
+                                        : tr("The reamer's size is not checked (no rim)."));
   status << r.warnings;
   if (!r.canRunSteps)
     status << tr("Name the CT to run the steps.");

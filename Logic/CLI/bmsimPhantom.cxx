@@ -45,6 +45,15 @@ static void PhantomOptions(ParsedArgs& p) {
             "scapula: glenoid inclination, positive = superior (default 8)")
       .Flag("b2", "scapula: posterior wear (biconcave Walch B2 face)")
       .Flag("left", "scapula: a left shoulder (default right)")
+      .Real("pixel-mm", 0.2, 3, "MM", "scapula: in-plane pixel size (default 0.75)")
+      .Real("slice-mm", 0.2, 5, "MM",
+            "scapula: slice thickness and spacing; each voxel averages the bone over its slice "
+            "(partial volume; default 1)")
+      .Real("joint-gap", 0, 20, "MM",
+            "scapula: humeral head to glenoid face distance (default 4; 0: in contact)")
+      .Value("window", "CENTRE,WIDTH",
+             "scapula: store the CT as an 8-bit display window (HU) in DIR/ct.nrrd instead of a "
+             "DICOM series, as some hospitals export it")
       .Flag("q,quiet", "no progress bar");
 }
 
@@ -54,7 +63,8 @@ static int PhantomCommand(const ParsedArgs& p) {
   if (std::find(words.begin(), words.end(), "scapula") != words.end())
     return ScapulaPhantomCommand(p);
 #endif
-  for (const char* o : {"version", "inclination", "b2", "left"})
+  for (const char* o :
+       {"version", "inclination", "b2", "left", "pixel-mm", "slice-mm", "joint-gap", "window"})
     if (p.Has(o))
       throw UsageError(std::string("--") + o + " applies to the scapula phantom only");
   bm::PhantomCTOptions ct;

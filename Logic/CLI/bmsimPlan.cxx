@@ -3,6 +3,7 @@
 // write the plan scene (guide pin, then ream) and the pre-operative report (Docs/Planning.md).
 // Also `bmsim phantom scapula` (called from bmsimPhantom.cxx).
 #include "bmsimArgs.h"
+#include "bmsimCTOptions.h"
 #include "bmsimCommand.h"
 
 #ifdef BM_PLANNING_WITH_IO // the plan reads a CT: built only with CT import
@@ -13,6 +14,7 @@
 #include "bmImport.h"
 #include "bmPlanReport.h"
 #include "bmScapulaCT.h"
+#include "bmWindowedVolume.h"
 #include "bmSegmentedBone.h"
 #include "bmJson.h"
 
@@ -20,8 +22,10 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -47,9 +51,36 @@ std::string Fx(double v, int d = 1) {
   return s.str();
 }
 
+/// A value, or "not available" where it is NaN (a measurement the landmarks do not allow).
+std::string Na(double v) {
+  return std::isfinite(v) ? Fx(v) : std::string("not available");
+}
+
 } // namespace
 
 namespace bm::cli {
+
+/// With no side named and both shoulders in the scan, the user must choose: detection on each
+/// side; when both find a glenoid, the plan stops (NoGlenoidFound: the report) naming both.
+static void RequireOneShoulder(const SegmentedBone& bone, const LandmarkOverrides& ov,
+                               const DetectionOptions& detect) {
+  std::optional<Vec3> found[2];
+  const ShoulderSide sides[2] = {ShoulderSide::Left, ShoulderSide::Right};
+  for (int i = 0; i < 2; ++i) {
+    DetectionOptions d = detect;
+    d.side = sides[i];
+    try {
+      found[i] = DetectLandmarks(bone, ov, d).glenoidCentre;
+    } catch (const NoGlenoidFound&) {
+    }
+  }
+  if (found[0] && found[1])
+    throw NoGlenoidFound("both shoulders are in the scan (a left glenoid at (" +
+                         Fx((*found[0])[0]) + ", " + Fx((*found[0])[1]) + ", " +
+                         Fx((*found[0])[2]) + ") mm, a right one at (" + Fx((*found[1])[0]) + ", " +
+                         Fx((*found[1])[1]) + ", " + Fx((*found[1])[2]) +
+                         ") mm): choose one with --side left|right");
+}
 
 ProgressFn TerminalProgress(bool quiet); // bmsimImport.cxx
 
@@ -59,14 +90,22 @@ int ScapulaPhantomCommand(const ParsedArgs& p) {
   ScapulaPhantomParams sp = p.Has("b2") ? ScapulaPhantomParams::B2() : ScapulaPhantomParams{};
   sp.versionDeg = p.GetDouble("version", -45, 45).value_or(sp.versionDeg);
   sp.inclinationDeg = p.GetDouble("inclination", -45, 45).value_or(sp.inclinationDeg);
+  sp.jointGapMm = p.GetDouble("joint-gap", 0, 20).value_or(sp.jointGapMm);
   if (p.Has("left")) {
     sp.rightSide = false;
     sp.glenoidCentreMm[0] = -sp.glenoidCentreMm[0];
   }
   PhantomCTOptions ct = ScapulaCTDefaults();
   ct.noiseHU = p.GetDouble("noise", 0, 1000).value_or(ct.noiseHU);
+  ct.inPlaneSpacingMm = p.GetDouble("pixel-mm", 0.2, 3).value_or(ct.inPlaneSpacingMm);
+  ct.sliceSpacingMm = p.GetDouble("slice-mm", 0.2, 5).value_or(ct.sliceSpacingMm);
+  std::optional<std::vector<double>> window = p.GetDoubles("window", 2);
+  if (window && !((*window)[1] > 0))
+    throw UsageError("--window: the width must be > 0 HU");
   DicomWriteOptions dicom;
   if (const auto syntax = p.Get("compress")) {
+    if (window)
+      throw UsageError("--compress applies to the DICOM series, not the 8-bit --window volume");
     dicom.transferSyntax = *syntax;
     if (*syntax != "rle" && *syntax != "jpeg-lossless" && *syntax != "jpeg-ls" &&
         *syntax != "jpeg2000")
@@ -76,15 +115,40 @@ int ScapulaPhantomCommand(const ParsedArgs& p) {
   RequireEmptyOut(out);
   const ScapulaPhantom ph(sp);
   const bool quiet = p.Has("quiet");
-  WriteScapulaSeries(ph, out, ct, dicom, Progress(TerminalProgress(quiet)));
+  std::string wrote = out;
+  if (window) {
+    // An 8-bit volume and the truth, each written atomically; a failure removes the folder
+    // when it was made here.
+    const bool created = !fs::exists(out);
+    fs::create_directories(out);
+    try {
+      const CTImage image = MakeScapulaCT(ph, ct, Progress(TerminalProgress(quiet)));
+      wrote = (fs::path(out) / "ct.nrrd").string();
+      SaveWindowedVolume(image, (*window)[0], (*window)[1], wrote);
+      WriteFileAtomic((fs::path(out) / "truth.json").string(), ScapulaTruthJson(ph).dump(2) + "\n");
+    } catch (...) {
+      std::error_code ec;
+      if (created)
+        fs::remove_all(out, ec);
+      throw;
+    }
+  } else {
+    WriteScapulaSeries(ph, out, ct, dicom, Progress(TerminalProgress(quiet)));
+  }
   if (!quiet && isatty(2))
     std::fprintf(stderr, "\n");
   const ScapulaTruth& t = ph.Truth();
   const auto& c = t.glenoidCentre;
   const auto& n = t.faceNormal;
-  std::cout << "phantom:     scapula (" << (sp.rightSide ? "right" : "left")
-            << " shoulder, DICOM series, CT)" << (sp.wearDepthMm > 0 ? ", B2 posterior wear" : "")
-            << "\nwrote:       " << out << " and " << (fs::path(out) / "truth.json").string()
+  std::cout << "phantom:     scapula (" << (sp.rightSide ? "right" : "left") << " shoulder, "
+            << (window ? "8-bit window " + Fx((*window)[0], 0) + " / " + Fx((*window)[1], 0) +
+                             " HU: read it with --hu-mapping " +
+                             Fx(WindowToHUMapping((*window)[0], (*window)[1])[0], 6) + "," +
+                             Fx(WindowToHUMapping((*window)[0], (*window)[1])[1], 1)
+                       : std::string("DICOM series, CT"))
+            << ", " << Fx(ct.inPlaneSpacingMm, 2) << " mm pixels, " << Fx(ct.sliceSpacingMm, 2)
+            << " mm slices)" << (sp.wearDepthMm > 0 ? ", B2 posterior wear" : "")
+            << "\nwrote:       " << wrote << " and " << (fs::path(out) / "truth.json").string()
             << "\nglenoid:     centre (" << Fx(c[0], 2) << ", " << Fx(c[1], 2) << ", "
             << Fx(c[2], 2) << ") mm, face normal (" << Fx(n[0], 4) << ", " << Fx(n[1], 4) << ", "
             << Fx(n[2], 4) << ")\n"
@@ -96,9 +160,10 @@ int ScapulaPhantomCommand(const ParsedArgs& p) {
 }
 
 static void PlanCommandOptions(ParsedArgs& p) {
-  p.Words("CT|phantom", "DICOM folder, volume file or .inv3 project holding the shoulder, or "
-                        "'phantom': the scapula phantom (its DICOM series is written to DIR/ct "
-                        "first)")
+  p.Words("CT|phantom", "DICOM folder, volume file (.nrrd/.nhdr/.mha/.mhd/.nii/.nii.gz, .vti/.vtk "
+                        "read by VTK and kept as DIR/ct.mha for the steps) or .inv3 project "
+                        "holding the shoulder, or 'phantom': the scapula phantom (its DICOM "
+                        "series is written to DIR/ct first)")
       .Value("o,out", "DIR",
              "folder to create (must not exist or be empty; required); receives plan.json (both "
              "steps), step1-guide-pin.json, step2-ream.json (single-step scenes for bmsim run), "
@@ -106,7 +171,11 @@ static void PlanCommandOptions(ParsedArgs& p) {
       .Value("landmarks", "FILE",
              "landmarks replacing detected ones: a plan.json (its edited planning.landmarks) or "
              "a JSON object of glenoid_centre_mm, face_normal, trigonum_mm, inferior_angle_mm "
-             "(world mm, LPS)")
+             "(world mm, LPS) or rim_points_mm (three or more points on the rim, in place of "
+             "the centre and normal); a centre and normal alone make a plan")
+      .Value("side", "left|right|auto",
+             "the shoulder to plan (default auto: the one found; with both in the scan, name "
+             "one)")
       .Real("target-version", -44.9, 44.9, "DEG", "target version of the reaming axis (default 0)")
       .Real("target-inclination", -44.9, 44.9, "DEG", "target inclination (default 0)")
       .Real("reamer-diameter", 10, 60, "MM",
@@ -116,14 +185,16 @@ static void PlanCommandOptions(ParsedArgs& p) {
             "guide-pin hole radius (default 3.2; above the nipple's 3)")
       .Real("pin-depth", 0.01, 40, "MM", "guide-pin depth (default: ream depth + nipple 6 + 2 mm)")
       .Int("resolution", 32, 1024,
-           "voxmap cells along the bone's longest side for detection (default 256)")
-      .Real("threshold", -1000, 4000, "HU", "bone threshold (default 200)")
-      .Real("phantom-version", -45, 45, "DEG", "phantom: its glenoid version (default -12)")
+           "voxmap cells along the bone's longest side for detection (default 256)");
+  AddCTOptions(p, CTOptionsFor::Plan);
+  p.Real("phantom-version", -45, 45, "DEG", "phantom: its glenoid version (default -12)")
       .Real("phantom-inclination", -45, 45, "DEG", "phantom: its inclination (default 8)")
       .Flag("b2", "phantom: posterior wear (a biconcave Walch B2 face)")
       .Flag("q,quiet", "no progress bar")
-      .Footer("Exit status 3: no glenoid found; the report says why and lists the landmarks to "
-              "place.");
+      .Footer("Exit status 3: no glenoid found (or a placed one that cannot be used); the report "
+              "says why and lists the landmarks to place. A measurement the scan does not allow "
+              "(the trigonum or the inferior angle out of view) is reported as not available "
+              "and the plan is made from the rest.");
 }
 
 static int PlanCommand(const ParsedArgs& p) {
@@ -143,10 +214,14 @@ static int PlanCommand(const ParsedArgs& p) {
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
-  ImportOptions io;
+  ImportOptions io = CTOptionsFromArgs(p, CTOptionsFor::Plan);
   io.resolution = int(p.GetInt("resolution", 32, 1024).value_or(256));
-  io.segmentation.thresholdHU = float(p.GetDouble("threshold", -1000, 4000).value_or(200));
-  io.segmentation.keepAllComponents = true; // the humeral head shows where the glenoid is
+  const std::string sideText = p.Get("side").value_or("auto");
+  if (sideText != "left" && sideText != "right" && sideText != "auto")
+    throw UsageError("--side must be left, right or auto");
+  const ShoulderSide side = sideText == "left"    ? ShoulderSide::Left
+                            : sideText == "right" ? ShoulderSide::Right
+                                                  : ShoulderSide::Any;
   LandmarkOverrides ov;
   if (const auto f = p.Get("landmarks")) {
     std::error_code ec;
@@ -174,6 +249,11 @@ static int PlanCommand(const ParsedArgs& p) {
   sp.inclinationDeg = p.GetDouble("phantom-inclination", -45, 45).value_or(sp.inclinationDeg);
   if (!phantom && (p.Has("b2") || p.Has("phantom-version") || p.Has("phantom-inclination")))
     throw UsageError("--b2, --phantom-version and --phantom-inclination apply to the phantom");
+  if (phantom)
+    for (const char* o : {"series", "raw-threshold", "hu-mapping", "allow-outside-data"})
+      if (p.Has(o))
+        throw UsageError(std::string("--") + o +
+                         " applies to a CT read from a file, not the phantom");
   if (!phantom && !fs::exists(input))
     throw std::runtime_error("CT " + input + " does not exist");
   const std::string out = p.Get("out", "");
@@ -199,30 +279,42 @@ static int PlanCommand(const ParsedArgs& p) {
   } cleanup{out, fs::path(out) / "ct", !fs::exists(out)};
   fs::create_directories(out);
   std::string stagedCT;
+  fs::path finalCT = fs::path(out) / "ct";
   const auto placeCT = [&] {
     if (!stagedCT.empty())
-      fs::rename(stagedCT, fs::path(out) / "ct");
+      fs::rename(stagedCT, finalCT);
     stagedCT.clear();
   };
+  bool vtkImage = false;
   if (phantom) {
     const ScapulaPhantom ph(sp);
-    stagedCT = TemporarySibling((fs::path(out) / "ct").string());
+    stagedCT = TemporarySibling(finalCT.string());
     cleanup.ct = stagedCT;
     ctPath = stagedCT;
     WriteScapulaSeries(ph, ctPath, ScapulaCTDefaults(), {}, progress.Range(0, 0.3));
-    ctRef = fs::absolute(fs::path(out) / "ct").string();
+    ctRef = fs::absolute(finalCT).string();
     truth = ScapulaTruthJson(ph);
-    source = (fs::path(out) / "ct").string() + " (scapula phantom, version " + Fx(sp.versionDeg) +
+    source = finalCT.string() + " (scapula phantom, version " + Fx(sp.versionDeg) +
              " deg, inclination " + Fx(sp.inclinationDeg) + " deg" +
              (sp.wearDepthMm > 0 ? ", B2" : "") + ")";
   } else {
     ctPath = input;
     ctRef = fs::absolute(input).string();
     source = ctRef;
+    // A VTK image is copied as DIR/ct.mha (under a temporary's name until the plan is written):
+    // the step scenes' sessions read the copy.
+    finalCT = fs::path(out) / "ct.mha";
+    stagedCT = TemporarySibling(finalCT.string());
+    cleanup.ct = stagedCT;
   }
-  ImportResult r = ImportVoxmap(ctPath, io, progress.Range(phantom ? 0.3 : 0, 0.9));
-  if (phantom)
-    r.source = (fs::path(out) / "ct").string(); // where it is once the plan is written
+  ImportResult r = ImportCT(ctPath, io, stagedCT, vtkImage, progress.Range(phantom ? 0.3 : 0, 0.9));
+  if (phantom) {
+    r.source = finalCT.string(); // where it is once the plan is written
+  } else if (vtkImage) {
+    ctRef = fs::absolute(finalCT).string();
+  } else {
+    stagedCT.clear(); // no copy was made
+  }
   cleanup.armed = false;
   progress(0.95, "finding the glenoid");
   PlanReportInput rep;
@@ -230,11 +322,22 @@ static int PlanCommand(const ParsedArgs& p) {
   rep.importSummary = r.Report();
   rep.truth = truth;
   const SegmentedBone bone(r.voxmap);
+  DetectionOptions detect;
+  detect.side = side;
+  detect.scanSpacingMm = std::max({r.ctSpacing[0], r.ctSpacing[1], r.ctSpacing[2]});
+  detect.scanBounds = r.ctBounds; // the field of view: the CT, within a region given
+  if (io.roiMm)
+    for (size_t a = 0; a < 3; ++a) {
+      detect.scanBounds->lo[a] = std::max(detect.scanBounds->lo[a], io.roiMm->lo[a]);
+      detect.scanBounds->hi[a] = std::min(detect.scanBounds->hi[a], io.roiMm->hi[a]);
+    }
   GlenoidLandmarks L;
   GlenoidMeasurements m;
   GlenoidPlan plan;
   try {
-    L = DetectLandmarks(bone, ov);
+    if (side == ShoulderSide::Any && !(ov.glenoidCentre && ov.faceNormal) && ov.rimPoints.empty())
+      RequireOneShoulder(bone, ov, detect);
+    L = DetectLandmarks(bone, ov, detect);
     m = MeasureGlenoid(L);
     plan = MakeGlenoidPlan(L, m, po);
   } catch (const NoGlenoidFound& e) {
@@ -253,16 +356,19 @@ static int PlanCommand(const ParsedArgs& p) {
   rep.landmarks = &L;
   rep.measurements = &m;
   rep.plan = &plan;
-  const nlohmann::json boneJ = plan.CtBoneJson(ctRef);
-  nlohmann::json planScene = plan.SceneJson(boneJ);
-  planScene["planning"]["landmarks"] = L.ToJson(); // edit and plan again with --landmarks
-  planScene["planning"]["measurements"] = m.ToJson();
+  // The step scenes read the CT as the plan did: its intensity, threshold, series and exclude
+  // points; the plan's region and seed (or the one given).
+  nlohmann::json settings = ImportOptionsToJson(io);
+  settings["ct"] = ctRef;
+  PlanScenes scenes = MakePlanScenes(L, m, plan, settings);
+  if (const auto s = p.GetDoubles("seed", 3)) // the user's point on the scapula
+    for (nlohmann::json* j : {&scenes.plan, &scenes.pin, &scenes.ream})
+      (*j)["bone"]["ct"]["seed"] = *s;
   placeCT();
   WriteFilesAtomic(
-      {{(fs::path(out) / "plan.json").string(), planScene.dump(2) + "\n"},
-       {(fs::path(out) / "step1-guide-pin.json").string(),
-        plan.StepSceneJson(0, boneJ).dump(2) + "\n"},
-       {(fs::path(out) / "step2-ream.json").string(), plan.StepSceneJson(1, boneJ).dump(2) + "\n"},
+      {{(fs::path(out) / "plan.json").string(), scenes.plan.dump(2) + "\n"},
+       {(fs::path(out) / "step1-guide-pin.json").string(), scenes.pin.dump(2) + "\n"},
+       {(fs::path(out) / "step2-ream.json").string(), scenes.ream.dump(2) + "\n"},
        {(fs::path(out) / "plan_report.md").string(), PlanReportMarkdown(rep)},
        {(fs::path(out) / "plan_report.html").string(), PlanReportHtml(rep)},
        {(fs::path(out) / "plan_report.json").string(), PlanReportJson(rep).dump(2) + "\n"}});
@@ -272,22 +378,31 @@ static int PlanCommand(const ParsedArgs& p) {
   const auto& c = L.glenoidCentre;
   const auto& a = plan.axis;
   std::cout << "CT:            " << source << "\n"
-            << "glenoid:       centre (" << Fx(c[0]) << ", " << Fx(c[1]) << ", " << Fx(c[2])
-            << ") mm (" << L.centreSource << "), " << Fx(m.heightMm) << " x " << Fx(m.widthMm)
-            << " mm, radius of curvature " << Fx(m.faceRadiusMm) << " mm\n"
-            << "version:       " << Fx(m.friedmanVersionDeg) << " deg (Friedman 2D), "
-            << Fx(m.version3DDeg) << " deg (3D)\n"
-            << "inclination:   " << Fx(m.inclinationDeg) << " deg (3D)\n"
+            << "glenoid:       " << L.side << " shoulder, centre (" << Fx(c[0]) << ", " << Fx(c[1])
+            << ", " << Fx(c[2]) << ") mm (" << L.centreSource << "), " << Na(m.heightMm) << " x "
+            << Na(m.widthMm) << " mm, radius of curvature " << Na(m.faceRadiusMm) << " mm\n"
+            << "version:       " << Na(m.friedmanVersionDeg) << " deg (Friedman 2D), "
+            << Na(m.version3DDeg) << " deg (3D)\n"
+            << "inclination:   " << Na(m.inclinationDeg) << " deg (3D)\n"
             << "axis:          (" << Fx(a[0], 4) << ", " << Fx(a[1], 4) << ", " << Fx(a[2], 4)
-            << "): version " << Fx(plan.axisVersionDeg) << " deg, inclination "
-            << Fx(plan.axisInclinationDeg) << " deg, correction " << Fx(plan.correctionDeg)
-            << " deg\n"
+            << "): "
+            << (plan.corrected ? "version " + Fx(plan.axisVersionDeg) + " deg, inclination " +
+                                     Fx(plan.axisInclinationDeg) + " deg, correction " +
+                                     Fx(plan.correctionDeg) + " deg"
+                               : std::string("the face normal, not corrected"))
+            << "\n"
             << "reamer:        " << Fx(po.reamerDiameterMm) << " mm, "
-            << (plan.reamerFits ? "within the glenoid" : "overhangs the glenoid") << "\n";
+            << (plan.reamerFits            ? "within the glenoid"
+                : std::isfinite(m.widthMm) ? "overhangs the glenoid"
+                                           : "size not checked (no rim)")
+            << "\n";
+  for (const auto& [key, why] : m.notAvailable)
+    std::cout << "not available: " << key << ": " << why << "\n";
   for (const auto& w : plan.warnings)
     std::cout << "warning:       " << w << "\n";
   std::cout << "wrote:         " << out << "/plan.json, step1-guide-pin.json, step2-ream.json, "
-            << "plan_report.md/.html/.json\n";
+            << "plan_report.md/.html/.json" << (vtkImage ? ", ct.mha (the CT for the steps)" : "")
+            << "\n";
   return 0;
 }
 

@@ -115,14 +115,15 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt,
   if (seg.thresholdVoxels == 0 && opt.box)
     throw std::runtime_error("no bone found inside the oriented box: no voxel there reaches the "
                              "bone threshold of " +
-                             std::to_string(int(opt.thresholdHU)) + " HU");
+                             std::to_string(int(opt.thresholdHU)) + " " + opt.valueUnit);
   if (seg.thresholdVoxels == 0) {
     float mx = -std::numeric_limits<float>::infinity();
     for (int64_t v = 0; v < n; ++v)
       mx = std::max(mx, H[v]);
     std::ostringstream os;
-    os << "no bone found: no voxel reaches the bone threshold of " << opt.thresholdHU
-       << " HU (the highest value in the CT is " << mx << " HU); lower the threshold";
+    os << "no bone found: no voxel reaches the bone threshold of " << opt.thresholdHU << " "
+       << opt.valueUnit << " (the highest value in the CT is " << mx << " " << opt.valueUnit
+       << "); lower the threshold";
     throw std::runtime_error(os.str());
   }
 
@@ -146,8 +147,9 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt,
       if (!keep) {
         std::ostringstream os;
         os << "the seed point " << FormatPoint(*opt.seedMm) << " is not on bone: its voxel is "
-           << H[idx(seedIdx[0], seedIdx[1], seedIdx[2])] << " HU, below the bone threshold of "
-           << opt.thresholdHU << " HU (place the seed on the bone to keep)";
+           << H[idx(seedIdx[0], seedIdx[1], seedIdx[2])] << " " << opt.valueUnit
+           << ", below the bone threshold of " << opt.thresholdHU << " " << opt.valueUnit
+           << " (place the seed on the bone to keep)";
         throw std::runtime_error(os.str());
       }
     }
@@ -182,8 +184,9 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt,
     if (!l) {
       std::ostringstream os;
       os << "the exclude seed " << FormatPoint(e) << " is not on bone (its voxel is "
-         << H[idx((*v)[0], (*v)[1], (*v)[2])] << " HU, below the bone threshold of "
-         << opt.thresholdHU << " HU); ignored";
+         << H[idx((*v)[0], (*v)[1], (*v)[2])] << " " << opt.valueUnit
+         << ", below the bone threshold of " << opt.thresholdHU << " " << opt.valueUnit
+         << "); ignored";
       seg.warnings.push_back(os.str());
       continue;
     }
@@ -209,6 +212,9 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt,
   fillOpt.closingRadiusVoxels = opt.closingRadiusVoxels;
   fillOpt.maxHoleVolumeMm3 = opt.maxHoleVolumeMm3;
   fillOpt.holeMinMeanHU = opt.holeMinMeanHU;
+  // Every bone kept (the plan's joint search): the fill must not join the humeral head to the
+  // glenoid across a joint space the closing encloses.
+  fillOpt.keepBonesApart = opt.keepAllComponents && !opt.seedMm;
   const CavityFillResult filled = FillCavities(mask, hu, fillOpt, progress.Range(0.45, 0.6));
   seg.holesFilled = filled.holesFilled;
   seg.borderHolesFilled = filled.borderHolesFilled;

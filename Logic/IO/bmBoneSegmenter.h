@@ -38,6 +38,9 @@ namespace bm {
 struct SegmentationOptions {
   /// Bone threshold, HU (voxels at or above are bone).
   float thresholdHU = 200.0f;
+  /// The values' unit in messages: "HU", or "(the file's units)" when the values are used as
+  /// stored (bmIntensityMapping.h AdjustForIntensity).
+  std::string valueUnit = "HU";
   /// World point (mm): keep the connected component containing it (or touching it within one
   /// voxel). Without a seed the largest component is kept.
   std::optional<std::array<double, 3>> seedMm;

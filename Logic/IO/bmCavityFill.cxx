@@ -9,6 +9,57 @@
 
 namespace bm {
 
+namespace {
+
+/// Step 5: O holds each original bone voxel's bone label (0 elsewhere); the voxels of M that are
+/// not in O were added. Each 6-connected region of added voxels that touches two or more bones
+/// (a joint space the closing enclosed, and the bridges that enclosed it) is taken out of M.
+void KeepBonesApart(uint8_t* M, const uint32_t* O, int nx, int ny, int nz, CavityFillResult& res) {
+  const int64_t n = int64_t(nx) * ny * nz;
+  const int64_t step[3] = {1, nx, int64_t(nx) * ny};
+  auto neighbours = [&](int64_t v, auto&& f) {
+    const int64_t i = v % nx, j = (v / nx) % ny, k = v / (int64_t(nx) * ny);
+    const int64_t c[3] = {i, j, k}, size[3] = {nx, ny, nz};
+    for (int a = 0; a < 3; ++a) {
+      if (c[a] > 0)
+        f(v - step[a]);
+      if (c[a] + 1 < size[a])
+        f(v + step[a]);
+    }
+  };
+  std::vector<uint8_t> seen(size_t(n), 0);
+  std::vector<int64_t> region;
+  for (int64_t s = 0; s < n; ++s) {
+    if (!M[s] || O[s] || seen[size_t(s)])
+      continue;
+    // One region of added voxels, and the bones it touches.
+    region.assign(1, s);
+    seen[size_t(s)] = 1;
+    uint32_t first = 0;
+    bool several = false;
+    for (size_t q = 0; q < region.size(); ++q)
+      neighbours(region[q], [&](int64_t u) {
+        if (O[u]) {
+          several |= first && O[u] != first;
+          if (!first)
+            first = O[u];
+        } else if (M[u] && !seen[size_t(u)]) {
+          seen[size_t(u)] = 1;
+          region.push_back(u);
+        }
+      });
+    if (!several)
+      continue;
+    for (const int64_t v : region) {
+      (M[v] == kFilled ? res.filledVoxels : res.closedVoxels) -= 1;
+      M[v] = kNotBone;
+      ++res.apartVoxels;
+    }
+  }
+}
+
+} // namespace
+
 CavityFillResult FillCavities(MaskImage* mask, const HUImage* hu, const CavityFillOptions& opt,
                               const Progress& progress) {
   CavityFillResult res;
@@ -30,6 +81,14 @@ CavityFillResult FillCavities(MaskImage* mask, const HUImage* hu, const CavityFi
   uint8_t* B = bone->GetBufferPointer();
   for (int64_t v = 0; v < n; ++v)
     B[v] = M[v] ? 1 : 0;
+  // The bones before anything is added (step 5).
+  LabelImage::Pointer bones;
+  if (opt.keepBonesApart) {
+    std::vector<itk::SizeValueType> boneSizes;
+    bones = LabelComponents(bone, true, boneSizes, Progress(), "filling cavities: bones");
+    if (boneSizes.size() < 2)
+      bones = nullptr; // one bone: nothing to keep apart
+  }
 
   // 1. Closing.
   if (opt.closingRadiusVoxels > 0) {
@@ -130,6 +189,8 @@ CavityFillResult FillCavities(MaskImage* mask, const HUImage* hu, const CavityFi
       M[v] = kFilled;
       ++res.filledVoxels;
     }
+  if (bones)
+    KeepBonesApart(M, bones->GetBufferPointer(), nx, ny, nz, res);
   progress(1.0, "filling cavities");
   return res;
 }

@@ -14,6 +14,10 @@
 //     least holeMinMeanHU: marrow and cancellous bone are, air cells (mastoid, sinuses) and
 //     large cavities (the cranial cavity) are not. A hole drilled into the bone (a pilot hole)
 //     opens to the surroundings and is not a cavity.
+//  5. with keepBonesApart (several bones kept), the closing and the fill never join two bones:
+//     a 6-connected region of added voxels that touches two or more of the bones the threshold
+//     left apart (26-connected components) is taken out again. A joint space that the closing
+//     encloses (a humeral head 1-2 voxels from the glenoid on a coarse scan) is not a cavity.
 // Filled voxels are marked kFilled in the mask (bone of fraction 1); closed voxels kBone.
 #pragma once
 
@@ -31,6 +35,8 @@ struct CavityFillOptions {
   double maxHoleVolumeMm3 = 20000.0;
   /// Cavities whose mean HU is below this stay empty (air cells), HU. Default -200 HU.
   float holeMinMeanHU = -200.0f;
+  /// Bones that are apart before the fill stay apart (step 5). Default false: one bone kept.
+  bool keepBonesApart = false;
 };
 
 struct CavityFillResult {
@@ -38,6 +44,7 @@ struct CavityFillResult {
   int borderHolesFilled = 0; ///< of which cut open by the image border
   int64_t filledVoxels = 0;  ///< voxels marked kFilled
   int64_t closedVoxels = 0;  ///< voxels added by the closing
+  int64_t apartVoxels = 0;   ///< added voxels taken out again to keep bones apart (step 5)
 };
 
 /// Mask marks: not bone, bone, bone added by the cavity fill.

@@ -180,6 +180,10 @@ ImportResult ImportVoxmap(CTImage ct, const ImportOptions& optIn, const Progress
   BoneSegmentation seg = SegmentBone(ct, opt.segmentation, progress.Range(0, 0.5));
   ct.hu = nullptr; // release the HU voxels
   r.segmentedVolumeMm3 = opt.roiMm ? VolumeInBox(seg, *opt.roiMm) : seg.boneVolumeMm3;
+  {
+    const auto sp = seg.fraction->GetSpacing();
+    r.thresholdVolumeMm3 = double(seg.thresholdVoxels) * sp[0] * sp[1] * sp[2];
+  }
   r.numComponents = seg.numComponents;
   r.holesFilled = seg.holesFilled;
   r.separationDepthMm = seg.separation.depthMm;
@@ -226,7 +230,7 @@ ImportResult ImportVoxmap(CTImage ct, const ImportOptions& optIn, const Progress
   if (r.voxmap.CountBone() == 0)
     throw std::runtime_error("no bone inside the region of interest " + Box(r.roi) +
                              " at threshold " + std::to_string(int(opt.segmentation.thresholdHU)) +
-                             " HU");
+                             " " + opt.segmentation.valueUnit);
   return r;
 }
 
@@ -259,9 +263,14 @@ std::string ImportResult::Report() const {
   os << std::setprecision(4) << "spacing:     " << ctSpacing[0] << " x " << ctSpacing[1] << " x "
      << ctSpacing[2] << " mm\n";
   os << "bounds:      " << Box(ctBounds) << "\n";
-  os << std::setprecision(0) << "HU range:    " << huMin << " .. " << huMax
-     << (intensity.kind == IntensityKind::Raw ? " (raw values, not HU)" : " HU") << "\n";
+  if (intensity.kind == IntensityKind::Raw)
+    os << std::setprecision(0) << "values:      " << huMin << " .. " << huMax
+       << " (as stored, not HU)\n";
+  else
+    os << std::setprecision(0) << "HU range:    " << huMin << " .. " << huMax << " HU\n";
   os << "intensity:   " << intensity.Describe() << "\n";
+  os << std::setprecision(1) << "threshold:   " << thresholdVolumeMm3
+     << " mm^3 of voxels at or above the threshold (every bone in the region)\n";
   os << std::setprecision(1) << "bone (CT):   " << segmentedVolumeMm3 << " mm^3";
   if (numComponents > 0)
     os << " (1 of " << numComponents << " components kept";
@@ -462,6 +471,39 @@ ImportOptions ImportOptionsFromJson(const nlohmann::json& j) {
   if (j.contains("allowOutsideData"))
     o.read.allowDataOutsideFolder = flag("allowOutsideData");
   return o;
+}
+
+nlohmann::json ImportOptionsToJson(const ImportOptions& o) {
+  nlohmann::json j = nlohmann::json::object();
+  const auto& seg = o.segmentation;
+  const auto& in = o.read.intensity;
+  if (in.rawThreshold)
+    j["rawThreshold"] = *in.rawThreshold;
+  else
+    j["threshold"] = seg.thresholdHU;
+  if (in.huMapping)
+    j["huMapping"] = *in.huMapping;
+  if (!o.read.seriesUID.empty())
+    j["series"] = o.read.seriesUID;
+  if (seg.seedMm)
+    j["seed"] = *seg.seedMm;
+  if (!seg.excludeSeedsMm.empty())
+    j["exclude"] = seg.excludeSeedsMm;
+  if (o.roiMm)
+    j["roi"] = {o.roiMm->lo[0], o.roiMm->lo[1], o.roiMm->lo[2],
+                o.roiMm->hi[0], o.roiMm->hi[1], o.roiMm->hi[2]};
+  if (seg.box)
+    j["box"] = {{"centre", seg.box->centreMm},
+                {"halfSizes", seg.box->halfSizesMm},
+                {"rotation", seg.box->rotationDeg}};
+  j["keepAllComponents"] = seg.keepAllComponents;
+  j["fillHoles"] = seg.fillHoles;
+  j["resolution"] = o.resolution;
+  if (o.read.allowDataOutsideFolder)
+    j["allowOutsideData"] = true;
+  if (o.read.maxMemoryBytes > 0)
+    j["maxMemoryMB"] = double(o.read.maxMemoryBytes) / 1048576.0;
+  return j;
 }
 
 Voxmap VoxmapFromScene(const nlohmann::json& bone, const std::string& baseDir,

@@ -58,6 +58,9 @@ struct ImportResult {
   /// Bone volume at CT resolution (sum of fractions; with a ROI, of the parts of the voxels
   /// inside it), mm^3.
   double segmentedVolumeMm3 = 0;
+  /// Volume of the CT voxels at or above the threshold before components, separation and hole
+  /// filling (in the cropped region), mm^3: what the steps changed shows against it.
+  double thresholdVolumeMm3 = 0;
   int numComponents = 0;
   int holesFilled = 0;
   double separationDepthMm = 0; ///< erosion that split touching bones, mm (0: none needed)
@@ -105,6 +108,13 @@ OrientedBox OrientedBoxFromText(const std::string& text, const std::string& what
 ///   "allowOutsideData": bool (Docs/CTImport.md).
 /// Throws std::runtime_error naming a key of the wrong type or value.
 ImportOptions ImportOptionsFromJson(const nlohmann::json& bone);
+
+/// The inverse for what a user sets when choosing how a CT is read (the plan's step scenes carry
+/// the settings the plan was made with): "threshold" (or "rawThreshold"), "huMapping",
+/// "series", "seed", "exclude", "roi", "box", "keepAllComponents", "fillHoles", "resolution",
+/// "allowOutsideData", "maxMemoryMB" when set. ImportOptionsFromJson(ImportOptionsToJson(o))
+/// gives back those fields of o.
+nlohmann::json ImportOptionsToJson(const ImportOptions& options);
 
 /// A scene's bone as a voxmap. `bone` holds exactly one source, paths relative to baseDir:
 ///   {"voxmap": "file.nrrd"} (loaded as is), {"ct": "folder-or-file", ...ImportOptions keys} or

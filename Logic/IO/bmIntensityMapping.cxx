@@ -118,6 +118,7 @@ void AdjustForIntensity(const IntensityMapping& m, SegmentationOptions& seg,
   if (m.kind != IntensityKind::Raw)
     return;
   seg.thresholdHU = float(m.rawThreshold);
+  seg.valueUnit = "(the file's units)";
   seg.holeMinMeanHU = -std::numeric_limits<float>::max();
   material.corticalHU = 1.0f;
   material.minScale = 1.0f; // clamp(x, 1, 1): uniform 1 whatever the raw value

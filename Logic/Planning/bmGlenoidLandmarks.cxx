@@ -5,9 +5,12 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <sstream>
+#include <tuple>
 
 namespace bm {
 
@@ -66,6 +69,9 @@ struct Joint {
 
 Joint FindJoint(const SegmentedBone& bone, const DetectionOptions& opt) {
   const double h = bone.Spacing();
+  // The scan's coarsest spacing: a patch loses up to a voxel at each edge to partial volume, and
+  // a sphere sampled on slices of thickness s is a staircase of about s / 2 residual.
+  const double scan = std::max(h, opt.scanSpacingMm);
   const auto& surf = bone.Surface();
   std::map<std::pair<int, int>, std::vector<size_t>> facing;
   for (size_t s = 0; s < surf.size(); ++s) {
@@ -97,7 +103,12 @@ Joint FindJoint(const SegmentedBone& bone, const DetectionOptions& opt) {
     std::vector<Vec3> patch, normals;
     for (size_t s : cands[c].second)
       patch.push_back(surf[s].p), normals.push_back(surf[s].normal);
-    const std::string what = "bone " + std::to_string(L) + " facing bone " + std::to_string(M);
+    const Vec3 at = Mean(patch);
+    std::ostringstream where;
+    where.precision(0);
+    where << std::fixed << " at (" << at[0] << ", " << at[1] << ", " << at[2] << ") mm";
+    const std::string what =
+        "bone " + std::to_string(L) + " facing bone " + std::to_string(M) + where.str();
     auto reject = [&](const std::string& why) {
       reasons += (reasons.empty() ? "" : "; ") + what + ": " + why;
     };
@@ -126,10 +137,17 @@ Joint FindJoint(const SegmentedBone& bone, const DetectionOptions& opt) {
     }
     const Vec3 c0 = Mean(patch);
     const Vec3 nApprox = Normalized(Sub(fs.centre, c0));
+    if (opt.side != ShoulderSide::Any && (nApprox[0] > 0) != (opt.side == ShoulderSide::Left)) {
+      reject(std::string("it faces the patient's ") + (nApprox[0] > 0 ? "left" : "right") +
+             " (the " + ShoulderSideName(opt.side) + " shoulder was asked for)");
+      continue;
+    }
     const auto [major, minor] = InPlaneExtents(patch, nApprox);
-    if (major < opt.minFaceHeightMm || minor < opt.minFaceWidthMm) {
+    const double minMajor = opt.minFaceHeightMm - 2 * scan,
+                 minMinor = opt.minFaceWidthMm - 2 * scan;
+    if (major < minMajor || minor < minMinor) {
       reject("joint surface " + Mm(major) + " x " + Mm(minor) + ", smaller than a glenoid (" +
-             Mm(opt.minFaceHeightMm) + " x " + Mm(opt.minFaceWidthMm) + ")");
+             Mm(minMajor) + " x " + Mm(minMinor) + " at this scan's " + Mm(scan) + " spacing)");
       continue;
     }
     std::vector<Vec3> head;
@@ -149,9 +167,10 @@ Joint FindJoint(const SegmentedBone& bone, const DetectionOptions& opt) {
       if (sp.label == M && Distance(sp.p, c0) <= 0.5 * major + 15 &&
           Dot(sp.normal, Sub(c0, sp.p)) > 0)
         convex += Dot(Sub(sp.p, fh.centre), sp.normal);
-    if (convex <= 0 || fh.radiusMm < 12 || fh.radiusMm > 40 || fh.rmsMm > 0.1 * fh.radiusMm) {
-      reject("the facing bone is no humeral head (sphere radius " + Mm(fh.radiusMm) + ", rms " +
-             Mm(fh.rmsMm) + ")");
+    const double maxRms = 0.1 * fh.radiusMm + 0.5 * scan;
+    if (convex <= 0 || fh.radiusMm < 12 || fh.radiusMm > 40 || fh.rmsMm > maxRms) {
+      reject("the facing bone is no humeral head (sphere radius " + Mm(fh.radiusMm) +
+             " of 12-40 mm, rms " + Mm(fh.rmsMm) + " of at most " + Mm(maxRms) + ")");
       continue;
     }
     // The head sits in the socket: its centre lies within the face's sphere, and it is no
@@ -172,9 +191,14 @@ Joint FindJoint(const SegmentedBone& bone, const DetectionOptions& opt) {
 }
 
 /// Centroid of the voxels of `label` within `radius` of the voxel farthest from `from`
-/// (in-plane distance on slice k when k >= 0, else 3D over the whole grid).
-std::optional<Vec3> FarthestEnd(const SegmentedBone& b, int label, const Vec3& from, int k,
-                                double radius) {
+/// (in-plane distance on slice k when k >= 0, else 3D over the whole grid; only voxels at or
+/// below zMax), and that farthest voxel's centre (the tip).
+struct End {
+  Vec3 centroid{}, tip{};
+};
+std::optional<End> FarthestEnd(const SegmentedBone& b, int label, const Vec3& from, int k,
+                               double radius,
+                               double zMax = std::numeric_limits<double>::infinity()) {
   const auto& d = b.Dims();
   const int k0 = k >= 0 ? k : 0, k1 = k >= 0 ? k + 1 : d[2];
   if (k >= d[2])
@@ -190,6 +214,8 @@ std::optional<Vec3> FarthestEnd(const SegmentedBone& b, int label, const Vec3& f
       for (int i = 0; i < d[0]; ++i)
         if (b.Label(b.Index(i, j, kk)) == label) {
           const Vec3 p = b.Centre(i, j, kk);
+          if (p[2] > zMax)
+            continue;
           const double e = dist2(p);
           if (e > best)
             best = e, far = p;
@@ -205,12 +231,53 @@ std::optional<Vec3> FarthestEnd(const SegmentedBone& b, int label, const Vec3& f
         if (b.Label(idx) != label)
           continue;
         const Vec3 p = b.Centre(i, j, kk);
-        if (Distance(p, far) <= radius) {
+        if (Distance(p, far) <= radius && p[2] <= zMax) {
           sum = AddScaled(sum, p, b.Fraction(idx));
           w += b.Fraction(idx);
         }
       }
-  return Scale(sum, 1.0 / w);
+  return End{Scale(sum, 1.0 / w), far};
+}
+
+/// Shares of the samples at 1.5 to 12 mm ahead of c along n, and behind it, that lie in bone
+/// `label`: {ahead, behind}.
+std::pair<double, double> BoneAheadAndBehind(const SegmentedBone& b, int label, const Vec3& c,
+                                             const Vec3& n) {
+  int ahead = 0, behind = 0, count = 0;
+  for (double d = 1.5; d <= 12.0; d += 0.5 * b.Spacing(), ++count) {
+    ahead += b.LabelAt(AddScaled(c, n, d)) == label;
+    behind += b.LabelAt(AddScaled(c, n, -d)) == label;
+  }
+  return {double(ahead) / count, double(behind) / count};
+}
+
+/// The scan edges (of x, y, z where axes[a]) that p lies within `reach` of: "" when none.
+std::string NearScanEdge(const std::optional<Box3>& scan, const Vec3& p, double reach,
+                         std::array<bool, 3> axes) {
+  if (!scan)
+    return "";
+  static const char* lo[3] = {"right", "anterior", "inferior"};
+  static const char* hi[3] = {"left", "posterior", "superior"};
+  std::string edges;
+  for (int a = 0; a < 3; ++a) {
+    if (!axes[size_t(a)])
+      continue;
+    if (p[size_t(a)] - scan->lo[size_t(a)] <= reach)
+      edges += std::string(edges.empty() ? "" : ", ") + lo[a];
+    if (scan->hi[size_t(a)] - p[size_t(a)] <= reach)
+      edges += std::string(edges.empty() ? "" : ", ") + hi[a];
+  }
+  return edges;
+}
+
+/// The label of the bone whose surface point is nearest p, and that distance (mm).
+std::pair<int, double> NearestBone(const SegmentedBone& bone, const Vec3& p) {
+  double best = 1e30;
+  int label = 0;
+  for (const auto& sp : bone.Surface())
+    if (Distance(sp.p, p) < best)
+      best = Distance(sp.p, p), label = sp.label;
+  return {label, best};
 }
 
 Vec3 UpAxis(const Vec3& n) {
@@ -221,13 +288,37 @@ Vec3 UpAxis(const Vec3& n) {
 
 } // namespace
 
+const char* ShoulderSideName(ShoulderSide side) {
+  return side == ShoulderSide::Left ? "left" : side == ShoulderSide::Right ? "right" : "any";
+}
+
 LandmarkOverrides LandmarkOverrides::FromJson(const nlohmann::json& j) {
   if (!j.is_object())
     throw std::invalid_argument("\"landmarks\" must be an object");
   LandmarkOverrides o;
   for (const auto& [key, value] : j.items()) {
-    if (key == "source" || key == "rim_mm" || key == "humeral_head")
+    if (key == "source" || key == "rim_mm" || key == "humeral_head" || key == "side" ||
+        key == "not_available")
       continue; // what GlenoidLandmarks::ToJson adds for the reader, not a landmark
+    if (key == "rim_points_mm") {
+      if (!value.is_array() || value.size() > 1000)
+        throw std::invalid_argument("landmarks: \"rim_points_mm\" must be a list of [x, y, z]");
+      for (const auto& q : value) {
+        if (!q.is_array() || q.size() != 3)
+          throw std::invalid_argument("landmarks: \"rim_points_mm\" must be a list of [x, y, z]");
+        Vec3 v;
+        for (int a = 0; a < 3; ++a) {
+          if (!q[size_t(a)].is_number() || !std::isfinite(q[size_t(a)].get<double>()))
+            throw std::invalid_argument("landmarks: \"rim_points_mm\" must hold finite numbers");
+          v[size_t(a)] = q[size_t(a)].get<double>();
+        }
+        o.rimPoints.push_back(v);
+      }
+      if (o.rimPoints.size() < 3)
+        throw std::invalid_argument("landmarks: \"rim_points_mm\" needs at least 3 points on the "
+                                    "glenoid's rim");
+      continue;
+    }
     std::optional<Vec3>* slot = key == "glenoid_centre_mm"   ? &o.glenoidCentre
                                 : key == "face_normal"       ? &o.faceNormal
                                 : key == "trigonum_mm"       ? &o.trigonum
@@ -236,7 +327,7 @@ LandmarkOverrides LandmarkOverrides::FromJson(const nlohmann::json& j) {
     if (!slot)
       throw std::invalid_argument("landmarks: unknown key \"" + key +
                                   "\" (glenoid_centre_mm, face_normal, trigonum_mm, "
-                                  "inferior_angle_mm)");
+                                  "inferior_angle_mm, rim_points_mm)");
     if (!value.is_array() || value.size() != 3)
       throw std::invalid_argument("landmarks: \"" + key + "\" must be [x, y, z]");
     Vec3 v;
@@ -261,14 +352,26 @@ nlohmann::json GlenoidLandmarks::ToJson() const {
     rimJ.push_back(p);
   nlohmann::json j = {{"glenoid_centre_mm", glenoidCentre},
                       {"face_normal", faceNormal},
-                      {"trigonum_mm", trigonum},
-                      {"inferior_angle_mm", inferiorAngle},
                       {"source",
                        {{"glenoid_centre", centreSource},
                         {"face_normal", normalSource},
                         {"trigonum", trigonumSource},
                         {"inferior_angle", inferiorSource}}},
+                      {"side", side},
                       {"rim_mm", rimJ}};
+  nlohmann::json missing = nlohmann::json::object();
+  if (HasTrigonum())
+    j["trigonum_mm"] = trigonum;
+  else
+    missing["trigonum"] = trigonumMissing;
+  if (HasInferiorAngle())
+    j["inferior_angle_mm"] = inferiorAngle;
+  else
+    missing["inferior_angle"] = inferiorMissing;
+  if (!rimMissing.empty())
+    missing["rim"] = rimMissing;
+  if (!missing.empty())
+    j["not_available"] = missing;
   if (humeralHeadFound)
     j["humeral_head"] = {{"centre_mm", humeralHeadCentre}, {"radius_mm", humeralHeadRadiusMm}};
   return j;
@@ -278,17 +381,33 @@ GlenoidLandmarks DetectLandmarks(const SegmentedBone& bone, const LandmarkOverri
                                  const DetectionOptions& opt) {
   GlenoidLandmarks L;
   Vec3 c, n;
-  if (ov.glenoidCentre && ov.faceNormal) {
+  const bool placed = ov.glenoidCentre && ov.faceNormal;
+  const bool fromRim = !ov.glenoidCentre && !ov.faceNormal && ov.rimPoints.size() >= 3;
+  if (placed) {
     c = *ov.glenoidCentre;
     n = *ov.faceNormal;
     // The scapula: the bone of the surface point nearest the given centre.
-    double best = 1e30;
-    for (const auto& sp : bone.Surface())
-      if (Distance(sp.p, c) < best)
-        best = Distance(sp.p, c), L.scapulaLabel = sp.label;
+    double best;
+    std::tie(L.scapulaLabel, best) = NearestBone(bone, c);
     if (best > 10)
       throw NoGlenoidFound("the given glenoid centre is " + Mm(best) +
                            " from the nearest bone surface; place it on the glenoid face");
+  } else if (fromRim) {
+    // Points clicked on the rim: their plane, its normal turned out of the bone.
+    const PlaneFit plane = FitPlane(ov.rimPoints);
+    if (InPlaneExtents(ov.rimPoints, plane.normal).second < 5.0)
+      throw NoGlenoidFound("the given rim points lie nearly on one line (less than 5 mm across): "
+                           "click three or more points around the glenoid's rim");
+    double best;
+    std::tie(L.scapulaLabel, best) = NearestBone(bone, plane.centroid);
+    if (best > 15)
+      throw NoGlenoidFound("the given rim points' centre is " + Mm(best) +
+                           " from the nearest bone surface; click them on the glenoid's rim");
+    n = plane.normal;
+    const auto [ahead, behind] = BoneAheadAndBehind(bone, L.scapulaLabel, plane.centroid, n);
+    if (ahead > behind)
+      n = Scale(n, -1);
+    c = plane.centroid;
   } else {
     const Joint j = FindJoint(bone, opt);
     L.scapulaLabel = j.scapula;
@@ -298,8 +417,22 @@ GlenoidLandmarks DetectLandmarks(const SegmentedBone& bone, const LandmarkOverri
     c = ov.glenoidCentre ? *ov.glenoidCentre : j.centre;
     n = ov.faceNormal ? *ov.faceNormal : j.normal;
   }
-  L.centreSource = ov.glenoidCentre ? "user" : "detected";
-  L.normalSource = ov.faceNormal ? "user" : "detected";
+  if (ov.faceNormal) {
+    // A normal given the wrong way round: the scapula lies ahead of the face and not behind it.
+    const auto [ahead, behind] = BoneAheadAndBehind(bone, L.scapulaLabel, c, n);
+    if (ahead >= 0.5 && ahead > behind + 0.25) {
+      std::ostringstream s;
+      s.precision(3);
+      s << std::fixed << "the given face normal (" << n[0] << ", " << n[1] << ", " << n[2]
+        << ") points into the bone (" << int(std::lround(100 * ahead))
+        << " % of the 12 mm ahead of the centre is scapula, " << int(std::lround(100 * behind))
+        << " % behind it): the normal points out of the joint, toward the humeral head; reverse "
+           "it";
+      throw NoGlenoidFound(s.str());
+    }
+  }
+  L.centreSource = ov.glenoidCentre ? "user" : fromRim ? "user rim" : "detected";
+  L.normalSource = ov.faceNormal ? "user" : fromRim ? "user rim" : "detected";
   // Rim, plane and centre around the axis.
   std::vector<Vec3> cands;
   std::vector<Vec3> candNormals;
@@ -307,10 +440,14 @@ GlenoidLandmarks DetectLandmarks(const SegmentedBone& bone, const LandmarkOverri
     if (sp.label == L.scapulaLabel && Distance(sp.p, c) <= opt.rimSearchRadiusMm + 15 &&
         Dot(Sub(sp.p, c), n) >= -12)
       cands.push_back(sp.p), candNormals.push_back(sp.normal);
-  if (cands.size() < size_t(opt.rimPoints))
-    throw NoGlenoidFound("no glenoid found: no glenoid surface around the joint" +
-                         std::string(kPlaceHint));
-  for (int it = 0; it < kRimIterations; ++it) {
+  if (cands.size() < size_t(opt.rimPoints)) {
+    if (!placed)
+      throw NoGlenoidFound("no glenoid found: no glenoid surface around the joint" +
+                           std::string(kPlaceHint));
+    L.rimMissing = "too few bone surface points (" + std::to_string(cands.size()) +
+                   ") around the given centre to trace the rim";
+  }
+  for (int it = 0; it < kRimIterations && L.rimMissing.empty(); ++it) {
     const Vec3 eu = UpAxis(n), ev = Cross(n, eu);
     L.rim = SupportRim(cands, c, n, eu, ev, opt.rimPoints, opt.rimSearchRadiusMm);
     const PlaneFit plane = FitRimPlane(L.rim);
@@ -338,7 +475,9 @@ GlenoidLandmarks DetectLandmarks(const SegmentedBone& bone, const LandmarkOverri
   L.faceNormal = n;
   if (L.humeralHeadFound && Dot(Sub(L.humeralHeadCentre, c), n) < 0 && !ov.faceNormal)
     L.faceNormal = Scale(n, -1);
-  // The face: inside 80 % of the rim's radius in the rim's direction, facing out of the joint.
+  L.side = L.faceNormal[0] > 0 ? "left" : "right";
+  // The face: inside 80 % of the rim's radius in the rim's direction (12 mm without a rim),
+  // facing out of the joint.
   {
     const Vec3 eu = UpAxis(n), ev = Cross(n, eu);
     std::vector<std::pair<double, double>> rimPolar; // angle, radius
@@ -349,7 +488,7 @@ GlenoidLandmarks DetectLandmarks(const SegmentedBone& bone, const LandmarkOverri
     for (size_t i = 0; i < cands.size(); ++i) {
       const Vec3 d = Sub(cands[i], c);
       const double u = Dot(d, eu), v = Dot(d, ev), ang = std::atan2(v, u);
-      double rr = 0, bestA = 10;
+      double rr = 15, bestA = 10;
       for (const auto& [a, r] : rimPolar) {
         const double da = std::abs(std::remainder(a - ang, 2 * 3.14159265358979323846));
         if (da < bestA)
@@ -359,7 +498,10 @@ GlenoidLandmarks DetectLandmarks(const SegmentedBone& bone, const LandmarkOverri
         L.face.push_back(cands[i]);
     }
   }
-  // Scapular-plane landmarks.
+  // Scapular-plane landmarks: each found, given, or not available with its reason. A landmark
+  // whose tip (the bone's farthest voxel) lies within a scan voxel of the scan's edge is where
+  // the bone leaves the field of view (a voxel cut by the edge has its centre half a voxel in).
+  const double reach = std::max(bone.Spacing(), opt.scanSpacingMm);
   if (ov.trigonum) {
     L.trigonum = *ov.trigonum;
     L.trigonumSource = "user";
@@ -369,31 +511,49 @@ GlenoidLandmarks DetectLandmarks(const SegmentedBone& bone, const LandmarkOverri
     const double t = kf - k0;
     const auto a = FarthestEnd(bone, L.scapulaLabel, c, k0, 3.0);
     const auto b = FarthestEnd(bone, L.scapulaLabel, c, k0 + 1, 3.0);
-    if (!a || !b)
-      throw NoGlenoidFound("no trigonum found: the scapula does not reach the glenoid centre's "
-                           "axial plane; place \"trigonum_mm\"");
-    L.trigonum = Add(Scale(*a, 1 - t), Scale(*b, t));
     L.trigonumSource = "detected";
+    if (!a || !b)
+      L.trigonumMissing = "the scapula does not reach the glenoid centre's axial plane";
+    else
+      L.trigonum = Add(Scale(a->centroid, 1 - t), Scale(b->centroid, t));
+    const std::string edge =
+        L.HasTrigonum()
+            ? NearScanEdge(opt.scanBounds, t < 0.5 ? a->tip : b->tip, reach, {true, true, false})
+            : "";
+    if (!edge.empty())
+      L.trigonumMissing = "the scapula leaves the scan at its " + edge +
+                          " edge on the glenoid centre's axial plane (the medial border is "
+                          "outside the field of view)";
   }
-  if (Distance(L.trigonum, c) < 50)
-    throw NoGlenoidFound("no trigonum found: the scapula ends " + Mm(Distance(L.trigonum, c)) +
-                         " medial of the glenoid centre (a scapular body reaches >= 50 mm); place "
-                         "\"trigonum_mm\"");
+  if (L.HasTrigonum() && Distance(L.trigonum, c) < 50)
+    L.trigonumMissing = "the scapula ends " + Mm(Distance(L.trigonum, c)) +
+                        " medial of the glenoid centre on its axial plane (a scapular body "
+                        "reaches >= 50 mm): the medial border is outside the scan or the scapula "
+                        "is turned out of the axial plane";
   if (ov.inferiorAngle) {
     L.inferiorAngle = *ov.inferiorAngle;
     L.inferiorSource = "user";
   } else {
-    const auto a = FarthestEnd(bone, L.scapulaLabel, c, -1, 5.0);
-    if (!a)
-      throw NoGlenoidFound("no inferior angle found; place \"inferior_angle_mm\"");
-    L.inferiorAngle = *a;
+    const auto a = FarthestEnd(bone, L.scapulaLabel, c, -1, 5.0, c[2] - 20.0);
     L.inferiorSource = "detected";
+    if (!a)
+      L.inferiorMissing = "no scapula bone 20 mm or more below the glenoid centre";
+    else
+      L.inferiorAngle = a->centroid;
+    const std::string edge =
+        L.HasInferiorAngle() ? NearScanEdge(opt.scanBounds, a->tip, reach, {true, true, true}) : "";
+    if (!edge.empty())
+      L.inferiorMissing = "the scapula leaves the scan at its " + edge +
+                          " edge (the inferior angle is outside the field of view)";
   }
-  if (Distance(L.inferiorAngle, c) < 50)
-    throw NoGlenoidFound("no inferior angle found: the scapula reaches only " +
-                         Mm(Distance(L.inferiorAngle, c)) +
-                         " from the glenoid centre (the CT may not hold the whole scapula); place "
-                         "\"inferior_angle_mm\"");
+  if (L.HasInferiorAngle() && Distance(L.inferiorAngle, c) < 50)
+    L.inferiorMissing = "the scapula reaches only " + Mm(Distance(L.inferiorAngle, c)) +
+                        " from the glenoid centre (>= 50 mm expected): the CT may not hold the "
+                        "whole scapula";
+  if (!L.HasTrigonum())
+    L.trigonumSource = "not available";
+  if (!L.HasInferiorAngle())
+    L.inferiorSource = "not available";
   return L;
 }
 

@@ -17,11 +17,22 @@
 //     medial end of the scapula on the axial plane through the glenoid centre (the centroid of the
 //     bone within 3 mm of its point farthest from the centre, on the two slices around the plane,
 //     interpolated; Friedman's "medial tip"), the inferior angle I = the centroid of the bone
-//     within 5 mm of its point farthest from the glenoid centre. Each must lie >= 50 mm from the
-//     centre, else NoGlenoidFound names it.
+//     within 5 mm of its point farthest from the glenoid centre among those at least 20 mm
+//     below it (the inferior angle lies about 100 mm inferior and medial of the glenoid, arms up
+//     or down; the superior angle, as far away, lies above it). Each must lie >= 50 mm from the
+//     centre (a scapular body reaches about 100 mm); one that does not, or is out of the scan,
+//     is not available, with its reason (trigonumMissing, inferiorMissing): the measurements that
+//     need it are not made and the plan is made from the rest (bmGlenoidPlan.h).
+// Limits follow the scan: the joint patch's minimum size gives up one voxel at each edge
+// (partial volume), the head's sphere-fit residual allows half the CT's coarsest spacing (the
+// staircase of thick slices), both from DetectionOptions::scanSpacingMm.
 // Overrides (LandmarkOverrides, from the plan's "landmarks" JSON) replace a landmark before the
 // steps that depend on it: a given centre and normal skip step 1 (the bone nearest the centre is
-// the scapula) and are kept as given; a given T or I is used as given.
+// the scapula) and are kept as given, and then a rim that cannot be traced is not available
+// instead of a failure; a given normal that points into the bone (the scapula ahead of the face,
+// none behind it) is refused. A given T or I is used as given.
+// A side (DetectionOptions::side) keeps only joints whose face looks toward that side: a right
+// glenoid faces the patient's right (-x in LPS), a left one +x.
 #pragma once
 
 #include "bmSegmentedBone.h"
@@ -46,15 +57,34 @@ struct LandmarkOverrides {
   std::optional<Vec3> faceNormal;    ///< "face_normal": [x, y, z] (normalised), out of the joint
   std::optional<Vec3> trigonum;      ///< "trigonum_mm"
   std::optional<Vec3> inferiorAngle; ///< "inferior_angle_mm"
-  bool Empty() const { return !glenoidCentre && !faceNormal && !trigonum && !inferiorAngle; }
+  /// Rim points (world mm) clicked on the glenoid's edge: with three or more and no centre or
+  /// normal, the centre and normal are those of the rim's plane (the normal turned out of the
+  /// bone). "rim_points_mm": [[x, y, z], ...].
+  std::vector<Vec3> rimPoints;
+  bool Empty() const {
+    return !glenoidCentre && !faceNormal && !trigonum && !inferiorAngle && rimPoints.empty();
+  }
   /// From a JSON object with any of the keys above (GlenoidLandmarks::ToJson's "source",
-  /// "rim_mm" and "humeral_head" are skipped, so a plan's landmarks can be edited and read
-  /// back); throws std::invalid_argument naming a key that is not an array of 3 finite numbers,
-  /// an unknown key, or a zero normal.
+  /// "rim_mm", "humeral_head", "side" and "not_available" are skipped, so a plan's landmarks can
+  /// be edited and read back); throws std::invalid_argument naming a key that is not an array of 3
+  /// finite numbers, an unknown key, or a zero normal.
   static LandmarkOverrides FromJson(const nlohmann::json& j);
 };
 
+/// Which shoulder to plan (LPS: the patient's left is +x).
+enum class ShoulderSide { Any, Left, Right };
+/// "left", "right" or "any".
+const char* ShoulderSideName(ShoulderSide side);
+
 struct DetectionOptions {
+  ShoulderSide side = ShoulderSide::Any; ///< keep only the glenoid of this shoulder
+  /// The CT's coarsest voxel spacing, mm (slice thickness on most CTs); 0 (default): the
+  /// segmented bone's own spacing. The limits below allow for it.
+  double scanSpacingMm = 0;
+  /// The CT's bounds, world mm, when known: a scapular landmark whose tip lies within one scan
+  /// spacing of an edge of the scan is where the scapula leaves the field of view, not the
+  /// landmark, and is not available.
+  std::optional<Box3> scanBounds;
   double maxJointGapMm = 12.0;   ///< farthest the humeral head may be from the face, mm
   double minFaceHeightMm = 20.0; ///< smallest joint patch accepted, mm (long axis)
   double minFaceWidthMm = 12.0;  ///< mm (short axis)
@@ -70,15 +100,23 @@ struct GlenoidLandmarks {
   Vec3 humeralHeadCentre{};
   double humeralHeadRadiusMm = 0;
   int scapulaLabel = 0;
+  std::string side; ///< "left" or "right": the side the face looks toward (LPS x)
+  /// Why a landmark is not available ("" = it is): the trigonum or inferior angle outside the
+  /// scan or too close to the centre, a rim that could not be traced around a given centre.
+  std::string trigonumMissing, inferiorMissing, rimMissing;
+  bool HasTrigonum() const { return trigonumMissing.empty(); }
+  bool HasInferiorAngle() const { return inferiorMissing.empty(); }
   /// Per landmark ("glenoid_centre", "face_normal", "trigonum", "inferior_angle"): "detected"
   /// or "user".
   std::string centreSource, normalSource, trigonumSource, inferiorSource;
-  /// Landmarks as JSON (the keys of LandmarkOverrides plus "rim_mm", "humeral_head", "source").
+  /// Landmarks as JSON (the keys of LandmarkOverrides plus "rim_mm", "humeral_head", "source",
+  /// "side"; a landmark not available is left out and named in "not_available" with its reason).
   nlohmann::json ToJson() const;
 };
 
-/// Find the landmarks (see the file comment). Throws NoGlenoidFound when the glenoid or a
-/// scapular landmark cannot be found and was not given.
+/// Find the landmarks (see the file comment). Throws NoGlenoidFound when the glenoid cannot be
+/// found and was not given (or a given one cannot be used); a scapular landmark that cannot be
+/// found is not available (GlenoidLandmarks::trigonumMissing, inferiorMissing).
 GlenoidLandmarks DetectLandmarks(const SegmentedBone& bone, const LandmarkOverrides& overrides = {},
                                  const DetectionOptions& options = {});
 

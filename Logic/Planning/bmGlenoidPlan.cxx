@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
@@ -49,10 +50,23 @@ GlenoidPlan MakeGlenoidPlan(const GlenoidLandmarks& L, const GlenoidMeasurements
   GlenoidPlan p;
   p.options = opt;
   p.entry = L.glenoidCentre;
-  p.axis = DirectionFromAngles(m.frame, opt.targetVersionDeg, opt.targetInclinationDeg);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  if (m.hasFrame) {
+    p.axis = DirectionFromAngles(m.frame, opt.targetVersionDeg, opt.targetInclinationDeg);
+    p.corrected = true;
+    p.axisVersionDeg = Version3DDeg(m.frame, p.axis);
+    p.axisInclinationDeg = InclinationDeg(m.frame, p.axis);
+  } else {
+    p.axis = L.faceNormal;
+    p.axisVersionDeg = p.axisInclinationDeg = nan;
+    const auto why = m.notAvailable.find("version_3d_deg");
+    p.warnings.push_back(
+        "no correction: the axis is the face normal as " +
+        std::string(L.normalSource == "detected" ? "found" : "placed") + ", since " +
+        (why != m.notAvailable.end() ? why->second : std::string("there is no scapular plane")) +
+        "; place the trigonum and the inferior angle to correct version and inclination");
+  }
   p.correctionDeg = AngleDeg(L.faceNormal, p.axis);
-  p.axisVersionDeg = Version3DDeg(m.frame, p.axis);
-  p.axisInclinationDeg = InclinationDeg(m.frame, p.axis);
   const ArcLipParams reamer;
   p.pinDepthMm = opt.pinDepthMm > 0 ? opt.pinDepthMm : opt.reamDepthMm + reamer.nippleLength + 2;
   if (p.pinDepthMm < opt.reamDepthMm + reamer.nippleLength)
@@ -60,14 +74,19 @@ GlenoidPlan MakeGlenoidPlan(const GlenoidLandmarks& L, const GlenoidMeasurements
                          " mm) is shallower than the reamer's nipple reaches (" +
                          Fixed(opt.reamDepthMm + reamer.nippleLength) +
                          " mm): the nipple will meet solid bone");
+  // The tool starts 1 mm above the highest rim point (the face's points without a rim).
   double rimTop = 0;
-  for (const auto& q : L.rim)
+  for (const auto& q : L.rim.empty() ? L.face : L.rim)
     rimTop = std::max(rimTop, Dot(Sub(q, p.entry), p.axis));
   p.clearanceMm = rimTop + 1.0;
-  p.reamerOverhangApMm = std::max(0.0, 0.5 * (opt.reamerDiameterMm - m.widthMm));
-  p.reamerOverhangSiMm = std::max(0.0, 0.5 * (opt.reamerDiameterMm - m.heightMm));
-  p.reamerFits = p.reamerOverhangApMm == 0 && p.reamerOverhangSiMm == 0;
-  if (!p.reamerFits)
+  const bool sized = std::isfinite(m.widthMm) && std::isfinite(m.heightMm);
+  p.reamerOverhangApMm = sized ? std::max(0.0, 0.5 * (opt.reamerDiameterMm - m.widthMm)) : nan;
+  p.reamerOverhangSiMm = sized ? std::max(0.0, 0.5 * (opt.reamerDiameterMm - m.heightMm)) : nan;
+  p.reamerFits = sized && p.reamerOverhangApMm == 0 && p.reamerOverhangSiMm == 0;
+  if (!sized)
+    p.warnings.push_back("the reamer's size is not checked: the glenoid's rim is not available (" +
+                         L.rimMissing + ")");
+  else if (!p.reamerFits)
     p.warnings.push_back("the " + Fixed(opt.reamerDiameterMm) + " mm reamer overhangs the " +
                          Fixed(m.heightMm) + " x " + Fixed(m.widthMm) + " mm glenoid by " +
                          Fixed(p.reamerOverhangApMm) + " mm anteriorly and posteriorly and " +
@@ -77,19 +96,39 @@ GlenoidPlan MakeGlenoidPlan(const GlenoidLandmarks& L, const GlenoidMeasurements
                          " deg) exceeds 15 deg: reaming alone removes much bone from the "
                          "face's high side and medialises the joint line; consider an augmented "
                          "implant");
+  // Plausibility: arthritic glenoids lie within about -30..+15 deg of version and -15..+30 deg
+  // of inclination (Docs/Planning.md); beyond +-30 deg a landmark is more likely misplaced.
+  auto flag = [&](const std::string& what) {
+    p.implausible.push_back(what);
+    p.warnings.push_back("check the landmarks: " + what);
+  };
+  if (std::abs(m.version3DDeg) > 30)
+    flag("3D version " + Fixed(m.version3DDeg) + " deg is beyond +-30 deg");
+  if (std::abs(m.friedmanVersionDeg) > 30)
+    flag("Friedman version " + Fixed(m.friedmanVersionDeg) + " deg is beyond +-30 deg");
+  if (std::abs(m.inclinationDeg) > 30)
+    flag("inclination " + Fixed(m.inclinationDeg) + " deg is beyond +-30 deg");
+  if (p.correctionDeg > 15)
+    flag("the correction of " + Fixed(p.correctionDeg) + " deg is beyond 15 deg");
   return p;
 }
 
 nlohmann::json GlenoidPlan::CtBoneJson(const std::string& ctPath) const {
+  return CtBoneJsonWithSettings(nlohmann::json{{"ct", ctPath}});
+}
+
+nlohmann::json GlenoidPlan::CtBoneJsonWithSettings(const nlohmann::json& importSettings) const {
+  if (!importSettings.is_object() || !importSettings.contains("ct") ||
+      !importSettings["ct"].is_string() || importSettings["ct"].get<std::string>().empty())
+    throw std::invalid_argument("plan: the CT's import settings name no CT (\"ct\")");
+  nlohmann::json ct = importSettings;
+  for (const char* k : {"roi", "box", "seed", "resolution", "keepAllComponents"})
+    ct.erase(k);
   const Vec3 seed = AddScaled(entry, axis, -1.0);
   const double h = options.roiHalfMm;
-  return {
-      {"type", "ct"},
-      {"ct",
-       {{"ct", ctPath},
-        {"seed", seed},
-        {"roi",
-         {entry[0] - h, entry[1] - h, entry[2] - h, entry[0] + h, entry[1] + h, entry[2] + h}}}}};
+  ct["seed"] = seed;
+  ct["roi"] = {entry[0] - h, entry[1] - h, entry[2] - h, entry[0] + h, entry[1] + h, entry[2] + h};
+  return {{"type", "ct"}, {"ct", ct}};
 }
 
 nlohmann::json GlenoidPlan::StepSceneJson(int i, const nlohmann::json& bone) const {
@@ -144,10 +183,12 @@ nlohmann::json GlenoidPlan::SceneJson(const nlohmann::json& bone) const {
                      {"trial", s["trial"]}});
   }
   return {{"name", "glenoid plan"},
-          {"description", "Guide pin, then nipple-guided reaming, on the same bone, along the "
-                          "planned axis (version " +
-                              Fixed(axisVersionDeg) + " deg, inclination " +
-                              Fixed(axisInclinationDeg) + " deg)"},
+          {"description",
+           "Guide pin, then nipple-guided reaming, on the same bone, along the planned axis (" +
+               (corrected ? "version " + Fixed(axisVersionDeg) + " deg, inclination " +
+                                Fixed(axisInclinationDeg) + " deg"
+                          : std::string("the face normal, not corrected")) +
+               ")"},
           {"bone", bone},
           {"steps", steps},
           {"voxmap_resolution", options.voxmapResolution},
@@ -156,23 +197,35 @@ nlohmann::json GlenoidPlan::SceneJson(const nlohmann::json& bone) const {
           {"planning", ToJson()}};
 }
 
+PlanScenes MakePlanScenes(const GlenoidLandmarks& L, const GlenoidMeasurements& m,
+                          const GlenoidPlan& plan, const nlohmann::json& importSettings) {
+  const nlohmann::json bone = plan.CtBoneJsonWithSettings(importSettings);
+  PlanScenes s{plan.SceneJson(bone), plan.StepSceneJson(0, bone), plan.StepSceneJson(1, bone)};
+  s.plan["planning"]["landmarks"] = L.ToJson();
+  s.plan["planning"]["measurements"] = m.ToJson();
+  return s;
+}
+
 nlohmann::json GlenoidPlan::ToJson() const {
+  auto value = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
   return {{"target_version_deg", options.targetVersionDeg},
           {"target_inclination_deg", options.targetInclinationDeg},
           {"entry_mm", entry},
           {"axis", axis},
           {"correction_deg", correctionDeg},
-          {"axis_version_deg", axisVersionDeg},
-          {"axis_inclination_deg", axisInclinationDeg},
+          {"corrected", corrected},
+          {"axis_version_deg", value(axisVersionDeg)},
+          {"axis_inclination_deg", value(axisInclinationDeg)},
           {"ream_depth_mm", options.reamDepthMm},
           {"pin_radius_mm", options.pinRadiusMm},
           {"pin_depth_mm", pinDepthMm},
           {"reamer_diameter_mm", options.reamerDiameterMm},
           {"reamer_fits", reamerFits},
-          {"reamer_overhang_ap_mm", reamerOverhangApMm},
-          {"reamer_overhang_si_mm", reamerOverhangSiMm},
+          {"reamer_overhang_ap_mm", value(reamerOverhangApMm)},
+          {"reamer_overhang_si_mm", value(reamerOverhangSiMm)},
           {"clearance_mm", clearanceMm},
-          {"warnings", warnings}};
+          {"warnings", warnings},
+          {"implausible", implausible}};
 }
 
 } // namespace bm

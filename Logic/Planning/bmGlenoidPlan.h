@@ -2,6 +2,12 @@
 // reaming axis through the glenoid centre at the target version and inclination, a check of the
 // reamer's size against the glenoid, and the two steps on one bone as a scene: the guide-pin
 // hole drilled along the axis, then the nipple-guided reamer to a set depth. World mm (LPS).
+//
+// The plan is made from what is available: without the scapular frame (the trigonum or the
+// inferior angle not available, bmGlenoidMeasurements.h) the axis is the face normal as found or
+// placed (no correction, a warning says why); without the rim the reamer's size is not checked.
+// Results a surgeon would not expect (version or inclination beyond +-30 deg, a correction
+// beyond 15 deg) are flagged in `implausible` (and among the warnings) before any step runs.
 #pragma once
 
 #include "bmGlenoidMeasurements.h"
@@ -41,8 +47,12 @@ struct GlenoidPlan {
   double clearanceMm = 0;        ///< tool start above the centre: clears the rim, mm
   double reamerOverhangApMm = 0; ///< per side beyond the glenoid's width (0 = within), mm
   double reamerOverhangSiMm = 0; ///< per side beyond its height, mm
-  bool reamerFits = false;       ///< no overhang
+  bool reamerFits = false;       ///< no overhang (false when it could not be checked)
+  bool corrected = false;        ///< the axis follows the targets in the scapular frame
   std::vector<std::string> warnings;
+  /// Measured or planned values outside what glenoids show (each also a warning): check the
+  /// landmarks before running the steps.
+  std::vector<std::string> implausible;
 
   /// The plan as a scene with steps (bone = `bone`, a scene bone object):
   /// {"name", "description", "bone", "steps": [{"name": "guide pin", "description", "tool",
@@ -55,8 +65,24 @@ struct GlenoidPlan {
   /// The bone object of a scene for a CT at `ctPath` (relative to the scene's folder or
   /// absolute): the glenoid's bone only (seed 1 mm under the centre), in the box of +- roiHalfMm.
   nlohmann::json CtBoneJson(const std::string& ctPath) const;
+  /// The same with the CT's import settings the plan was made from: `importSettings` is a scene
+  /// bone's "ct" object (bmImport.h ImportOptionsFromJson keys, "ct" = the CT's path): its
+  /// intensity ("rawThreshold", "huMapping"), "threshold", "series", "exclude" and the other
+  /// import keys are kept, its region ("roi", "box"), "seed", "resolution" and
+  /// "keepAllComponents" are the plan's. Throws std::invalid_argument without a "ct" path.
+  nlohmann::json CtBoneJsonWithSettings(const nlohmann::json& importSettings) const;
   nlohmann::json ToJson() const;
 };
+
+/// A plan's scenes, as both faces write them (bmsim plan's plan.json, step1-guide-pin.json,
+/// step2-ream.json; the plugin's plan filter): on the bone read with `importSettings`
+/// (GlenoidPlan::CtBoneJsonWithSettings), the plan scene carrying the landmarks and measurements
+/// under "planning" (edit them and plan again with --landmarks).
+struct PlanScenes {
+  nlohmann::json plan, pin, ream;
+};
+PlanScenes MakePlanScenes(const GlenoidLandmarks& landmarks, const GlenoidMeasurements& m,
+                          const GlenoidPlan& plan, const nlohmann::json& importSettings);
 
 /// Plan from the landmarks and measurements. Throws std::invalid_argument on bad options.
 GlenoidPlan MakeGlenoidPlan(const GlenoidLandmarks& landmarks, const GlenoidMeasurements& m,

@@ -1,6 +1,7 @@
 #include "bmPlanReport.h"
 #include "bmHtmlEscape.h"
 
+#include <cmath>
 #include <sstream>
 #include <vector>
 
@@ -53,8 +54,12 @@ Content Build(const PlanReportInput& in) {
   c.landmarks = {{"landmark", "position (mm)", "source"},
                  {"glenoid centre", P(L.glenoidCentre), L.centreSource},
                  {"face normal", P(L.faceNormal, 3), L.normalSource},
-                 {"trigonum", P(L.trigonum), L.trigonumSource},
-                 {"inferior angle", P(L.inferiorAngle), L.inferiorSource}};
+                 {"trigonum", L.HasTrigonum() ? P(L.trigonum) : "not available",
+                  L.HasTrigonum() ? L.trigonumSource : L.trigonumMissing},
+                 {"inferior angle", L.HasInferiorAngle() ? P(L.inferiorAngle) : "not available",
+                  L.HasInferiorAngle() ? L.inferiorSource : L.inferiorMissing}};
+  if (!L.rimMissing.empty())
+    c.landmarks.push_back({"rim", "not available", L.rimMissing});
   if (L.humeralHeadFound)
     c.landmarks.push_back({"humeral head centre (radius " + F(L.humeralHeadRadiusMm) + " mm)",
                            P(L.humeralHeadCentre), "detected"});
@@ -62,39 +67,51 @@ Content Build(const PlanReportInput& in) {
   auto truth = [&](const char* key) {
     return t && in.truth.contains(key) ? F(in.truth[key].get<double>()) : std::string("-");
   };
+  // A measurement not available shows why in place of its method.
+  auto row = [&](const char* name, const char* key, double v, const char* unit,
+                 const char* method) -> std::vector<std::string> {
+    const auto why = m.notAvailable.find(key);
+    if (why != m.notAvailable.end())
+      return {name, "not available", why->second, truth(key)};
+    return {name, F(v) + " " + unit, method, truth(key)};
+  };
   c.measurements = {
       {"measurement", "value", "method"},
-      {"version, Friedman 2D", F(m.friedmanVersionDeg) + " deg",
-       "Friedman 1992, axial slice through the glenoid centre", truth("friedman_version_deg")},
-      {"version, 3D", F(m.version3DDeg) + " deg",
-       "rim plane normal against the scapular plane (two-plane method)", truth("version_3d_deg")},
-      {"inclination, 3D", F(m.inclinationDeg) + " deg",
-       "rim plane normal within the scapular plane", truth("inclination_deg")},
-      {"glenoid height", F(m.heightMm) + " mm", "rim extent, superior-inferior",
-       truth("glenoid_height_mm")},
-      {"glenoid width", F(m.widthMm) + " mm", "rim extent, anterior-posterior",
-       truth("glenoid_width_mm")},
-      {"radius of curvature", F(m.faceRadiusMm) + " mm", "least-squares sphere of the face",
-       truth("face_radius_mm")}};
+      row("version, Friedman 2D", "friedman_version_deg", m.friedmanVersionDeg, "deg",
+          "Friedman 1992, axial slice through the glenoid centre"),
+      row("version, 3D", "version_3d_deg", m.version3DDeg, "deg",
+          "rim plane normal against the scapular plane (two-plane method)"),
+      row("inclination, 3D", "inclination_deg", m.inclinationDeg, "deg",
+          "rim plane normal within the scapular plane"),
+      row("glenoid height", "glenoid_height_mm", m.heightMm, "mm",
+          m.hasFrame ? "rim extent, superior-inferior"
+                     : "rim extent along the CT's superior axis (no scapular plane)"),
+      row("glenoid width", "glenoid_width_mm", m.widthMm, "mm", "rim extent, anterior-posterior"),
+      row("radius of curvature", "face_radius_mm", m.faceRadiusMm, "mm",
+          "least-squares sphere of the face")};
   if (t)
     c.measurements[0].push_back("phantom truth");
   else
     for (auto& row : c.measurements)
       row.resize(3);
-  c.plan = {
-      "Target: version " + F(p.options.targetVersionDeg) + " deg, inclination " +
-          F(p.options.targetInclinationDeg) + " deg.",
-      "Reaming axis through the glenoid centre " + P(p.entry) + " mm, direction " + P(p.axis, 4) +
-          " (out of the bone): version " + F(p.axisVersionDeg) + " deg, inclination " +
-          F(p.axisInclinationDeg) + " deg; correction " + F(p.correctionDeg) +
-          " deg from the face.",
-      "Step 1, guide pin: " + F(2 * p.options.pinRadiusMm) + " mm drill, " + F(p.pinDepthMm) +
-          " mm deep along the axis.",
-      "Step 2, ream: " + F(p.options.reamerDiameterMm) + " mm nipple-guided reamer, " +
-          F(p.options.reamDepthMm) + " mm below the centre.",
-      "Reamer size: " + std::string(p.reamerFits ? "within the glenoid" : "overhangs the glenoid") +
-          " (overhang " + F(p.reamerOverhangApMm) + " mm anterior-posterior, " +
-          F(p.reamerOverhangSiMm) + " mm superior-inferior per side)."};
+  c.plan = {"Target: version " + F(p.options.targetVersionDeg) + " deg, inclination " +
+                F(p.options.targetInclinationDeg) + " deg.",
+            "Reaming axis through the glenoid centre " + P(p.entry) + " mm, direction " +
+                P(p.axis, 4) + " (out of the bone): " +
+                (p.corrected ? "version " + F(p.axisVersionDeg) + " deg, inclination " +
+                                   F(p.axisInclinationDeg) + " deg; correction " +
+                                   F(p.correctionDeg) + " deg from the face."
+                             : std::string("the face normal, not corrected (no scapular plane).")),
+            "Step 1, guide pin: " + F(2 * p.options.pinRadiusMm) + " mm drill, " + F(p.pinDepthMm) +
+                " mm deep along the axis.",
+            "Step 2, ream: " + F(p.options.reamerDiameterMm) + " mm nipple-guided reamer, " +
+                F(p.options.reamDepthMm) + " mm below the centre.",
+            std::isfinite(p.reamerOverhangApMm)
+                ? "Reamer size: " +
+                      std::string(p.reamerFits ? "within the glenoid" : "overhangs the glenoid") +
+                      " (overhang " + F(p.reamerOverhangApMm) + " mm anterior-posterior, " +
+                      F(p.reamerOverhangSiMm) + " mm superior-inferior per side)."
+                : std::string("Reamer size: not checked (no rim).")};
   c.warnings = p.warnings;
   return c;
 }

@@ -81,6 +81,15 @@ void pqBMDockWindow::planGlenoid() {
   vtkSMPropertyHelper(proxy, "ReamerDiameter").Set(w->reamerDiameter());
   vtkSMPropertyHelper(proxy, "CTFileName")
       .Set(this->Panel->ctWidget()->ctFileName().toUtf8().constData());
+  // Planned on the CT section's bone: the steps read the CT with its settings (raw values, HU
+  // mapping, threshold, series, exclude points), not the defaults.
+  std::string specification;
+  if (this->CTBone && this->PlanInput == this->CTBone) {
+    this->CTBone->getProxy()->UpdatePropertyInformation();
+    specification =
+        vtkSMPropertyHelper(this->CTBone->getProxy(), "BoneSpecificationInfo").GetAsString();
+  }
+  vtkSMPropertyHelper(proxy, "CTBoneSpecification").Set(specification.c_str());
   proxy->UpdateVTKObjects();
   this->GlenoidPlan->updatePipeline();
   this->GlenoidPlan->setModifiedState(pqProxy::UNMODIFIED);

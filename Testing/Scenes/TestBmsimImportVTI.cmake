@@ -86,3 +86,18 @@ if(left)
   message(FATAL_ERROR "the import left its MetaImage copy: ${left}")
 endif()
 message(STATUS "bmsim import .vti: passed")
+
+# bmsim plan reads the same VTK image (no shoulder in a cube: exit 3 and the report, not an
+# unknown file type), keeping the MetaImage copy as DIR/ct.mha for the plan's steps.
+execute_process(COMMAND "${BMSIM}" plan "${dir}/cube.vti" --out "${dir}/plan" --quiet
+                        --resolution 32
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 3 OR NOT err MATCHES "no glenoid found" OR NOT EXISTS "${dir}/plan/ct.mha" OR
+   NOT EXISTS "${dir}/plan/plan_report.md")
+  message(FATAL_ERROR "plan cube.vti: exit ${rc} (expected 3, no glenoid, with ct.mha and the "
+                      "report):\n${out}\n${err}")
+endif()
+file(GLOB left "${dir}/plan/.*")
+if(left)
+  message(FATAL_ERROR "plan cube.vti left temporaries: ${left}")
+endif()

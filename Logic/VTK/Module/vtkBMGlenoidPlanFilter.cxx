@@ -4,6 +4,7 @@
 #include "bmGlenoidLandmarks.h"
 #include "bmGlenoidMeasurements.h"
 #include "bmGlenoidPlan.h"
+#include "bmJson.h"
 #include "bmSegmentedBone.h"
 #include "bmVoxmap.h"
 
@@ -109,6 +110,7 @@ vtkBMGlenoidPlanFilter::vtkBMGlenoidPlanFilter() : Internals(new vtkInternals) {
 
 vtkBMGlenoidPlanFilter::~vtkBMGlenoidPlanFilter() {
   this->SetCTFileName(nullptr);
+  this->SetCTBoneSpecification(nullptr);
   delete this->Internals;
 }
 
@@ -224,10 +226,12 @@ int vtkBMGlenoidPlanFilter::RequestData(vtkInformation*, vtkInformationVector** 
     if (all.trigonum) {
       L.trigonum = *all.trigonum;
       L.trigonumSource = "user";
+      L.trigonumMissing.clear();
     }
     if (all.inferiorAngle) {
       L.inferiorAngle = *all.inferiorAngle;
       L.inferiorSource = "user";
+      L.inferiorMissing.clear();
     }
     // 3. Measurements and plan.
     this->UpdateProgress(0.8);
@@ -259,15 +263,16 @@ int vtkBMGlenoidPlanFilter::RequestData(vtkInformation*, vtkInformationVector** 
     Copy3(plan.axis, this->PlanAxis);
     for (const std::string& w : plan.warnings)
       in.Warnings += (in.Warnings.empty() ? "" : "\n") + w;
-    if (this->CTFileName && *this->CTFileName) {
-      const nlohmann::json bone =
-          plan.CtBoneJson(std::filesystem::absolute(this->CTFileName).string());
-      nlohmann::json scene = plan.SceneJson(bone);
-      scene["planning"]["landmarks"] = L.ToJson();
-      scene["planning"]["measurements"] = m.ToJson();
-      in.PlanScene = scene.dump(2);
-      in.PinScene = plan.StepSceneJson(0, bone).dump(2);
-      in.ReamScene = plan.StepSceneJson(1, bone).dump(2);
+    const bool specified = this->CTBoneSpecification && *this->CTBoneSpecification;
+    if (specified || (this->CTFileName && *this->CTFileName)) {
+      const nlohmann::json settings =
+          specified
+              ? bm::ParseJson(std::string(this->CTBoneSpecification), "the CT bone's specification")
+              : nlohmann::json{{"ct", std::filesystem::absolute(this->CTFileName).string()}};
+      const bm::PlanScenes scenes = bm::MakePlanScenes(L, m, plan, settings);
+      in.PlanScene = scenes.plan.dump(2);
+      in.PinScene = scenes.pin.dump(2);
+      in.ReamScene = scenes.ream.dump(2);
     }
 
     // 4. The picture: landmarks, rim, axis, face normal.
@@ -351,6 +356,8 @@ void vtkBMGlenoidPlanFilter::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "ReamDepth: " << this->ReamDepth << " mm, ReamerDiameter " << this->ReamerDiameter
      << " mm, PinRadius " << this->PinRadius << " mm, PinDepth " << this->PinDepth << " mm\n";
   os << indent << "CTFileName: " << (this->CTFileName ? this->CTFileName : "(none)") << "\n";
+  os << indent << "CTBoneSpecification: "
+     << (this->CTBoneSpecification ? this->CTBoneSpecification : "(none)") << "\n";
   os << indent << "Measured: Friedman version " << this->FriedmanVersion << " deg, 3D version "
      << this->Version3D << " deg, inclination " << this->Inclination << " deg\n";
 }

@@ -86,10 +86,19 @@ public:
   ///@}
   ///@{
   /// The CT the plan scene's bone is imported from (a DICOM folder or volume file; the plan
-  /// scene's bone is the glenoid's bone in a box around the centre, bm::GlenoidPlan::CtBoneJson).
-  /// Empty (default): no plan scene (GetPlanScene() is "").
+  /// scene's bone is the glenoid's bone in a box around the centre,
+  /// bm::GlenoidPlan::CtBoneJsonWithSettings). Empty (default): no plan scene (GetPlanScene() is
+  /// "").
   vtkSetStringMacro(CTFileName);
   vtkGetStringMacro(CTFileName);
+  /// How that CT is read, as the BM CT Bone source that made the input gives it (its
+  /// GetBoneSpecification(): the CT's path under "ct" with its intensity mode, threshold,
+  /// series and exclude points, bmImport.h ImportOptionsFromJson keys). When set it replaces
+  /// CTFileName, so the step scenes read the CT with the same settings as the plan's bone
+  /// (bm::GlenoidPlan::CtBoneJsonWithSettings). Empty (default): CTFileName read with default
+  /// settings.
+  vtkSetStringMacro(CTBoneSpecification);
+  vtkGetStringMacro(CTBoneSpecification);
   ///@}
 
   ///@{
@@ -126,7 +135,7 @@ public:
   const char* GetLastError();
   /// The plan as a scene with two steps (guide pin, ream) on the CT's bone (JSON,
   /// bm::GlenoidPlan::SceneJson, with "planning"."landmarks" and "measurements" as bmsim plan
-  /// writes them); "" without CTFileName or when the plan failed.
+  /// writes them); "" without CTFileName or CTBoneSpecification, or when the plan failed.
   const char* GetPlanScene();
   /// Each step alone as a plain single-step scene on the CT's bone (bm::GlenoidPlan::
   /// StepSceneJson; a session runs it: vtkBMSessionSource Scene): the guide-pin hole, and the
@@ -159,6 +168,7 @@ protected:
   double PinRadius = 3.2;
   double PinDepth = 0;
   char* CTFileName = nullptr;
+  char* CTBoneSpecification = nullptr;
 
   double FriedmanVersion = 0, Version3D = 0, Inclination = 0;
   double GlenoidHeight = 0, GlenoidWidth = 0, FaceRadius = 0, Correction = 0;

@@ -128,6 +128,34 @@ TEST(Segmentation, CavityCutOpenByTheImageBorderIsFilled) {
   EXPECT_EQ(Fill(shellOnly.voxmap, {25, 25, cz}), 0.0);
 }
 
+TEST(Segmentation, TheFillKeepsBonesApartWhenAllAreKept) {
+  // Two hollow balls (outer radius 10 mm, 2 mm cortical shell at 1500 HU, marrow 0 HU) 2 mm apart
+  // on 1 mm voxels, as a humeral head two voxels from the glenoid on a coarse scan: the closing
+  // bridges the gap and encloses part of it. With every bone kept, each marrow is filled but the
+  // gap is not: the bone is the two full balls, and the voxel between them stays empty.
+  const double R = 10, shell = 2, gap = 2;
+  const double c1 = 15, c2 = c1 + 2 * R + gap; // centres on x, y = z = 15 mm
+  bm::CTImage ct = MakeCT({50, 30, 30}, 1.0, [&](double x, double y, double z) {
+    double hu = 40;
+    for (double c : {c1, c2}) {
+      const double r = std::sqrt((x - c) * (x - c) + (y - 15) * (y - 15) + (z - 15) * (z - 15));
+      if (r <= R)
+        hu = r > R - shell ? 1500.0 : 0.0;
+    }
+    return hu;
+  });
+  const double ball = 4.0 / 3.0 * std::numbers::pi * R * R * R;
+  bm::ImportOptions opt;
+  opt.resolution = 100;
+  opt.segmentation.keepAllComponents = true;
+  const bm::ImportResult r = bm::ImportVoxmap(ct, opt);
+  std::cout << r.Report();
+  EXPECT_NEAR(r.segmentedVolumeMm3, 2 * ball, 0.05 * ball);
+  EXPECT_EQ(Fill(r.voxmap, {c1, 15, 15}), 1.0); // each marrow filled
+  EXPECT_EQ(Fill(r.voxmap, {c2, 15, 15}), 1.0);
+  EXPECT_LT(Fill(r.voxmap, {c1 + R + 0.5 * gap, 15, 15}), 0.5); // the gap is not
+}
+
 TEST(Segmentation, DrilledHoleOpenToTheSurroundingsStaysEmpty) {
   // A 3 mm hole drilled 8 mm into a cortical block from its top face: not a cavity.
   bm::CTImage ct = MakeCT({40, 40, 40}, 0.5, [](double x, double y, double z) {
@@ -236,6 +264,52 @@ TEST(Segmentation, SeedsAndRegionFromSceneKeys) {
   EXPECT_EQ(pts[1][1], 5.5);
   EXPECT_THROW(bm::ParsePointsMm("1,2", "--exclude"), std::runtime_error);
   EXPECT_THROW(bm::ParsePointsMm("1,2,x", "--exclude"), std::runtime_error);
+}
+
+TEST(Segmentation, ImportSettingsRoundTripThroughSceneKeys) {
+  // What a plan's step scenes carry (bmGlenoidPlan.h CtBoneJsonWithSettings) reads back as the
+  // options it was written from.
+  bm::ImportOptions o;
+  o.read.intensity.rawThreshold = 102.5;
+  o.read.seriesUID = "1.2.840.1";
+  o.read.maxMemoryBytes = 512ull << 20;
+  o.read.allowDataOutsideFolder = true;
+  o.segmentation.excludeSeedsMm = {{1, 2, 3}, {-4, 5, 6}};
+  o.segmentation.seedMm = std::array<double, 3>{7, 8, 9};
+  o.segmentation.fillHoles = false;
+  o.segmentation.keepAllComponents = true;
+  o.roiMm = bm::RoiFromCorners({-1, -2, -3, 4, 5, 6}, "roi");
+  bm::OrientedBox box;
+  box.centreMm = {1, 2, 3};
+  box.halfSizesMm = {10, 20, 30};
+  box.rotationDeg = {0, 15, 0};
+  o.segmentation.box = box;
+  o.resolution = 96;
+  const bm::ImportOptions back = bm::ImportOptionsFromJson(bm::ImportOptionsToJson(o));
+  EXPECT_EQ(back.read.intensity.rawThreshold, 102.5);
+  EXPECT_FALSE(back.read.intensity.huMapping);
+  EXPECT_EQ(back.read.seriesUID, o.read.seriesUID);
+  EXPECT_EQ(back.read.maxMemoryBytes, o.read.maxMemoryBytes);
+  EXPECT_TRUE(back.read.allowDataOutsideFolder);
+  EXPECT_EQ(back.segmentation.excludeSeedsMm, o.segmentation.excludeSeedsMm);
+  EXPECT_EQ(back.segmentation.seedMm, o.segmentation.seedMm);
+  EXPECT_FALSE(back.segmentation.fillHoles);
+  EXPECT_TRUE(back.segmentation.keepAllComponents);
+  ASSERT_TRUE(back.roiMm);
+  EXPECT_EQ(back.roiMm->lo, o.roiMm->lo);
+  EXPECT_EQ(back.roiMm->hi, o.roiMm->hi);
+  ASSERT_TRUE(back.segmentation.box);
+  EXPECT_EQ(back.segmentation.box->rotationDeg, box.rotationDeg);
+  EXPECT_EQ(back.resolution, 96);
+  // HU: the threshold and a mapping.
+  bm::ImportOptions hu;
+  hu.segmentation.thresholdHU = 250;
+  hu.read.intensity.huMapping = std::array<double, 2>{7.84, -600};
+  const bm::ImportOptions huBack = bm::ImportOptionsFromJson(bm::ImportOptionsToJson(hu));
+  EXPECT_EQ(huBack.segmentation.thresholdHU, 250.0f);
+  ASSERT_TRUE(huBack.read.intensity.huMapping);
+  EXPECT_EQ((*huBack.read.intensity.huMapping)[0], 7.84);
+  EXPECT_FALSE(huBack.read.intensity.rawThreshold);
 }
 
 TEST(Segmentation, OrientedBoxKeepsTheBoneInside) {

@@ -1,0 +1,169 @@
+# BMPlanRealScan: the plan on a scan made the way a hospital's chest CT is (Docs/Planning.md, "Real
+# scans"): the scapula phantom stored as an 8-bit display window (400 / 2000 HU) with 1.4 mm pixels
+# and 2.5 mm slices (partial volume over each slice). From the command line:
+#  - without an intensity option the plan is refused naming the options `plan` has;
+#  - with the window's HU mapping, and with a raw threshold, the glenoid is found and measured
+#    within 2 deg (version, inclination) and 2 mm (centre) of the truth, and the step scenes carry
+#    the intensity setting: the guide-pin step runs on the 8-bit CT;
+#  - --side left on this right shoulder finds no glenoid and says why;
+#  - a centre and normal alone, on a region that leaves out the inferior angle, make a plan with the
+#    measurements that need the scapular plane reported as not available;
+#  - a normal placed into the bone is refused.
+#   cmake -DBMSIM=... -DWORK_DIR=... -P TestPlanRealScan.cmake
+foreach(v BMSIM WORK_DIR)
+  if(NOT DEFINED ${v})
+    message(FATAL_ERROR "TestPlanRealScan.cmake needs -D${v}=")
+  endif()
+endforeach()
+set(dir "${WORK_DIR}")
+file(REMOVE_RECURSE "${dir}")
+file(MAKE_DIRECTORY "${dir}")
+
+function(run)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  set(rc "${rc}" PARENT_SCOPE)
+  set(out "${out}" PARENT_SCOPE)
+  set(err "${err}" PARENT_SCOPE)
+endfunction()
+
+run("${BMSIM}" phantom scapula --window 400,2000 --pixel-mm 1.4 --slice-mm 2.5 --quiet
+    --out "${dir}/scan")
+if(NOT rc EQUAL 0 OR NOT EXISTS "${dir}/scan/ct.nrrd")
+  message(FATAL_ERROR "phantom scapula --window (${rc}):\n${out}\n${err}")
+endif()
+if(NOT out MATCHES "--hu-mapping ([-0-9.]+),([-0-9.]+)")
+  message(FATAL_ERROR "the phantom does not say how to read its window:\n${out}")
+endif()
+set(mapping "${CMAKE_MATCH_1},${CMAKE_MATCH_2}")
+file(READ "${dir}/scan/truth.json" truth)
+foreach(key version_3d_deg inclination_deg)
+  string(JSON t_${key} GET "${truth}" ${key})
+endforeach()
+foreach(a 0 1 2)
+  string(JSON t_c${a} GET "${truth}" glenoid_centre_mm ${a})
+  string(JSON t_n${a} GET "${truth}" face_normal ${a})
+endforeach()
+
+# 1. No intensity option: refused, naming options that `plan` has.
+run("${BMSIM}" plan "${dir}/scan/ct.nrrd" --quiet --out "${dir}/p0")
+if(NOT rc EQUAL 1 OR NOT err MATCHES "--raw-threshold" OR EXISTS "${dir}/p0/plan.json")
+  message(FATAL_ERROR "an 8-bit CT without an intensity option: exit ${rc}:\n${out}\n${err}")
+endif()
+run("${BMSIM}" plan "${dir}/scan/ct.nrrd" --quiet --raw-threshold 102 --out "${dir}/p0b")
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "plan --raw-threshold (${rc}):\n${out}\n${err}")
+endif()
+file(READ "${dir}/p0b/plan_report.md" report)
+if(NOT report MATCHES "as stored, not HU" OR report MATCHES "HU range")
+  message(FATAL_ERROR "the raw-value plan's report speaks of HU:\n${report}")
+endif()
+file(READ "${dir}/p0b/step1-guide-pin.json" pin)
+string(JSON raw ERROR_VARIABLE e GET "${pin}" bone ct rawThreshold)
+if(NOT raw EQUAL 102)
+  message(FATAL_ERROR "the guide-pin step does not read the CT with the raw threshold:\n${pin}")
+endif()
+
+# 2. The window's mapping: measured against the truth.
+run("${BMSIM}" plan "${dir}/scan/ct.nrrd" --quiet --hu-mapping ${mapping} --out "${dir}/p1")
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "plan --hu-mapping ${mapping} (${rc}):\n${out}\n${err}")
+endif()
+message(STATUS "${out}")
+file(READ "${dir}/p1/plan.json" plan)
+string(JSON v GET "${plan}" planning measurements version_3d_deg)
+string(JSON i GET "${plan}" planning measurements inclination_deg)
+foreach(a 0 1 2)
+  string(JSON c${a} GET "${plan}" planning landmarks glenoid_centre_mm ${a})
+endforeach()
+# near(VALUE TRUTH TOLERANCE WHAT): |VALUE - TRUTH| <= TOLERANCE, compared in hundredths (CMake's
+# math is integer only); a missing value (null) fails.
+function(near value expected tolerance what)
+  set(ok TRUE)
+  foreach(x value expected)
+    if("${${x}}" MATCHES "^(-?)([0-9]+)\\.?([0-9]*)")
+      set(sign "${CMAKE_MATCH_1}")
+      string(SUBSTRING "${CMAKE_MATCH_3}00" 0 2 frac)
+      math(EXPR h "${CMAKE_MATCH_2} * 100 + ${frac}")
+      if(sign STREQUAL "-")
+        math(EXPR h "-${h}")
+      endif()
+      set(${x}_h ${h})
+    else()
+      set(ok FALSE)
+    endif()
+  endforeach()
+  if(ok)
+    math(EXPR diff "${value_h} - ${expected_h}")
+    if(diff LESS 0)
+      math(EXPR diff "-${diff}")
+    endif()
+    math(EXPR tol "${tolerance} * 100")
+    if(diff GREATER tol)
+      set(ok FALSE)
+    endif()
+  endif()
+  if(NOT ok)
+    message(FATAL_ERROR "${what}: ${value}, truth ${expected} (tolerance ${tolerance})")
+  endif()
+endfunction()
+near("${v}" "${t_version_3d_deg}" 2 "3D version on 2.5 mm slices")
+near("${i}" "${t_inclination_deg}" 2 "inclination on 2.5 mm slices")
+foreach(a 0 1 2)
+  near("${c${a}}" "${t_c${a}}" 2 "glenoid centre axis ${a} on 2.5 mm slices")
+endforeach()
+message(STATUS "8-bit, 2.5 mm slices: 3D version ${v} (truth ${t_version_3d_deg}), inclination "
+               "${i} (truth ${t_inclination_deg}), centre (${c0}, ${c1}, ${c2})")
+# The guide-pin step reads the 8-bit CT through the plan's mapping.
+run("${BMSIM}" run "${dir}/p1/step1-guide-pin.json" --voxmap-resolution 64 --no-report
+    --out "${dir}/pin")
+if(NOT rc EQUAL 0 OR NOT EXISTS "${dir}/pin/summary.json")
+  message(FATAL_ERROR "the guide-pin step on the 8-bit CT (${rc}):\n${out}\n${err}")
+endif()
+file(READ "${dir}/pin/summary.json" summary)
+string(JSON removed GET "${summary}" removed_volume_mm3)
+if(removed LESS 50)
+  message(FATAL_ERROR "the guide-pin step removed ${removed} mm^3 (expected its hole)")
+endif()
+
+# 3. The other side: no glenoid, and why.
+run("${BMSIM}" plan "${dir}/scan/ct.nrrd" --quiet --hu-mapping ${mapping} --side left
+    --out "${dir}/p2")
+if(NOT rc EQUAL 3 OR NOT err MATCHES "faces the patient's right" OR EXISTS "${dir}/p2/plan.json")
+  message(FATAL_ERROR "--side left on a right shoulder: exit ${rc}:\n${out}\n${err}")
+endif()
+
+# 4. A centre and normal alone, the region ending 45 mm below the centre: a plan, uncorrected,
+# with the scapular plane's measurements not available.
+string(REGEX REPLACE "\\..*" "" cz "${t_c2}")
+math(EXPR zlo "${cz} - 45")
+math(EXPR zhi "${cz} + 200")
+file(WRITE "${dir}/placed.json"
+     "{\"glenoid_centre_mm\": [${t_c0}, ${t_c1}, ${t_c2}], \"face_normal\": [${t_n0}, ${t_n1}, ${t_n2}]}")
+run("${BMSIM}" plan "${dir}/scan/ct.nrrd" --quiet --hu-mapping ${mapping} --landmarks
+    "${dir}/placed.json" --roi=-400,-400,${zlo},400,400,${zhi} --out "${dir}/p3")
+if(NOT rc EQUAL 0 OR NOT out MATCHES "not available: inclination_deg" OR
+   NOT out MATCHES "the face normal, not corrected" OR NOT EXISTS "${dir}/p3/step2-ream.json")
+  message(FATAL_ERROR "a centre and normal alone (${rc}):\n${out}\n${err}")
+endif()
+file(READ "${dir}/p3/plan_report.md" report)
+if(NOT report MATCHES "not available" OR report MATCHES "nan")
+  message(FATAL_ERROR "the manual plan's report:\n${report}")
+endif()
+
+# 5. The normal placed the wrong way round.
+foreach(a 0 1 2)
+  string(REGEX REPLACE "^-" "" nabs "${t_n${a}}")
+  if(t_n${a} MATCHES "^-")
+    set(rn${a} "${nabs}")
+  else()
+    set(rn${a} "-${t_n${a}}")
+  endif()
+endforeach()
+file(WRITE "${dir}/reversed.json"
+     "{\"glenoid_centre_mm\": [${t_c0}, ${t_c1}, ${t_c2}], \"face_normal\": [${rn0}, ${rn1}, ${rn2}]}")
+run("${BMSIM}" plan "${dir}/scan/ct.nrrd" --quiet --hu-mapping ${mapping} --landmarks
+    "${dir}/reversed.json" --out "${dir}/p4")
+if(NOT rc EQUAL 3 OR NOT err MATCHES "points into the bone" OR EXISTS "${dir}/p4/plan.json")
+  message(FATAL_ERROR "a normal into the bone: exit ${rc}:\n${out}\n${err}")
+endif()
+message(STATUS "bmsim plan on an 8-bit 2.5 mm scan: passed")
