@@ -18,8 +18,11 @@ void AddCTOptions(ParsedArgs& p, CTOptionsFor command) {
                     "(default: a point 1 mm under the glenoid centre)"
                   : "world point (mm) on the bone to keep (default: the largest bone)")
       .Value("exclude", "X,Y,Z[;X,Y,Z...]",
-             "world points (mm) on bones to drop: split from the kept bone across the joint "
-             "space (a point off all bone is a warning)")
+             plan ? "world points (mm) on bones the steps must not machine (a humeral head "
+                    "joined to the glenoid at the threshold): the step scenes' bone is split from "
+                    "them across the joint; detection still sees every bone"
+                  : "world points (mm) on bones to drop: split from the kept bone across the "
+                    "joint space (a point off all bone is a warning)")
       .Value("roi", "X0,Y0,Z0,X1,Y1,Z1",
              "region of interest, world mm (default: the bone's bounding box; an inverted box "
              "is an error)")

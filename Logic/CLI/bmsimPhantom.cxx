@@ -45,12 +45,13 @@ static void PhantomOptions(ParsedArgs& p) {
             "scapula: glenoid inclination, positive = superior (default 8)")
       .Flag("b2", "scapula: posterior wear (biconcave Walch B2 face)")
       .Flag("left", "scapula: a left shoulder (default right)")
-      .Real("pixel-mm", 0.2, 3, "MM", "scapula: in-plane pixel size (default 0.75)")
-      .Real("slice-mm", 0.2, 5, "MM",
+      .Real("pixel-mm", 0.3, 3, "MM", "scapula: in-plane pixel size (default 0.75)")
+      .Real("slice-mm", 0.5, 5, "MM",
             "scapula: slice thickness and spacing; each voxel averages the bone over its slice "
             "(partial volume; default 1)")
-      .Real("joint-gap", 0, 20, "MM",
-            "scapula: humeral head to glenoid face distance (default 4; 0: in contact)")
+      .Real("joint-gap", 1, 20, "MM",
+            "scapula: humeral head to glenoid face distance (default 4; at 1 a coarse scan "
+            "joins the bones)")
       .Value("window", "CENTRE,WIDTH",
              "scapula: store the CT as an 8-bit display window (HU) in DIR/ct.nrrd instead of a "
              "DICOM series, as some hospitals export it")

@@ -90,15 +90,15 @@ int ScapulaPhantomCommand(const ParsedArgs& p) {
   ScapulaPhantomParams sp = p.Has("b2") ? ScapulaPhantomParams::B2() : ScapulaPhantomParams{};
   sp.versionDeg = p.GetDouble("version", -45, 45).value_or(sp.versionDeg);
   sp.inclinationDeg = p.GetDouble("inclination", -45, 45).value_or(sp.inclinationDeg);
-  sp.jointGapMm = p.GetDouble("joint-gap", 0, 20).value_or(sp.jointGapMm);
+  sp.jointGapMm = p.GetDouble("joint-gap", 1, 20).value_or(sp.jointGapMm);
   if (p.Has("left")) {
     sp.rightSide = false;
     sp.glenoidCentreMm[0] = -sp.glenoidCentreMm[0];
   }
   PhantomCTOptions ct = ScapulaCTDefaults();
   ct.noiseHU = p.GetDouble("noise", 0, 1000).value_or(ct.noiseHU);
-  ct.inPlaneSpacingMm = p.GetDouble("pixel-mm", 0.2, 3).value_or(ct.inPlaneSpacingMm);
-  ct.sliceSpacingMm = p.GetDouble("slice-mm", 0.2, 5).value_or(ct.sliceSpacingMm);
+  ct.inPlaneSpacingMm = p.GetDouble("pixel-mm", 0.3, 3).value_or(ct.inPlaneSpacingMm);
+  ct.sliceSpacingMm = p.GetDouble("slice-mm", 0.5, 5).value_or(ct.sliceSpacingMm);
   std::optional<std::vector<double>> window = p.GetDoubles("window", 2);
   if (window && !((*window)[1] > 0))
     throw UsageError("--window: the width must be > 0 HU");
@@ -191,8 +191,9 @@ static void PlanCommandOptions(ParsedArgs& p) {
       .Real("phantom-inclination", -45, 45, "DEG", "phantom: its inclination (default 8)")
       .Flag("b2", "phantom: posterior wear (a biconcave Walch B2 face)")
       .Flag("q,quiet", "no progress bar")
-      .Footer("Exit status 3: no glenoid found (or a placed one that cannot be used); the report "
-              "says why and lists the landmarks to place. A measurement the scan does not allow "
+      .Footer("Exit status 3: no glenoid found (or a placed one that cannot be used), or the "
+              "reamer would start inside bone (a humeral head joined to the glenoid: give "
+              "--exclude on it); the report says why. A measurement the scan does not allow "
               "(the trigonum or the inferior angle out of view) is reported as not available "
               "and the plan is made from the rest.");
 }
@@ -307,7 +308,11 @@ static int PlanCommand(const ParsedArgs& p) {
     stagedCT = TemporarySibling(finalCT.string());
     cleanup.ct = stagedCT;
   }
-  ImportResult r = ImportCT(ctPath, io, stagedCT, vtkImage, progress.Range(phantom ? 0.3 : 0, 0.9));
+  // Detection sees every bone: the exclude points are for the step scenes' bone.
+  ImportOptions detectIo = io;
+  detectIo.segmentation.excludeSeedsMm.clear();
+  ImportResult r =
+      ImportCT(ctPath, detectIo, stagedCT, vtkImage, progress.Range(phantom ? 0.3 : 0, 0.9));
   if (phantom) {
     r.source = finalCT.string(); // where it is once the plan is written
   } else if (vtkImage) {
@@ -340,7 +345,19 @@ static int PlanCommand(const ParsedArgs& p) {
     L = DetectLandmarks(bone, ov, detect);
     m = MeasureGlenoid(L);
     plan = MakeGlenoidPlan(L, m, po);
-  } catch (const NoGlenoidFound& e) {
+    try {
+      CheckToolStartsOutsideBone(bone, L, plan);
+    } catch (const PlanBlocked& e) {
+      if (io.segmentation.excludeSeedsMm.empty())
+        throw;
+      plan.warnings.push_back(std::string(e.what()) +
+                              " (exclude points are given: check that the step's bone leaves it "
+                              "out)");
+    }
+  } catch (const std::runtime_error& e) {
+    // No glenoid, or a plan whose tool would start inside bone: the report says why.
+    if (!dynamic_cast<const NoGlenoidFound*>(&e) && !dynamic_cast<const PlanBlocked*>(&e))
+      throw;
     rep.failure = e.what();
     placeCT();
     WriteFilesAtomic(

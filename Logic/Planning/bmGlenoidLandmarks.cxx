@@ -390,8 +390,11 @@ GlenoidLandmarks DetectLandmarks(const SegmentedBone& bone, const LandmarkOverri
     double best;
     std::tie(L.scapulaLabel, best) = NearestBone(bone, c);
     if (best > 10)
-      throw NoGlenoidFound("the given glenoid centre is " + Mm(best) +
-                           " from the nearest bone surface; place it on the glenoid face");
+      throw NoGlenoidFound(
+          "the given glenoid centre is " + Mm(best) +
+          " from the nearest bone surface; place it on the glenoid face (where the "
+          "humeral head is joined to the glenoid, the joint space may have been "
+          "filled as a cavity: plan again without filling holes)");
   } else if (fromRim) {
     // Points clicked on the rim: their plane, its normal turned out of the bone.
     const PlaneFit plane = FitPlane(ov.rimPoints);

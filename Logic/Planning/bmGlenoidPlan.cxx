@@ -197,6 +197,57 @@ nlohmann::json GlenoidPlan::SceneJson(const nlohmann::json& bone) const {
           {"planning", ToJson()}};
 }
 
+void CheckToolStartsOutsideBone(const SegmentedBone& bone, const GlenoidLandmarks& L,
+                                const GlenoidPlan& p) {
+  const double radius = 0.5 * p.options.reamerDiameterMm, h = bone.Spacing();
+  // From the highest a glenoid's rim can rise above its centre along the axis (6 mm of
+  // concavity and the face's tilt to the axis over the reamer's radius), or the start when it is
+  // lower, to 20 mm beyond: a rim found on a joined head would put the start beyond the head.
+  const double rimBound = 6.0 + radius * std::tan(std::min(p.correctionDeg, 60.0) * kDeg);
+  const double lo = std::min(p.clearanceMm, rimBound), hi = lo + 20.0;
+  // The box around the cylinder, then each voxel's centre against it.
+  Vec3 boxLo, boxHi;
+  for (size_t a = 0; a < 3; ++a) {
+    const double e = radius + 1.0;
+    const double c0 = p.entry[a] + lo * p.axis[a], c1 = p.entry[a] + hi * p.axis[a];
+    boxLo[a] = std::min(c0, c1) - e;
+    boxHi[a] = std::max(c0, c1) + e;
+  }
+  const auto& d = bone.Dims();
+  int i0[3], i1[3];
+  for (int a = 0; a < 3; ++a) {
+    i0[a] = std::max(0, int(std::floor((boxLo[size_t(a)] - bone.Origin()[size_t(a)]) / h)));
+    i1[a] = std::min(d[size_t(a)] - 1,
+                     int(std::ceil((boxHi[size_t(a)] - bone.Origin()[size_t(a)]) / h)));
+  }
+  double volume = 0;
+  Vec3 sum{0, 0, 0};
+  for (int k = i0[2]; k <= i1[2]; ++k)
+    for (int j = i0[1]; j <= i1[1]; ++j)
+      for (int i = i0[0]; i <= i1[0]; ++i) {
+        const int64_t idx = bone.Index(i, j, k);
+        if (bone.Label(idx) != L.scapulaLabel)
+          continue;
+        const Vec3 q = Sub(bone.Centre(i, j, k), p.entry);
+        const double t = Dot(q, p.axis);
+        if (t < lo || t > hi || Norm(AddScaled(q, p.axis, -t)) > radius)
+          continue;
+        const double v = bone.Fraction(idx) * h * h * h;
+        volume += v;
+        sum = AddScaled(sum, bone.Centre(i, j, k), v);
+      }
+  if (volume <= h * h * h)
+    return;
+  const Vec3 at = Scale(sum, 1.0 / volume);
+  throw PlanBlocked("the reamer would start inside bone: " + Fixed(volume) +
+                    " mm^3 of bone joined "
+                    "to the scapula lies in its path beyond the face, around (" +
+                    Fixed(at[0]) + ", " + Fixed(at[1]) + ", " + Fixed(at[2]) +
+                    ") mm (a humeral head joined to the glenoid at this threshold?): give an "
+                    "exclude point on that bone (--exclude), a higher threshold, or a region "
+                    "without it");
+}
+
 PlanScenes MakePlanScenes(const GlenoidLandmarks& L, const GlenoidMeasurements& m,
                           const GlenoidPlan& plan, const nlohmann::json& importSettings) {
   const nlohmann::json bone = plan.CtBoneJsonWithSettings(importSettings);

@@ -11,9 +11,11 @@
 #pragma once
 
 #include "bmGlenoidMeasurements.h"
+#include "bmSegmentedBone.h"
 
 #include <nlohmann/json.hpp>
 
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -83,6 +85,21 @@ struct PlanScenes {
 };
 PlanScenes MakePlanScenes(const GlenoidLandmarks& landmarks, const GlenoidMeasurements& m,
                           const GlenoidPlan& plan, const nlohmann::json& importSettings);
+
+/// The plan's tool would start inside bone (CheckToolStartsOutsideBone).
+struct PlanBlocked : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// Bone of the glenoid's scapula (landmarks.scapulaLabel) in the reamer's path where the tool
+/// starts: within the reamer's radius of the axis, from the start (clearanceMm above the centre,
+/// or the highest a glenoid's rim rises, 6 mm plus the face's tilt over the reamer's radius, when
+/// that is lower) to 20 mm beyond it. A scene with bone there would start its tool inside bone and
+/// ream bone that is not the glenoid (a humeral head joined to the scapula at the threshold, say).
+/// Throws PlanBlocked naming the volume (mm^3), where it is and what to do, when it exceeds one
+/// voxel.
+void CheckToolStartsOutsideBone(const SegmentedBone& bone, const GlenoidLandmarks& landmarks,
+                                const GlenoidPlan& plan);
 
 /// Plan from the landmarks and measurements. Throws std::invalid_argument on bad options.
 GlenoidPlan MakeGlenoidPlan(const GlenoidLandmarks& landmarks, const GlenoidMeasurements& m,

@@ -119,8 +119,14 @@ void OptionCases() {
            {"--resolution", 32, 1024, true},
            {"--threshold", -1000, 4000, false},
            {"--phantom-version", -45, 45, false},
-           {"--phantom-inclination", -45, 45, false}})
+           {"--phantom-inclination", -45, 45, false},
+           {"--raw-threshold", -1e9, 1e9, false},
+           {"--max-memory", 1, 1e9, false}})
     NumericOption("plan", plan, opt, lo, hi, integer);
+  for (auto [opt, n] : std::vector<std::pair<std::string, int>>{
+           {"--seed", 3}, {"--exclude", 3}, {"--roi", 6}, {"--hu-mapping", 2}, {"--box", 6}})
+    TupleOption("plan", plan, opt, n);
+  WordOption("plan", plan, "--side");
 
   const std::vector<std::string> bench = {"bench", "--out", "{out}/b"};
   for (auto [opt, lo, hi, integer] :
@@ -150,13 +156,24 @@ void OptionCases() {
   }
 
   const std::vector<std::string> phantom = {"phantom", "block", "--out", "{out}/ph", "-q"};
-  for (auto [opt, lo, hi, integer] : std::vector<std::tuple<std::string, double, double, bool>>{
-           {"--noise", 0, 1000, false},
-           {"--blur", 0, 10, false},
-           {"--version", -45, 45, false},
-           {"--inclination", -45, 45, false}})
+  for (auto [opt, lo, hi, integer] :
+       std::vector<std::tuple<std::string, double, double, bool>>{{"--noise", 0, 1000, false},
+                                                                  {"--blur", 0, 10, false},
+                                                                  {"--version", -45, 45, false},
+                                                                  {"--inclination", -45, 45, false},
+                                                                  {"--pixel-mm", 0.3, 3, false},
+                                                                  {"--slice-mm", 0.5, 5, false},
+                                                                  {"--joint-gap", 1, 20, false}})
     NumericOption("phantom", phantom, opt, lo, hi, integer);
   WordOption("phantom", phantom, "--compress");
+  const std::vector<std::string> scapula = {"phantom", "scapula", "--out", "{out}/ph", "-q"};
+  TupleOption("phantom scapula", scapula, "--window", 2);
+  Add("phantom scapula --window zero width",
+      {"phantom", "scapula", "--out", "{out}/ph", "-q", "--window", "400,0"}, {"--window"});
+  Add("phantom scapula --window with --compress",
+      {"phantom", "scapula", "--out", "{out}/ph", "-q", "--window", "400,2000", "--compress",
+       "rle"},
+      {"--compress"});
 
   NumericOption("replay", {"replay", "{in}/r.csv", "--out", "{out}/rp"}, "--tolerance", 0, 1e6,
                 false);

@@ -8,7 +8,9 @@
 #  - --side left on this right shoulder finds no glenoid and says why;
 #  - a centre and normal alone, on a region that leaves out the inferior angle, make a plan with the
 #    measurements that need the scapular plane reported as not available;
-#  - a normal placed into the bone is refused.
+#  - a normal placed into the bone is refused;
+#  - with the humeral head 1 mm from the glenoid (joined at this resolution), a plan whose reamer
+#    would start inside the head is refused with the reason.
 #   cmake -DBMSIM=... -DWORK_DIR=... -P TestPlanRealScan.cmake
 foreach(v BMSIM WORK_DIR)
   if(NOT DEFINED ${v})
@@ -165,5 +167,26 @@ run("${BMSIM}" plan "${dir}/scan/ct.nrrd" --quiet --hu-mapping ${mapping} --land
     "${dir}/reversed.json" --out "${dir}/p4")
 if(NOT rc EQUAL 3 OR NOT err MATCHES "points into the bone" OR EXISTS "${dir}/p4/plan.json")
   message(FATAL_ERROR "a normal into the bone: exit ${rc}:\n${out}\n${err}")
+endif()
+
+# 6. The humeral head 1 mm from the glenoid (no joint space at 1.4 mm pixels and 2.5 mm slices):
+# placed by hand, the reamer would start inside the head; refused with the reason (exit 3), no
+# plan written.
+run("${BMSIM}" phantom scapula --joint-gap 1 --window 400,2000 --pixel-mm 1.4 --slice-mm 2.5
+    --quiet --out "${dir}/fused")
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "phantom scapula --joint-gap 1 (${rc}):\n${out}\n${err}")
+endif()
+# Joined, the joint space is filled as a cavity: the placed centre is then buried (refused,
+# naming the fill); without filling, the reamer's path is the head.
+run("${BMSIM}" plan "${dir}/fused/ct.nrrd" --quiet --hu-mapping ${mapping} --landmarks
+    "${dir}/placed.json" --out "${dir}/p5a")
+if(NOT rc EQUAL 3 OR NOT err MATCHES "without filling holes")
+  message(FATAL_ERROR "a centre buried by the filled joint space: exit ${rc}:\n${out}\n${err}")
+endif()
+run("${BMSIM}" plan "${dir}/fused/ct.nrrd" --quiet --hu-mapping ${mapping} --landmarks
+    "${dir}/placed.json" --no-fill-holes --out "${dir}/p5")
+if(NOT rc EQUAL 3 OR NOT err MATCHES "start inside bone" OR EXISTS "${dir}/p5/plan.json")
+  message(FATAL_ERROR "a reamer starting inside the humeral head: exit ${rc}:\n${out}\n${err}")
 endif()
 message(STATUS "bmsim plan on an 8-bit 2.5 mm scan: passed")

@@ -244,6 +244,13 @@ int vtkBMGlenoidPlanFilter::RequestData(vtkInformation*, vtkInformationVector** 
     po.pinRadiusMm = this->PinRadius;
     po.pinDepthMm = this->PinDepth;
     const bm::GlenoidPlan plan = bm::MakeGlenoidPlan(L, m, po);
+    // A tool that would start inside bone: no step scenes, and the warning says why.
+    std::string blocked;
+    try {
+      bm::CheckToolStartsOutsideBone(*in.Bone, L, plan);
+    } catch (const bm::PlanBlocked& e) {
+      blocked = e.what();
+    }
 
     this->FriedmanVersion = m.friedmanVersionDeg;
     this->Version3D = m.version3DDeg;
@@ -263,8 +270,10 @@ int vtkBMGlenoidPlanFilter::RequestData(vtkInformation*, vtkInformationVector** 
     Copy3(plan.axis, this->PlanAxis);
     for (const std::string& w : plan.warnings)
       in.Warnings += (in.Warnings.empty() ? "" : "\n") + w;
+    if (!blocked.empty())
+      in.Warnings += (in.Warnings.empty() ? "" : "\n") + blocked + " (the steps are not offered)";
     const bool specified = this->CTBoneSpecification && *this->CTBoneSpecification;
-    if (specified || (this->CTFileName && *this->CTFileName)) {
+    if (blocked.empty() && (specified || (this->CTFileName && *this->CTFileName))) {
       const nlohmann::json settings =
           specified
               ? bm::ParseJson(std::string(this->CTBoneSpecification), "the CT bone's specification")

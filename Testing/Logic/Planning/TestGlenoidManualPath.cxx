@@ -1,7 +1,8 @@
-// The plan when detection is not enough (Docs/Planning.md, "When detection fails"): a scan that
+// The plan when detection is not enough (Docs/Planning.md, "Landmarks" and "The plan"): a scan that
 // misses part of the scapula, a glenoid placed by hand (centre and normal, or rim points), a
 // normal placed the wrong way round, a chosen side, implausible results flagged, and the step
-// scenes reading the CT with the plan's import settings. On the scapula phantom sampled at 1 mm.
+// scenes reading the CT with the plan's import settings, a tool that would start inside bone. On
+// the scapula phantom sampled at 1 mm.
 #include "bmGlenoidLandmarks.h"
 #include "bmGlenoidMeasurements.h"
 #include "bmGlenoidPlan.h"
@@ -228,4 +229,31 @@ TEST(GlenoidManualPath, StepScenesReadTheCTWithThePlansSettings) {
   EXPECT_NE(ct["seed"], settings["seed"]);
   EXPECT_THROW(plan.CtBoneJsonWithSettings(nlohmann::json{{"rawThreshold", 1}}),
                std::invalid_argument);
+}
+
+TEST(GlenoidManualPath, AToolThatWouldStartInsideBoneIsRefused) {
+  // The humeral head 1 mm from the glenoid, sampled at 2 mm: no joint space, one bone. Placed
+  // by hand, the glenoid plans, but the reamer's path beyond the face is the head.
+  ScapulaPhantomParams touching;
+  touching.jointGapMm = 1;
+  const ScapulaPhantom ph(touching);
+  const ScapulaTruth& t = ph.Truth();
+  const SegmentedBone fused(MakeScapulaVoxmap(ph, 2.0, 3));
+  ASSERT_EQ(fused.NumBones(), 1);
+  LandmarkOverrides ov;
+  ov.glenoidCentre = t.glenoidCentre;
+  ov.faceNormal = t.faceNormal;
+  const GlenoidLandmarks L = DetectLandmarks(fused, ov);
+  const GlenoidPlan plan = MakeGlenoidPlan(L, MeasureGlenoid(L));
+  try {
+    CheckToolStartsOutsideBone(fused, L, plan);
+    FAIL() << "a reamer starting inside the humeral head was accepted";
+  } catch (const PlanBlocked& e) {
+    EXPECT_NE(std::string(e.what()).find("start inside bone"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--exclude"), std::string::npos) << e.what();
+  }
+  // With the joint space the path is clear.
+  const SegmentedBone apart(MakeScapulaVoxmap(ScapulaPhantom(ScapulaPhantomParams{}), 1.0, 3));
+  const GlenoidLandmarks La = DetectLandmarks(apart);
+  EXPECT_NO_THROW(CheckToolStartsOutsideBone(apart, La, MakeGlenoidPlan(La, MeasureGlenoid(La))));
 }
