@@ -354,10 +354,20 @@ static int PlanCommand(const ParsedArgs& p) {
                               " (exclude points are given: check that the step's bone leaves it "
                               "out)");
     }
+    // The user's point for the steps' bone must be on the glenoid's scapula.
+    if (const auto sd = p.GetDoubles("seed", 3)) {
+      const int on = bone.LabelAt({(*sd)[0], (*sd)[1], (*sd)[2]});
+      if (on != L.scapulaLabel)
+        throw UsageError("--seed (" + Fx((*sd)[0]) + ", " + Fx((*sd)[1]) + ", " + Fx((*sd)[2]) +
+                         ") mm is " + (on ? "on another bone than" : "not on bone of") +
+                         " the glenoid's scapula: the step scenes keep the bone there");
+    }
   } catch (const std::runtime_error& e) {
     // No glenoid, or a plan whose tool would start inside bone: the report says why.
-    if (!dynamic_cast<const NoGlenoidFound*>(&e) && !dynamic_cast<const PlanBlocked*>(&e))
+    if (!dynamic_cast<const NoGlenoidFound*>(&e) && !dynamic_cast<const PlanBlocked*>(&e)) {
+      cleanup.armed = true; // nothing half written: the folder made here, or the CT staged
       throw;
+    }
     rep.failure = e.what();
     placeCT();
     WriteFilesAtomic(

@@ -397,6 +397,14 @@ GlenoidLandmarks DetectLandmarks(const SegmentedBone& bone, const LandmarkOverri
           "filled as a cavity: plan again without filling holes)");
   } else if (fromRim) {
     // Points clicked on the rim: their plane, its normal turned out of the bone.
+    for (const Vec3& q : ov.rimPoints)
+      if (const double dq = NearestBone(bone, q).second; !(dq <= 15)) {
+        std::ostringstream m;
+        m.precision(1);
+        m << std::fixed << "the rim point (" << q[0] << ", " << q[1] << ", " << q[2] << ") mm is "
+          << dq << " mm from the nearest bone surface; click the points on the glenoid's rim";
+        throw NoGlenoidFound(m.str());
+      }
     const PlaneFit plane = FitPlane(ov.rimPoints);
     if (InPlaneExtents(ov.rimPoints, plane.normal).second < 5.0)
       throw NoGlenoidFound("the given rim points lie nearly on one line (less than 5 mm across): "

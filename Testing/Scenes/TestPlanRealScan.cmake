@@ -127,6 +127,13 @@ if(removed LESS 50)
   message(FATAL_ERROR "the guide-pin step removed ${removed} mm^3 (expected its hole)")
 endif()
 
+# A seed for the steps' bone that is not on the glenoid's scapula: refused, nothing left.
+run("${BMSIM}" plan "${dir}/scan/ct.nrrd" --quiet --hu-mapping ${mapping} --seed 0,0,0
+    --out "${dir}/pseed")
+if(NOT rc EQUAL 2 OR NOT err MATCHES "--seed .* not on bone" OR EXISTS "${dir}/pseed")
+  message(FATAL_ERROR "a seed off the scapula: exit ${rc}:\n${out}\n${err}")
+endif()
+
 # 3. The other side: no glenoid, and why.
 run("${BMSIM}" plan "${dir}/scan/ct.nrrd" --quiet --hu-mapping ${mapping} --side left
     --out "${dir}/p2")
