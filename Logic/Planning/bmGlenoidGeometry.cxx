@@ -144,6 +144,20 @@ PlaneFit FitRimPlane(const std::vector<Vec3>& rim, int samples) {
   return FitPlane(even);
 }
 
+std::pair<double, double> RimExtents(const std::vector<Vec3>& rim, const Vec3& centre,
+                                     const Vec3& n, const Vec3& up) {
+  Vec3 eu = AddScaled(up, n, -Dot(up, n));
+  eu = Norm(eu) > 1e-6 ? Normalized(eu) : Normalized(Cross(n, Vec3{1, 0, 0}));
+  const Vec3 ev = Cross(n, eu);
+  double u0 = 1e30, u1 = -1e30, v0 = 1e30, v1 = -1e30;
+  for (const auto& p : rim) {
+    const Vec3 d = Sub(p, centre);
+    u0 = std::min(u0, Dot(d, eu)), u1 = std::max(u1, Dot(d, eu));
+    v0 = std::min(v0, Dot(d, ev)), v1 = std::max(v1, Dot(d, ev));
+  }
+  return {u1 - u0, v1 - v0};
+}
+
 ScapularFrame MakeScapularFrame(const Vec3& g, const Vec3& t, const Vec3& i) {
   ScapularFrame f;
   f.origin = g;

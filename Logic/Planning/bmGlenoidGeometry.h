@@ -6,6 +6,7 @@
 
 #include "bmVec3.h"
 
+#include <utility>
 #include <vector>
 
 namespace bm {
@@ -44,6 +45,11 @@ std::vector<Vec3> SupportRim(const std::vector<Vec3>& points, const Vec3& centre
 /// points evenly spaced along its perimeter (so the plane does not depend on how densely the
 /// support directions sample each part of the rim). Needs >= 3 rim points.
 PlaneFit FitRimPlane(const std::vector<Vec3>& rim, int samples = 360);
+
+/// The rim's extents, mm: {height along `up` projected on the plane normal to n (any axis
+/// across n when up is parallel to it), width across that}, measured from `centre`.
+std::pair<double, double> RimExtents(const std::vector<Vec3>& rim, const Vec3& centre,
+                                     const Vec3& n, const Vec3& up);
 
 /// Scapular frame (two-plane method): origin G (glenoid centre); lateral X = (G - T) / |G - T|
 /// (T: trigonum); anterior A = the unit normal of the plane through G, T, I (I: inferior angle)

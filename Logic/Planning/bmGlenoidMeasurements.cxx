@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <tuple>
 
 namespace bm {
 
@@ -52,17 +53,7 @@ GlenoidMeasurements MeasureGlenoid(const GlenoidLandmarks& L) {
   }
   if (L.rim.size() >= 3) {
     const Vec3 up = m.hasFrame ? m.frame.superior : Vec3{0, 0, 1};
-    Vec3 eu = AddScaled(up, n, -Dot(up, n));
-    eu = Norm(eu) > 1e-6 ? Normalized(eu) : Normalized(Cross(n, Vec3{1, 0, 0}));
-    const Vec3 ev = Cross(n, eu);
-    double u0 = 1e30, u1 = -1e30, v0 = 1e30, v1 = -1e30;
-    for (const auto& p : L.rim) {
-      const Vec3 d = Sub(p, L.glenoidCentre);
-      u0 = std::min(u0, Dot(d, eu)), u1 = std::max(u1, Dot(d, eu));
-      v0 = std::min(v0, Dot(d, ev)), v1 = std::max(v1, Dot(d, ev));
-    }
-    m.heightMm = u1 - u0;
-    m.widthMm = v1 - v0;
+    std::tie(m.heightMm, m.widthMm) = RimExtents(L.rim, L.glenoidCentre, n, up);
     m.rimPlaneRmsMm = FitRimPlane(L.rim).rmsMm;
   } else {
     missing({"glenoid_height_mm", "glenoid_width_mm", "rim_plane_rms_mm"},

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 
 namespace bm {
 
@@ -217,16 +218,8 @@ void ScapulaPhantom::ComputeTruth() {
   t.version3DDeg = Version3DDeg(f, t.faceNormal);
   t.inclinationDeg = InclinationDeg(f, t.faceNormal);
   t.friedmanVersionDeg = FriedmanVersionDeg(dense, t.glenoidCentre, t.trigonum);
-  const Vec3 eu = Normalized(AddScaled(f.superior, t.faceNormal, -Dot(f.superior, t.faceNormal)));
-  const Vec3 ev = Cross(t.faceNormal, eu);
-  double u0 = 1e9, u1 = -1e9, v0 = 1e9, v1 = -1e9;
-  for (const auto& p : t.rim) {
-    const Vec3 d = Sub(p, t.glenoidCentre);
-    u0 = std::min(u0, Dot(d, eu)), u1 = std::max(u1, Dot(d, eu));
-    v0 = std::min(v0, Dot(d, ev)), v1 = std::max(v1, Dot(d, ev));
-  }
-  t.glenoidHeightMm = u1 - u0;
-  t.glenoidWidthMm = v1 - v0;
+  std::tie(t.glenoidHeightMm, t.glenoidWidthMm) =
+      RimExtents(t.rim, t.glenoidCentre, t.faceNormal, f.superior);
   t.faceRadiusMm = P_.faceRadiusMm;
   t.humeralHeadCentre = H_;
   t.humeralHeadRadiusMm = P_.humeralHeadRadiusMm;

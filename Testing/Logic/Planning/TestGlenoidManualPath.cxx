@@ -45,19 +45,30 @@ Box3 ScanBox(const Voxmap& v, double zCut) {
   return b;
 }
 
+/// The phantom's bone with the field of view ending 45 mm below the glenoid centre: the
+/// inferior angle (115 mm below) is outside it, and the bone there ends at the scan's edge; the
+/// detection options know that edge.
+struct CutScan {
+  ScapulaTruth truth;
+  SegmentedBone bone;
+  DetectionOptions options;
+};
+CutScan ScanWithoutTheInferiorAngle() {
+  const ScapulaPhantom ph{ScapulaPhantomParams{}};
+  const double zCut = ph.Truth().glenoidCentre[2] - 45;
+  const Voxmap v = CutBelow(ph, zCut);
+  DetectionOptions o;
+  o.scanBounds = ScanBox(v, zCut);
+  return {ph.Truth(), SegmentedBone(v), o};
+}
+
 } // namespace
 
 TEST(GlenoidManualPath, AScanThatMissesTheInferiorAngleStillPlans) {
-  const ScapulaPhantom ph{ScapulaPhantomParams{}};
-  const ScapulaTruth& t = ph.Truth();
-  // The field of view ends 45 mm below the glenoid centre: the inferior angle (115 mm below) is
-  // outside it, and the bone there ends at the scan's edge.
-  const double zCut = t.glenoidCentre[2] - 45;
-  const Voxmap v = CutBelow(ph, zCut);
-  const SegmentedBone bone(v);
-  DetectionOptions o;
-  o.scanBounds = ScanBox(v, zCut);
-  const GlenoidLandmarks L = DetectLandmarks(bone, {}, o);
+  const CutScan scan = ScanWithoutTheInferiorAngle();
+  const ScapulaTruth& t = scan.truth;
+  const SegmentedBone& bone = scan.bone;
+  const GlenoidLandmarks L = DetectLandmarks(bone, {}, scan.options);
   EXPECT_LT(Distance(L.glenoidCentre, t.glenoidCentre), 1.0);
   EXPECT_TRUE(L.HasTrigonum());
   ASSERT_FALSE(L.HasInferiorAngle());
@@ -102,13 +113,10 @@ TEST(GlenoidManualPath, AScanThatMissesTheInferiorAngleStillPlans) {
 }
 
 TEST(GlenoidManualPath, ACentreAndNormalAloneMakeAPlan) {
-  const ScapulaPhantom ph{ScapulaPhantomParams{}};
-  const ScapulaTruth& t = ph.Truth();
-  const double zCut = t.glenoidCentre[2] - 45;
-  const Voxmap v = CutBelow(ph, zCut);
-  const SegmentedBone bone(v);
-  DetectionOptions o;
-  o.scanBounds = ScanBox(v, zCut);
+  const CutScan scan = ScanWithoutTheInferiorAngle();
+  const ScapulaTruth& t = scan.truth;
+  const SegmentedBone& bone = scan.bone;
+  const DetectionOptions& o = scan.options;
   LandmarkOverrides ov;
   ov.glenoidCentre = AddScaled(t.glenoidCentre, t.anteriorAxis, 1.0); // placed 1 mm off
   ov.faceNormal = t.faceNormal;
