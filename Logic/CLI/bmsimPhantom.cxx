@@ -52,6 +52,10 @@ static void PhantomOptions(ParsedArgs& p) {
       .Real("joint-gap", 1, 20, "MM",
             "scapula: humeral head to glenoid face distance (default 4; at 1 a coarse scan "
             "joins the bones)")
+      .Value("rotate", "RX,RY,RZ",
+             "scapula: the patient turned about the glenoid centre, deg about x, y, z (each "
+             "within 45; applied y, x, z)")
+      .Flag("both", "scapula: both shoulders in one scan (the left the mirror image of the right)")
       .Value("window", "CENTRE,WIDTH",
              "scapula: store the CT as an 8-bit display window (HU) in DIR/ct.nrrd instead of a "
              "DICOM series, as some hospitals export it")
@@ -64,8 +68,8 @@ static int PhantomCommand(const ParsedArgs& p) {
   if (std::find(words.begin(), words.end(), "scapula") != words.end())
     return ScapulaPhantomCommand(p);
 #endif
-  for (const char* o :
-       {"version", "inclination", "b2", "left", "pixel-mm", "slice-mm", "joint-gap", "window"})
+  for (const char* o : {"version", "inclination", "b2", "left", "pixel-mm", "slice-mm", "joint-gap",
+                        "window", "rotate", "both"})
     if (p.Has(o))
       throw UsageError(std::string("--") + o + " applies to the scapula phantom only");
   bm::PhantomCTOptions ct;

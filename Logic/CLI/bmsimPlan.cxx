@@ -91,10 +91,24 @@ int ScapulaPhantomCommand(const ParsedArgs& p) {
   sp.versionDeg = p.GetDouble("version", -45, 45).value_or(sp.versionDeg);
   sp.inclinationDeg = p.GetDouble("inclination", -45, 45).value_or(sp.inclinationDeg);
   sp.jointGapMm = p.GetDouble("joint-gap", 1, 20).value_or(sp.jointGapMm);
+  if (const auto r = p.GetDoubles("rotate", 3)) {
+    for (double a : *r)
+      if (!(std::abs(a) <= 45))
+        throw UsageError("--rotate: each angle must be within [-45, 45] deg");
+    sp.patientRotationDeg = {(*r)[0], (*r)[1], (*r)[2]};
+  }
+  const bool both = p.Has("both");
+  if (both && p.Has("left"))
+    throw UsageError("--both holds the right and the left shoulder: drop --left");
   if (p.Has("left")) {
     sp.rightSide = false;
     sp.glenoidCentreMm[0] = -sp.glenoidCentreMm[0];
   }
+  // Both shoulders: the left is the right's mirror image in x (the patient's midline at x = 0),
+  // turned by the same rotation about its own glenoid centre.
+  ScapulaPhantomParams leftParams = sp;
+  leftParams.rightSide = false;
+  leftParams.glenoidCentreMm[0] = -sp.glenoidCentreMm[0];
   PhantomCTOptions ct = ScapulaCTDefaults();
   ct.noiseHU = p.GetDouble("noise", 0, 1000).value_or(ct.noiseHU);
   ct.inPlaneSpacingMm = p.GetDouble("pixel-mm", 0.3, 3).value_or(ct.inPlaneSpacingMm);
@@ -114,18 +128,32 @@ int ScapulaPhantomCommand(const ParsedArgs& p) {
   const std::string out = p.Get("out", "");
   RequireEmptyOut(out);
   const ScapulaPhantom ph(sp);
+  std::optional<ScapulaPhantom> left;
+  if (both)
+    left.emplace(leftParams);
   const bool quiet = p.Has("quiet");
   std::string wrote = out;
-  if (window) {
-    // An 8-bit volume and the truth, each written atomically; a failure removes the folder
-    // when it was made here.
+  if (window || both) {
+    // The CT (an 8-bit volume, or a DICOM series of both shoulders) and the truth, each written
+    // atomically; a failure removes the folder when it was made here.
     const bool created = !fs::exists(out);
-    fs::create_directories(out);
     try {
-      const CTImage image = MakeScapulaCT(ph, ct, Progress(TerminalProgress(quiet)));
-      wrote = (fs::path(out) / "ct.nrrd").string();
-      SaveWindowedVolume(image, (*window)[0], (*window)[1], wrote);
+      std::vector<const ScapulaPhantom*> phantoms{&ph};
+      if (left)
+        phantoms.push_back(&*left);
+      const CTImage image = MakeScapulaCT(phantoms, ct, Progress(TerminalProgress(quiet)));
+      if (window) {
+        fs::create_directories(out);
+        wrote = (fs::path(out) / "ct.nrrd").string();
+        SaveWindowedVolume(image, (*window)[0], (*window)[1], wrote);
+      } else {
+        dicom.seriesDescription = "BoneMachining scapula phantom, both shoulders";
+        WriteDicomSeries(image, out, dicom);
+      }
       WriteFileAtomic((fs::path(out) / "truth.json").string(), ScapulaTruthJson(ph).dump(2) + "\n");
+      if (left)
+        WriteFileAtomic((fs::path(out) / "truth_left.json").string(),
+                        ScapulaTruthJson(*left).dump(2) + "\n");
     } catch (...) {
       std::error_code ec;
       if (created)
@@ -140,7 +168,11 @@ int ScapulaPhantomCommand(const ParsedArgs& p) {
   const ScapulaTruth& t = ph.Truth();
   const auto& c = t.glenoidCentre;
   const auto& n = t.faceNormal;
-  std::cout << "phantom:     scapula (" << (sp.rightSide ? "right" : "left") << " shoulder, "
+  std::cout << "phantom:     scapula ("
+            << (both           ? "both shoulders"
+                : sp.rightSide ? "right shoulder"
+                               : "left shoulder")
+            << ", "
             << (window ? "8-bit window " + Fx((*window)[0], 0) + " / " + Fx((*window)[1], 0) +
                              " HU: read it with --hu-mapping " +
                              Fx(WindowToHUMapping((*window)[0], (*window)[1])[0], 6) + "," +
@@ -149,6 +181,7 @@ int ScapulaPhantomCommand(const ParsedArgs& p) {
             << ", " << Fx(ct.inPlaneSpacingMm, 2) << " mm pixels, " << Fx(ct.sliceSpacingMm, 2)
             << " mm slices)" << (sp.wearDepthMm > 0 ? ", B2 posterior wear" : "")
             << "\nwrote:       " << wrote << " and " << (fs::path(out) / "truth.json").string()
+            << (both ? " (the right shoulder's; the left's in truth_left.json)" : "")
             << "\nglenoid:     centre (" << Fx(c[0], 2) << ", " << Fx(c[1], 2) << ", "
             << Fx(c[2], 2) << ") mm, face normal (" << Fx(n[0], 4) << ", " << Fx(n[1], 4) << ", "
             << Fx(n[2], 4) << ")\n"

@@ -24,13 +24,26 @@ PhantomCTOptions ScapulaCTDefaults() {
 
 CTImage MakeScapulaCT(const ScapulaPhantom& ph, const PhantomCTOptions& opt,
                       const Progress& progress) {
+  return MakeScapulaCT(std::vector<const ScapulaPhantom*>{&ph}, opt, progress);
+}
+
+CTImage MakeScapulaCT(const std::vector<const ScapulaPhantom*>& phantoms,
+                      const PhantomCTOptions& opt, const Progress& progress) {
+  if (phantoms.empty())
+    throw std::invalid_argument("scapula CT: no phantom");
   const Vec3 sp{opt.inPlaneSpacingMm, opt.inPlaneSpacingMm, opt.sliceSpacingMm};
   if (!(sp[0] > 0) || !(sp[2] > 0))
     throw std::invalid_argument("scapula CT: spacing must be > 0 mm");
   if (!(opt.noiseHU >= 0) || !(opt.marginMm >= 0))
     throw std::invalid_argument("scapula CT: noise and margin must be >= 0");
   Vec3 lo, hi;
-  ph.Bounds(lo, hi);
+  phantoms[0]->Bounds(lo, hi);
+  for (const ScapulaPhantom* ph : phantoms) {
+    Vec3 l, h;
+    ph->Bounds(l, h);
+    for (size_t a = 0; a < 3; ++a)
+      lo[a] = std::min(lo[a], l[a]), hi[a] = std::max(hi[a], h[a]);
+  }
   size_t n[3];
   double origin[3];
   for (int a = 0; a < 3; ++a) {
@@ -56,10 +69,12 @@ CTImage MakeScapulaCT(const ScapulaPhantom& ph, const PhantomCTOptions& opt,
       progress(double(k) / double(n[2]), "making the scapula phantom");
     for (size_t j = 0; j < n[1]; ++j)
       for (size_t i = 0; i < n[0]; ++i) {
-        double hu = ScapulaVoxelHU(ph,
-                                   {origin[0] + double(i) * sp[0], origin[1] + double(j) * sp[1],
-                                    origin[2] + double(k) * sp[2]},
-                                   sp, ss);
+        // The phantoms do not overlap: the densest tissue of any is the voxel's.
+        const Vec3 c{origin[0] + double(i) * sp[0], origin[1] + double(j) * sp[1],
+                     origin[2] + double(k) * sp[2]};
+        double hu = -1e30;
+        for (const ScapulaPhantom* ph : phantoms)
+          hu = std::max(hu, double(ScapulaVoxelHU(*ph, c, sp, ss)));
         if (opt.noiseHU > 0)
           hu += opt.noiseHU * noise(rng);
         buf[i + n[0] * (j + n[1] * k)] = float(hu);

@@ -10,6 +10,7 @@
 #include "bmScapulaPhantom.h"
 
 #include <string>
+#include <vector>
 
 namespace bm {
 
@@ -21,6 +22,10 @@ PhantomCTOptions ScapulaCTDefaults();
 /// voxel's HU is ScapulaVoxelHU (partial volume) plus Gaussian noise (fixed seed).
 CTImage MakeScapulaCT(const ScapulaPhantom& phantom, const PhantomCTOptions& options,
                       const Progress& progress = {});
+/// Several phantoms in one CT (both shoulders of one patient): the CT covers all their bone
+/// boxes, each voxel the densest tissue any phantom puts there (they must not overlap).
+CTImage MakeScapulaCT(const std::vector<const ScapulaPhantom*>& phantoms,
+                      const PhantomCTOptions& options, const Progress& progress = {});
 
 /// Make the CT and write it as a DICOM series into `folder` (atomic, see WriteDicomSeries), then
 /// the truth as folder/truth.json (the CT reader skips .json files).

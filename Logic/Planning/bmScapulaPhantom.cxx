@@ -53,6 +53,8 @@ ScapulaPhantom::ScapulaPhantom(const ScapulaPhantomParams& p) : P_(p) {
   Require(p.wearShiftMm >= 0 && p.wearShiftMm <= 30, "the wear shift must be within [0, 30] mm");
   for (double c : p.glenoidCentreMm)
     Require(std::isfinite(c), "the glenoid centre must be finite");
+  for (double r : p.patientRotationDeg)
+    Require(std::abs(r) <= 45, "the patient's rotation must be within [-45, 45] deg per axis");
 
   C_ = p.glenoidCentreMm;
   const double a = p.scapularPlaneDeg * kDeg, sx = p.rightSide ? -1.0 : 1.0;
@@ -65,6 +67,19 @@ ScapulaPhantom::ScapulaPhantom(const ScapulaPhantomParams& p) : P_(p) {
   if (Dot(Ev_, As_) < 0)
     Ev_ = Scale(Ev_, -1);
   Eu_ = Normalized(AddScaled(Zs_, N_, -Dot(Zs_, N_)));
+  // The patient's rotation turns every frame vector about C (R = Rz Rx Ry).
+  auto turn = [&](Vec3 v) {
+    const double r[3] = {p.patientRotationDeg[0] * kDeg, p.patientRotationDeg[1] * kDeg,
+                         p.patientRotationDeg[2] * kDeg};
+    v = {std::cos(r[1]) * v[0] + std::sin(r[1]) * v[2], v[1],
+         -std::sin(r[1]) * v[0] + std::cos(r[1]) * v[2]};
+    v = {v[0], std::cos(r[0]) * v[1] - std::sin(r[0]) * v[2],
+         std::sin(r[0]) * v[1] + std::cos(r[0]) * v[2]};
+    return Vec3{std::cos(r[2]) * v[0] - std::sin(r[2]) * v[1],
+                std::sin(r[2]) * v[0] + std::cos(r[2]) * v[1], v[2]};
+  };
+  for (Vec3* v : {&Xs_, &As_, &Zs_, &N_, &Ev_, &Eu_})
+    *v = turn(*v);
   H_ = AddScaled(C_, N_, p.jointGapMm + p.humeralHeadRadiusMm);
   ComputeTruth();
 }
@@ -264,6 +279,7 @@ nlohmann::json ScapulaTruthJson(const ScapulaPhantom& ph) {
        {{"version_deg", p.versionDeg},
         {"inclination_deg", p.inclinationDeg},
         {"side", p.rightSide ? "right" : "left"},
+        {"patient_rotation_deg", p.patientRotationDeg},
         {"scapular_plane_deg", p.scapularPlaneDeg},
         {"glenoid_height_mm", p.glenoidHeightMm},
         {"glenoid_width_mm", p.glenoidWidthMm},

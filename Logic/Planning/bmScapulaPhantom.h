@@ -51,6 +51,10 @@ struct ScapulaPhantomParams {
   double corticalMm = 1.5;            ///< tc, mm
   double humeralHeadRadiusMm = 22.0;  ///< Rh, mm
   double jointGapMm = 4.0;            ///< g, mm
+  /// The patient turned about the glenoid centre: angles about world x, y, z (deg, each within
+  /// +-45), applied y, then x, then z (VTK's order, as BM CT Bone's box). The truth turns with it;
+  /// the 3D version and inclination, measured in the scapula's own frame, do not change.
+  Vec3 patientRotationDeg{0, 0, 0};
   float corticalHU = 1500, cancellousHU = 300, softHU = 40;
 
   /// A Walch B2 glenoid: the defaults with 2 mm posterior wear (the posterior rim 5 mm lower).

@@ -1,0 +1,75 @@
+# BMPlanScanMatrix: the plan on scans made as scanners and patients make them (Docs/Planning.md,
+# "Real scans"), each from `bmsim phantom scapula` and planned by `bmsim plan` with its truth:
+#  - the patient turned 15 deg either way about the scanner's axis (8-bit window, 1.4 mm pixels,
+#    2.5 mm slices): 3D version and inclination within 2 deg, the glenoid centre within 2 mm (a
+#    tilt about the left-right or front-back axis is not yet planned within that: Docs/Planning.md,
+#    "Not yet");
+#  - a left shoulder and a B2 (posteriorly worn) glenoid on the same scan;
+#  - both shoulders in one DICOM series: with no side the plan stops naming both; each side
+#    planned within 2 deg / 2 mm of its own truth;
+#  - 0.6 mm pixels and 1 mm slices (HU): within 1.5 deg and 1 mm (measured 1.1 deg off in 3D
+#    version: the 1 deg the clinical target asks is not yet met through the CT path at every
+#    spacing; Docs/Planning.md).
+#   cmake -DBMSIM=... -DWORK_DIR=... -P TestPlanScanMatrix.cmake
+foreach(v BMSIM WORK_DIR)
+  if(NOT DEFINED ${v})
+    message(FATAL_ERROR "TestPlanScanMatrix.cmake needs -D${v}=")
+  endif()
+endforeach()
+include(${CMAKE_CURRENT_LIST_DIR}/bmPlanChecks.cmake)
+set(dir "${WORK_DIR}")
+file(REMOVE_RECURSE "${dir}")
+file(MAKE_DIRECTORY "${dir}")
+
+# plan_case(NAME DEG MM PHANTOM_ARGS... [PLAN ARGS...]): phantom, plan with the window's mapping,
+# check against truth.json.
+set(coarse --window 400,2000 --pixel-mm 1.4 --slice-mm 2.5)
+function(plan_case name deg mm)
+  cmake_parse_arguments(C "" "" "PHANTOM;PLAN" ${ARGN})
+  file(MAKE_DIRECTORY "${dir}/${name}")
+  run("${BMSIM}" phantom scapula ${C_PHANTOM} --quiet --out "${dir}/${name}/scan")
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${name}: phantom scapula ${C_PHANTOM} (${rc}):\n${out}\n${err}")
+  endif()
+  set(ct "${dir}/${name}/scan")
+  set(mapping "")
+  if(out MATCHES "--hu-mapping ([-0-9.]+),([-0-9.]+)")
+    set(ct "${ct}/ct.nrrd")
+    set(mapping --hu-mapping "${CMAKE_MATCH_1},${CMAKE_MATCH_2}")
+  endif()
+  run("${BMSIM}" plan "${ct}" --quiet ${mapping} ${C_PLAN} --out "${dir}/${name}/plan")
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${name}: plan (${rc}):\n${out}\n${err}")
+  endif()
+  check_plan("${dir}/${name}/plan/plan.json" "${dir}/${name}/scan/truth.json" ${deg} ${mm}
+             "${name}")
+endfunction()
+
+foreach(r "0,0,15" "0,0,-15")
+  string(REPLACE "," "_" tag "${r}")
+  string(REPLACE "-" "m" tag "${tag}")
+  plan_case(rotated_${tag} 2 2 PHANTOM ${coarse} --rotate=${r})
+endforeach()
+plan_case(left 2 2 PHANTOM ${coarse} --left)
+plan_case(b2 2 2 PHANTOM ${coarse} --b2)
+plan_case(fine 1.5 1 PHANTOM --pixel-mm 0.6 --slice-mm 1)
+
+# Both shoulders in one series (HU, 1.4 mm pixels, 2.5 mm slices).
+run("${BMSIM}" phantom scapula --both --pixel-mm 1.4 --slice-mm 2.5 --quiet --out "${dir}/both")
+if(NOT rc EQUAL 0 OR NOT EXISTS "${dir}/both/truth_left.json")
+  message(FATAL_ERROR "phantom scapula --both (${rc}):\n${out}\n${err}")
+endif()
+run("${BMSIM}" plan "${dir}/both" --quiet --out "${dir}/both-auto")
+if(NOT rc EQUAL 3 OR NOT err MATCHES "both shoulders are in the scan.*--side" OR
+   EXISTS "${dir}/both-auto/plan.json")
+  message(FATAL_ERROR "both shoulders, no side: exit ${rc}:\n${out}\n${err}")
+endif()
+foreach(side right left)
+  run("${BMSIM}" plan "${dir}/both" --quiet --side ${side} --out "${dir}/both-${side}")
+  if(NOT rc EQUAL 0 OR NOT out MATCHES "${side} shoulder")
+    message(FATAL_ERROR "both shoulders, --side ${side} (${rc}):\n${out}\n${err}")
+  endif()
+endforeach()
+check_plan("${dir}/both-right/plan.json" "${dir}/both/truth.json" 2 2 "both shoulders, right")
+check_plan("${dir}/both-left/plan.json" "${dir}/both/truth_left.json" 2 2 "both shoulders, left")
+message(STATUS "bmsim plan over the scan matrix: passed")
