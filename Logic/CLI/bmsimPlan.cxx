@@ -3,10 +3,10 @@
 // write the plan scene (guide pin, then ream) and the pre-operative report (Docs/Planning.md).
 // Also `bmsim phantom scapula` (called from bmsimPhantom.cxx).
 #include "bmsimArgs.h"
-#include "bmsimCTOptions.h"
 #include "bmsimCommand.h"
 
 #ifdef BM_PLANNING_WITH_IO // the plan reads a CT: built only with CT import
+#include "bmsimCTOptions.h"
 #include "bmAtomicFile.h"
 #include "bmGlenoidLandmarks.h"
 #include "bmGlenoidMeasurements.h"
