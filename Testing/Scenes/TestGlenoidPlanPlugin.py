@@ -83,6 +83,21 @@ def main():
     check(plan.GetDataInformation().GetNumberOfPoints() > 70,
           "the output draws landmarks, rim, axis and normal")
 
+    # The CT read as BM CT Bone reads it (its bone specification: raw values, a series, exclude
+    # points): the step scenes carry those settings, with the plan's region and seed.
+    spec = {"ct": os.path.abspath(ct), "rawThreshold": 150, "series": "1.2.3",
+            "exclude": [[1, 2, 3]], "roi": [0, 0, 0, 1, 1, 1], "keepAllComponents": True}
+    plan.CTBoneSpecification = json.dumps(spec)
+    plan.UpdatePipeline()
+    for name in ("PinStepSceneInfo", "ReamStepSceneInfo", "PlanSceneInfo"):
+        bone = json.loads(info(plan, name))["bone"]["ct"]
+        check(bone["rawThreshold"] == 150 and bone["series"] == "1.2.3" and
+              bone["exclude"] == [[1, 2, 3]], "%s reads the CT with its settings (%r)" % (name, bone))
+        check(bone["roi"] != spec["roi"] and "keepAllComponents" not in bone,
+              "%s keeps the plan's region, one bone (%r)" % (name, bone))
+    plan.CTBoneSpecification = ""
+    plan.UpdatePipeline()
+
     # Drag the trigonum (as the handle widget does: the property, then its Use flag) 5 deg about
     # the vertical through the midpoint of Friedman's glenoid line, where his scapular axis ends.
     trigonum = info(plan, "UsedTrigonumInfo")
