@@ -100,7 +100,9 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt,
   auto thr = itk::BinaryThresholdImageFilter<HUImage, MaskImage>::New();
   thr->SetInput(hu);
   thr->SetLowerThreshold(opt.thresholdHU);
-  thr->SetUpperThreshold(std::numeric_limits<float>::max());
+  // Metal is not bone (SegmentationOptions::metalHU).
+  thr->SetUpperThreshold(std::isfinite(opt.metalHU) ? std::nextafter(opt.metalHU, -1e30f)
+                                                    : std::numeric_limits<float>::max());
   thr->SetInsideValue(1);
   thr->SetOutsideValue(0);
   RunFilter(thr, progress.Range(0, 0.1), "segmenting bone: threshold");
@@ -108,6 +110,29 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt,
   mask->DisconnectPipeline();
   uint8_t* M = mask->GetBufferPointer();
   BoneSegmentation seg;
+  if (std::isfinite(opt.metalHU)) {
+    double sum[3] = {0, 0, 0};
+    for (int k = 0; k < nz; ++k)
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i)
+          if (H[idx(i, j, k)] >= opt.metalHU) {
+            ++seg.metalVoxels;
+            sum[0] += i, sum[1] += j, sum[2] += k;
+          }
+    if (seg.metalVoxels > 0) {
+      itk::ContinuousIndex<double, 3> ci;
+      for (int a = 0; a < 3; ++a)
+        ci[a] = double(region.GetIndex(a)) + sum[a] / double(seg.metalVoxels);
+      itk::Point<double, 3> at;
+      hu->TransformContinuousIndexToPhysicalPoint(ci, at);
+      std::ostringstream os;
+      os.precision(1);
+      os << std::fixed << "metal (an implant or screw?): " << double(seg.metalVoxels) * voxelVolume
+         << " mm^3 at or above " << opt.metalHU << " HU, centred at "
+         << FormatPoint({at[0], at[1], at[2]}) << ", is not bone and is left out";
+      seg.warnings.push_back(os.str());
+    }
+  }
   if (opt.box)
     MaskOutsideBox(mask, *opt.box);
   for (int64_t v = 0; v < n; ++v)
@@ -212,6 +237,7 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt,
   fillOpt.closingRadiusVoxels = opt.closingRadiusVoxels;
   fillOpt.maxHoleVolumeMm3 = opt.maxHoleVolumeMm3;
   fillOpt.holeMinMeanHU = opt.holeMinMeanHU;
+  fillOpt.holeMaxMeanHU = opt.metalHU;
   // Every bone kept (the plan's joint search): the fill must not join the humeral head to the
   // glenoid across a joint space the closing encloses.
   fillOpt.keepBonesApart = opt.keepAllComponents && !opt.seedMm;
@@ -260,7 +286,7 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt,
       for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) {
           int64_t v = idx(i, j, k);
-          if (!band[size_t(v)] || M[v] == 2)
+          if (!band[size_t(v)] || M[v] == 2 || H[v] >= opt.metalHU)
             continue;
           double softSum = 0, softN = 0, boneMax = -1e30, near3Bone = -1e30, near3Soft = 0,
                  near3SoftN = 0;
@@ -277,12 +303,12 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt,
                 bool pure = !band[size_t(w)];
                 if (pure && in)
                   boneMax = std::max(boneMax, double(H[w]));
-                if (pure && !in)
+                if (pure && !in && H[w] < opt.metalHU)
                   softSum += H[w], softN += 1;
                 if (std::abs(di) <= 1 && std::abs(dj) <= 1 && std::abs(dk) <= 1) {
                   if (in)
                     near3Bone = std::max(near3Bone, double(H[w]));
-                  else
+                  else if (H[w] < opt.metalHU)
                     near3Soft += H[w], near3SoftN += 1;
                 }
               }

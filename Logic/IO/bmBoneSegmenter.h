@@ -65,6 +65,11 @@ struct SegmentationOptions {
   /// Estimate the bone fraction of surface voxels from their HU (else 1 inside the mask, 0
   /// outside).
   bool partialVolume = true;
+  /// Metal (implants, screws): voxels at or above this, HU, are not bone, are not filled back
+  /// as a cavity, and are named in the warnings with their volume and place. Default 2500 HU
+  /// (cortical bone stays below about 2000 HU; titanium and steel reach 3000 and saturate the
+  /// scanner's range). Raw values (not HU): off (+infinity).
+  float metalHU = 2500.0f;
 };
 
 using FractionImage = itk::Image<float, 3>;
@@ -77,6 +82,7 @@ struct BoneSegmentation {
   int64_t thresholdVoxels = 0;       ///< voxels >= threshold (all components)
   int64_t keptVoxels = 0;            ///< voxels of the kept component(s), before hole filling
   int64_t filledVoxels = 0;          ///< voxels added by hole filling
+  int64_t metalVoxels = 0;           ///< voxels at or above the metal threshold, left out
   int numComponents = 0;             ///< components above the threshold
   int holesFilled = 0;               ///< number of cavities filled
   int borderHolesFilled = 0;         ///< of which cut open by the image border

@@ -176,7 +176,7 @@ CavityFillResult FillCavities(MaskImage* mask, const HUImage* hu, const CavityFi
   for (uint32_t l = 1; l < nl; ++l) {
     const double count = double(sizes[l - 1]);
     if (l == outside || count * voxelVolume > opt.maxHoleVolumeMm3 ||
-        sumHU[l] / count < opt.holeMinMeanHU)
+        sumHU[l] / count < opt.holeMinMeanHU || sumHU[l] / count >= opt.holeMaxMeanHU)
       continue;
     if (touches[l] && 2 * inSliceHoles[l] < int64_t(count))
       continue;

@@ -24,6 +24,8 @@
 #include "bmCTImage.h"
 #include "bmMask.h"
 
+#include <limits>
+
 namespace bm {
 
 struct CavityFillOptions {
@@ -35,6 +37,9 @@ struct CavityFillOptions {
   double maxHoleVolumeMm3 = 20000.0;
   /// Cavities whose mean HU is below this stay empty (air cells), HU. Default -200 HU.
   float holeMinMeanHU = -200.0f;
+  /// Cavities whose mean HU is at or above this stay empty (metal: a screw in the bone), HU.
+  /// Default +infinity (none).
+  float holeMaxMeanHU = std::numeric_limits<float>::infinity();
   /// Bones that are apart before the fill stay apart (step 5). Default false: one bone kept.
   bool keepBonesApart = false;
 };

@@ -120,6 +120,7 @@ void AdjustForIntensity(const IntensityMapping& m, SegmentationOptions& seg,
   seg.thresholdHU = float(m.rawThreshold);
   seg.valueUnit = "(the file's units)";
   seg.holeMinMeanHU = -std::numeric_limits<float>::max();
+  seg.metalHU = std::numeric_limits<float>::infinity(); // no HU: metal is not told from cortex
   material.corticalHU = 1.0f;
   material.minScale = 1.0f; // clamp(x, 1, 1): uniform 1 whatever the raw value
 }

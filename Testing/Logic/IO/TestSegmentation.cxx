@@ -156,6 +156,31 @@ TEST(Segmentation, TheFillKeepsBonesApartWhenAllAreKept) {
   EXPECT_LT(Fill(r.voxmap, {c1 + R + 0.5 * gap, 15, 15}), 0.5); // the gap is not
 }
 
+TEST(Segmentation, MetalIsNamedAndLeftOutOfTheBone) {
+  // A 20 mm cube of bone (1500 HU) holding a screw (a 2 mm radius, 14 mm cylinder at 4000 HU)
+  // in soft tissue: the screw is not bone, is not filled back as a cavity, and is named.
+  const double c = 20, half = 10, r = 2, len = 7;
+  bm::CTImage ct = MakeCT({40, 40, 40}, 1.0, [&](double x, double y, double z) {
+    if (std::hypot(x - c, y - c) <= r && std::abs(z - c) <= len)
+      return 4000.0;
+    return std::abs(x - c) <= half && std::abs(y - c) <= half && std::abs(z - c) <= half ? 1500.0
+                                                                                         : 40.0;
+  });
+  bm::ImportOptions opt;
+  opt.resolution = 80;
+  const bm::ImportResult r1 = bm::ImportVoxmap(ct, opt);
+  std::cout << r1.Report();
+  // On the 1 mm grid the cube is 21^3 voxel centres; the screw's voxels come out of it.
+  const double cube = std::pow(2 * half + 1, 3), screw = std::numbers::pi * r * r * 2 * len;
+  EXPECT_NEAR(r1.voxmap.BoneVolume(), cube - screw, 0.5 * screw);
+  EXPECT_LT(Fill(r1.voxmap, {c, c, c}), 0.5); // the screw's axis
+  EXPECT_EQ(Fill(r1.voxmap, {c + 6, c, c}), 1.0);
+  bool named = false;
+  for (const auto& w : r1.warnings)
+    named |= w.find("metal") != std::string::npos && w.find("(20, 20, 20)") != std::string::npos;
+  EXPECT_TRUE(named) << r1.Report();
+}
+
 TEST(Segmentation, DrilledHoleOpenToTheSurroundingsStaysEmpty) {
   // A 3 mm hole drilled 8 mm into a cortical block from its top face: not a cavity.
   bm::CTImage ct = MakeCT({40, 40, 40}, 0.5, [](double x, double y, double z) {
