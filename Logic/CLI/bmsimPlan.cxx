@@ -51,9 +51,10 @@ std::string Fx(double v, int d = 1) {
   return s.str();
 }
 
-/// A value, or "not available" where it is NaN (a measurement the landmarks do not allow).
-std::string Na(double v) {
-  return std::isfinite(v) ? Fx(v) : std::string("not available");
+/// A value and its unit, or "not available" where it is NaN (a measurement the landmarks do not
+/// allow).
+std::string Na(double v, const char* unit) {
+  return std::isfinite(v) ? Fx(v) + " " + unit : std::string("not available");
 }
 
 } // namespace
@@ -439,11 +440,12 @@ static int PlanCommand(const ParsedArgs& p) {
   const auto& a = plan.axis;
   std::cout << "CT:            " << source << "\n"
             << "glenoid:       " << L.side << " shoulder, centre (" << Fx(c[0]) << ", " << Fx(c[1])
-            << ", " << Fx(c[2]) << ") mm (" << L.centreSource << "), " << Na(m.heightMm) << " x "
-            << Na(m.widthMm) << " mm, radius of curvature " << Na(m.faceRadiusMm) << " mm\n"
-            << "version:       " << Na(m.friedmanVersionDeg) << " deg (Friedman 2D), "
-            << Na(m.version3DDeg) << " deg (3D)\n"
-            << "inclination:   " << Na(m.inclinationDeg) << " deg (3D)\n"
+            << ", " << Fx(c[2]) << ") mm (" << L.centreSource << "), " << Na(m.heightMm, "mm")
+            << " x " << Na(m.widthMm, "mm") << ", radius of curvature " << Na(m.faceRadiusMm, "mm")
+            << "\n"
+            << "version:       " << Na(m.friedmanVersionDeg, "deg") << " (Friedman 2D), "
+            << Na(m.version3DDeg, "deg") << " (3D)\n"
+            << "inclination:   " << Na(m.inclinationDeg, "deg") << " (3D)\n"
             << "axis:          (" << Fx(a[0], 4) << ", " << Fx(a[1], 4) << ", " << Fx(a[2], 4)
             << "): "
             << (plan.corrected ? "version " + Fx(plan.axisVersionDeg) + " deg, inclination " +

@@ -39,9 +39,14 @@ struct Fake {
   int initError = 0;
   std::atomic<int> fault{0}; // fakeHD_SetFault's mode
 };
+// Made on first use and deleted by the unload hook below, which reads it last (a function-local
+// static object could be destroyed before that hook runs).
+Fake*& FakeState() {
+  static Fake* f = new Fake;
+  return f;
+}
 Fake& F() {
-  static Fake* f = new Fake; // never destroyed: the unload hook below still reads it
-  return *f;
+  return *FakeState();
 }
 void PushError(HDerror code, int internal) {
   F().errors.push_back(HDErrorInfo{code, internal, 1});
@@ -204,7 +209,7 @@ __attribute__((constructor)) static void FakeHDFromEnvironment() {
   if (fault == "huge-limit")
     F().maxForce = 1e6;
 }
-__attribute__((destructor)) static void FakeHDLogForces() {
+__attribute__((destructor(200))) static void FakeHDLogForces() {
   const char* log = std::getenv("FAKEHD_FORCE_LOG");
   if (!log || !*log)
     return;
@@ -215,6 +220,15 @@ __attribute__((destructor)) static void FakeHDLogForces() {
     std::fprintf(out, "%.9g %zu\n", worst, F().forces.size());
     std::fclose(out);
   }
+}
+// Last: the state goes with the library (LeakSanitizer counts what an unloaded library still
+// held), unless a scheduler thread still runs on it.
+__attribute__((destructor(101))) static void FakeHDFreeState() {
+  Fake* f = FakeState();
+  if (f->scheduler.joinable())
+    return;
+  delete f;
+  FakeState() = nullptr;
 }
 
 // Test controls.
