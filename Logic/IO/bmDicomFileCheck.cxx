@@ -286,7 +286,12 @@ private:
                                  std::to_string(pos + 4));
       if (pixelData && depth == 0) {
         summary_.hasPixelData = true;
-        return pos; // decoded by GDCM; its length is checked after parsing
+        // Encapsulated (compressed) pixel data: its fragments are walked here, since GDCM
+        // asserts on a fragment cut short (gdcmSequenceOfFragments.h); a defined length is
+        // decoded by GDCM and checked after parsing.
+        if (h.length == kUndefined)
+          WalkSequence(pos + h.headerBytes, end, implicit, depth, true, true);
+        return pos;
       }
       const uint64_t value = pos + h.headerBytes;
       if (h.length == kUndefined) {
