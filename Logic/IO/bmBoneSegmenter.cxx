@@ -96,13 +96,19 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt,
     }
   }
 
+  // Metal (SegmentationOptions::metalHU), when it lies above the bone threshold: a threshold at
+  // or above it asks for the dense material itself.
+  const float metalHU = std::isfinite(opt.metalHU) && opt.metalHU > opt.thresholdHU
+                            ? opt.metalHU
+                            : std::numeric_limits<float>::infinity();
+
   // 1. Threshold.
   auto thr = itk::BinaryThresholdImageFilter<HUImage, MaskImage>::New();
   thr->SetInput(hu);
   thr->SetLowerThreshold(opt.thresholdHU);
   // Metal is not bone (SegmentationOptions::metalHU).
-  thr->SetUpperThreshold(std::isfinite(opt.metalHU) ? std::nextafter(opt.metalHU, -1e30f)
-                                                    : std::numeric_limits<float>::max());
+  thr->SetUpperThreshold(std::isfinite(metalHU) ? std::nextafter(metalHU, -1e30f)
+                                                : std::numeric_limits<float>::max());
   thr->SetInsideValue(1);
   thr->SetOutsideValue(0);
   RunFilter(thr, progress.Range(0, 0.1), "segmenting bone: threshold");
@@ -110,12 +116,12 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt,
   mask->DisconnectPipeline();
   uint8_t* M = mask->GetBufferPointer();
   BoneSegmentation seg;
-  if (std::isfinite(opt.metalHU)) {
+  if (std::isfinite(metalHU)) {
     double sum[3] = {0, 0, 0};
     for (int k = 0; k < nz; ++k)
       for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i)
-          if (H[idx(i, j, k)] >= opt.metalHU) {
+          if (H[idx(i, j, k)] >= metalHU) {
             ++seg.metalVoxels;
             sum[0] += i, sum[1] += j, sum[2] += k;
           }
@@ -128,7 +134,7 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt,
       std::ostringstream os;
       os.precision(1);
       os << std::fixed << "metal (an implant or screw?): " << double(seg.metalVoxels) * voxelVolume
-         << " mm^3 at or above " << opt.metalHU << " HU, centred at "
+         << " mm^3 at or above " << metalHU << " HU, centred at "
          << FormatPoint({at[0], at[1], at[2]}) << ", is not bone and is left out";
       seg.warnings.push_back(os.str());
     }
@@ -237,7 +243,7 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt,
   fillOpt.closingRadiusVoxels = opt.closingRadiusVoxels;
   fillOpt.maxHoleVolumeMm3 = opt.maxHoleVolumeMm3;
   fillOpt.holeMinMeanHU = opt.holeMinMeanHU;
-  fillOpt.holeMaxMeanHU = opt.metalHU;
+  fillOpt.holeMaxMeanHU = metalHU;
   // Every bone kept (the plan's joint search): the fill must not join the humeral head to the
   // glenoid across a joint space the closing encloses.
   fillOpt.keepBonesApart = opt.keepAllComponents && !opt.seedMm;
@@ -286,7 +292,7 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt,
       for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) {
           int64_t v = idx(i, j, k);
-          if (!band[size_t(v)] || M[v] == 2 || H[v] >= opt.metalHU)
+          if (!band[size_t(v)] || M[v] == 2 || H[v] >= metalHU)
             continue;
           double softSum = 0, softN = 0, boneMax = -1e30, near3Bone = -1e30, near3Soft = 0,
                  near3SoftN = 0;
@@ -303,12 +309,12 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt,
                 bool pure = !band[size_t(w)];
                 if (pure && in)
                   boneMax = std::max(boneMax, double(H[w]));
-                if (pure && !in && H[w] < opt.metalHU)
+                if (pure && !in && H[w] < metalHU)
                   softSum += H[w], softN += 1;
                 if (std::abs(di) <= 1 && std::abs(dj) <= 1 && std::abs(dk) <= 1) {
                   if (in)
                     near3Bone = std::max(near3Bone, double(H[w]));
-                  else if (H[w] < opt.metalHU)
+                  else if (H[w] < metalHU)
                     near3Soft += H[w], near3SoftN += 1;
                 }
               }

@@ -68,7 +68,8 @@ struct SegmentationOptions {
   /// Metal (implants, screws): voxels at or above this, HU, are not bone, are not filled back
   /// as a cavity, and are named in the warnings with their volume and place. Default 2500 HU
   /// (cortical bone stays below about 2000 HU; titanium and steel reach 3000 and saturate the
-  /// scanner's range). Raw values (not HU): off (+infinity).
+  /// scanner's range). Raw values (not HU): off (+infinity); off too when the bone threshold is
+  /// at or above it.
   float metalHU = 2500.0f;
 };
 
