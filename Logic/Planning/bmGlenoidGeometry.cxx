@@ -148,14 +148,18 @@ std::pair<double, double> RimExtents(const std::vector<Vec3>& rim, const Vec3& c
                                      const Vec3& n, const Vec3& up) {
   Vec3 eu = AddScaled(up, n, -Dot(up, n));
   eu = Norm(eu) > 1e-6 ? Normalized(eu) : Normalized(Cross(n, Vec3{1, 0, 0}));
-  const Vec3 ev = Cross(n, eu);
-  double u0 = 1e30, u1 = -1e30, v0 = 1e30, v1 = -1e30;
-  for (const auto& p : rim) {
-    const Vec3 d = Sub(p, centre);
-    u0 = std::min(u0, Dot(d, eu)), u1 = std::max(u1, Dot(d, eu));
-    v0 = std::min(v0, Dot(d, ev)), v1 = std::max(v1, Dot(d, ev));
+  return ExtentsAlong(rim, centre, eu, Cross(n, eu));
+}
+
+std::pair<double, double> ExtentsAlong(const std::vector<Vec3>& points, const Vec3& origin,
+                                       const Vec3& a1, const Vec3& a2) {
+  double lo1 = 1e30, hi1 = -1e30, lo2 = 1e30, hi2 = -1e30;
+  for (const auto& p : points) {
+    const Vec3 d = Sub(p, origin);
+    lo1 = std::min(lo1, Dot(d, a1)), hi1 = std::max(hi1, Dot(d, a1));
+    lo2 = std::min(lo2, Dot(d, a2)), hi2 = std::max(hi2, Dot(d, a2));
   }
-  return {u1 - u0, v1 - v0};
+  return {hi1 - lo1, hi2 - lo2};
 }
 
 ScapularFrame MakeScapularFrame(const Vec3& g, const Vec3& t, const Vec3& i) {

@@ -46,6 +46,10 @@ std::vector<Vec3> SupportRim(const std::vector<Vec3>& points, const Vec3& centre
 /// support directions sample each part of the rim). Needs >= 3 rim points.
 PlaneFit FitRimPlane(const std::vector<Vec3>& rim, int samples = 360);
 
+/// Extents (mm) of points along two directions: {max - min of (p - origin).a1, ... .a2}.
+std::pair<double, double> ExtentsAlong(const std::vector<Vec3>& points, const Vec3& origin,
+                                       const Vec3& a1, const Vec3& a2);
+
 /// The rim's extents, mm: {height along `up` projected on the plane normal to n (any axis
 /// across n when up is parallel to it), width across that}, measured from `centre`.
 std::pair<double, double> RimExtents(const std::vector<Vec3>& rim, const Vec3& centre,

@@ -43,14 +43,7 @@ std::pair<double, double> InPlaneExtents(const std::vector<Vec3>& pts, const Vec
   }
   const double ang = 0.5 * std::atan2(2 * sxy, sxx - syy);
   const Vec3 a1 = Add(Scale(e1, std::cos(ang)), Scale(e2, std::sin(ang)));
-  const Vec3 a2 = Cross(n, a1);
-  double lo1 = 1e30, hi1 = -1e30, lo2 = 1e30, hi2 = -1e30;
-  for (const auto& p : pts) {
-    const Vec3 d = Sub(p, mean);
-    lo1 = std::min(lo1, Dot(d, a1)), hi1 = std::max(hi1, Dot(d, a1));
-    lo2 = std::min(lo2, Dot(d, a2)), hi2 = std::max(hi2, Dot(d, a2));
-  }
-  const double x = hi1 - lo1, y = hi2 - lo2;
+  const auto [x, y] = ExtentsAlong(pts, mean, a1, Cross(n, a1));
   return {std::max(x, y), std::min(x, y)};
 }
 

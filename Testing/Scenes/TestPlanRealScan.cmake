@@ -12,15 +12,8 @@
 #  - with the humeral head 1 mm from the glenoid (joined at this resolution), a plan whose reamer
 #    would start inside the head is refused with the reason.
 #   cmake -DBMSIM=... -DWORK_DIR=... -P TestPlanRealScan.cmake
-foreach(v BMSIM WORK_DIR)
-  if(NOT DEFINED ${v})
-    message(FATAL_ERROR "TestPlanRealScan.cmake needs -D${v}=")
-  endif()
-endforeach()
 include(${CMAKE_CURRENT_LIST_DIR}/bmPlanChecks.cmake)
-set(dir "${WORK_DIR}")
-file(REMOVE_RECURSE "${dir}")
-file(MAKE_DIRECTORY "${dir}")
+plan_test_setup(TestPlanRealScan.cmake)
 
 
 run("${BMSIM}" phantom scapula --window 400,2000 --pixel-mm 1.4 --slice-mm 2.5 --quiet

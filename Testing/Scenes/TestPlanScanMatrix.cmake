@@ -11,15 +11,8 @@
 #    version: the 1 deg the clinical target asks is not yet met through the CT path at every
 #    spacing; Docs/Planning.md).
 #   cmake -DBMSIM=... -DWORK_DIR=... -P TestPlanScanMatrix.cmake
-foreach(v BMSIM WORK_DIR)
-  if(NOT DEFINED ${v})
-    message(FATAL_ERROR "TestPlanScanMatrix.cmake needs -D${v}=")
-  endif()
-endforeach()
 include(${CMAKE_CURRENT_LIST_DIR}/bmPlanChecks.cmake)
-set(dir "${WORK_DIR}")
-file(REMOVE_RECURSE "${dir}")
-file(MAKE_DIRECTORY "${dir}")
+plan_test_setup(TestPlanScanMatrix.cmake)
 
 # plan_case(NAME DEG MM PHANTOM_ARGS... [PLAN ARGS...]): phantom, plan with the window's mapping,
 # check against truth.json.

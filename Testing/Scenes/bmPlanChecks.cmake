@@ -1,6 +1,18 @@
 # bmPlanChecks.cmake - helpers of the plan tests on generated scans (TestPlanRealScan.cmake,
 # TestPlanScanMatrix.cmake).
 
+# plan_test_setup(SCRIPT): BMSIM and WORK_DIR must be given (-D); `dir` is WORK_DIR, made empty.
+macro(plan_test_setup script)
+  foreach(v BMSIM WORK_DIR)
+    if(NOT DEFINED ${v})
+      message(FATAL_ERROR "${script} needs -D${v}=")
+    endif()
+  endforeach()
+  set(dir "${WORK_DIR}")
+  file(REMOVE_RECURSE "${dir}")
+  file(MAKE_DIRECTORY "${dir}")
+endmacro()
+
 # run(COMMAND...): runs it; rc, out and err are set in the caller.
 function(run)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
