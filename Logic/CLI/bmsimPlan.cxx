@@ -23,6 +23,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -61,26 +62,30 @@ std::string Na(double v, const char* unit) {
 
 namespace bm::cli {
 
-/// With no side named and both shoulders in the scan, the user must choose: detection on each
-/// side; when both find a glenoid, the plan stops (NoGlenoidFound: the report) naming both.
-static void RequireOneShoulder(const SegmentedBone& bone, const LandmarkOverrides& ov,
-                               const DetectionOptions& detect) {
-  std::optional<Vec3> found[2];
+/// The landmarks with no side named: detection on each side. Both found: the plan stops
+/// (NoGlenoidFound: the report) naming both; one found: its landmarks; none: the detection on
+/// either side, whose failure names every rejected pair.
+static GlenoidLandmarks DetectOneShoulder(const SegmentedBone& bone, const LandmarkOverrides& ov,
+                                          const DetectionOptions& detect) {
+  std::optional<GlenoidLandmarks> found[2];
   const ShoulderSide sides[2] = {ShoulderSide::Left, ShoulderSide::Right};
   for (int i = 0; i < 2; ++i) {
     DetectionOptions d = detect;
     d.side = sides[i];
     try {
-      found[i] = DetectLandmarks(bone, ov, d).glenoidCentre;
+      found[i] = DetectLandmarks(bone, ov, d);
     } catch (const NoGlenoidFound&) {
     }
   }
-  if (found[0] && found[1])
-    throw NoGlenoidFound("both shoulders are in the scan (a left glenoid at (" +
-                         Fx((*found[0])[0]) + ", " + Fx((*found[0])[1]) + ", " +
-                         Fx((*found[0])[2]) + ") mm, a right one at (" + Fx((*found[1])[0]) + ", " +
-                         Fx((*found[1])[1]) + ", " + Fx((*found[1])[2]) +
-                         ") mm): choose one with --side left|right");
+  if (found[0] && found[1]) {
+    const Vec3 &l = found[0]->glenoidCentre, &r = found[1]->glenoidCentre;
+    throw NoGlenoidFound("both shoulders are in the scan (a left glenoid at (" + Fx(l[0]) + ", " +
+                         Fx(l[1]) + ", " + Fx(l[2]) + ") mm, a right one at (" + Fx(r[0]) + ", " +
+                         Fx(r[1]) + ", " + Fx(r[2]) + ") mm): choose one with --side left|right");
+  }
+  if (found[0] || found[1])
+    return found[0] ? *found[0] : *found[1];
+  return DetectLandmarks(bone, ov, detect);
 }
 
 ProgressFn TerminalProgress(bool quiet); // bmsimImport.cxx
@@ -105,11 +110,6 @@ int ScapulaPhantomCommand(const ParsedArgs& p) {
     sp.rightSide = false;
     sp.glenoidCentreMm[0] = -sp.glenoidCentreMm[0];
   }
-  // Both shoulders: the left is the right's mirror image in x (the patient's midline at x = 0),
-  // turned by the same rotation about its own glenoid centre.
-  ScapulaPhantomParams leftParams = sp;
-  leftParams.rightSide = false;
-  leftParams.glenoidCentreMm[0] = -sp.glenoidCentreMm[0];
   PhantomCTOptions ct = ScapulaCTDefaults();
   ct.noiseHU = p.GetDouble("noise", 0, 1000).value_or(ct.noiseHU);
   ct.inPlaneSpacingMm = p.GetDouble("pixel-mm", 0.3, 3).value_or(ct.inPlaneSpacingMm);
@@ -129,9 +129,15 @@ int ScapulaPhantomCommand(const ParsedArgs& p) {
   const std::string out = p.Get("out", "");
   RequireEmptyOut(out);
   const ScapulaPhantom ph(sp);
+  // Both shoulders: the left is the right's mirror image in x (the patient's midline at x = 0),
+  // turned by the same rotation about its own glenoid centre.
   std::optional<ScapulaPhantom> left;
-  if (both)
+  if (both) {
+    ScapulaPhantomParams leftParams = sp;
+    leftParams.rightSide = false;
+    leftParams.glenoidCentreMm[0] = -sp.glenoidCentreMm[0];
     left.emplace(leftParams);
+  }
   const bool quiet = p.Has("quiet");
   std::string wrote = out;
   if (window || both) {
@@ -166,6 +172,8 @@ int ScapulaPhantomCommand(const ParsedArgs& p) {
   }
   if (!quiet && isatty(2))
     std::fprintf(stderr, "\n");
+  const std::array<double, 2> mapping =
+      window ? WindowToHUMapping((*window)[0], (*window)[1]) : std::array<double, 2>{1, 0};
   const ScapulaTruth& t = ph.Truth();
   const auto& c = t.glenoidCentre;
   const auto& n = t.faceNormal;
@@ -175,9 +183,8 @@ int ScapulaPhantomCommand(const ParsedArgs& p) {
                                : "left shoulder")
             << ", "
             << (window ? "8-bit window " + Fx((*window)[0], 0) + " / " + Fx((*window)[1], 0) +
-                             " HU: read it with --hu-mapping " +
-                             Fx(WindowToHUMapping((*window)[0], (*window)[1])[0], 6) + "," +
-                             Fx(WindowToHUMapping((*window)[0], (*window)[1])[1], 1)
+                             " HU: read it with --hu-mapping " + Fx(mapping[0], 6) + "," +
+                             Fx(mapping[1], 1)
                        : std::string("DICOM series, CT"))
             << ", " << Fx(ct.inPlaneSpacingMm, 2) << " mm pixels, " << Fx(ct.sliceSpacingMm, 2)
             << " mm slices)" << (sp.wearDepthMm > 0 ? ", B2 posterior wear" : "")
@@ -375,8 +382,9 @@ static int PlanCommand(const ParsedArgs& p) {
   GlenoidPlan plan;
   try {
     if (side == ShoulderSide::Any && !(ov.glenoidCentre && ov.faceNormal) && ov.rimPoints.empty())
-      RequireOneShoulder(bone, ov, detect);
-    L = DetectLandmarks(bone, ov, detect);
+      L = DetectOneShoulder(bone, ov, detect);
+    else
+      L = DetectLandmarks(bone, ov, detect);
     m = MeasureGlenoid(L);
     plan = MakeGlenoidPlan(L, m, po);
     try {

@@ -128,7 +128,7 @@ Joint FindJoint(const SegmentedBone& bone, const DetectionOptions& opt) {
              ", is outside a glenoid's 15-100 mm");
       continue;
     }
-    const Vec3 c0 = Mean(patch);
+    const Vec3& c0 = at;
     const Vec3 nApprox = Normalized(Sub(fs.centre, c0));
     if (opt.side != ShoulderSide::Any && (nApprox[0] > 0) != (opt.side == ShoulderSide::Left)) {
       reject(std::string("it faces the patient's ") + (nApprox[0] > 0 ? "left" : "right") +

@@ -91,16 +91,11 @@ GlenoidPlan MakeGlenoidPlan(const GlenoidLandmarks& L, const GlenoidMeasurements
                          Fixed(m.heightMm) + " x " + Fixed(m.widthMm) + " mm glenoid by " +
                          Fixed(p.reamerOverhangApMm) + " mm anteriorly and posteriorly and " +
                          Fixed(p.reamerOverhangSiMm) + " mm superiorly and inferiorly");
-  if (p.correctionDeg > 15)
-    p.warnings.push_back("the correction (" + Fixed(p.correctionDeg) +
-                         " deg) exceeds 15 deg: reaming alone removes much bone from the "
-                         "face's high side and medialises the joint line; consider an augmented "
-                         "implant");
   // Plausibility: arthritic glenoids lie within about -30..+15 deg of version and -15..+30 deg
   // of inclination (Docs/Planning.md); beyond +-30 deg a landmark is more likely misplaced.
-  auto flag = [&](const std::string& what) {
+  auto flag = [&](const std::string& what, const std::string& advice = "") {
     p.implausible.push_back(what);
-    p.warnings.push_back("check the landmarks: " + what);
+    p.warnings.push_back("check the landmarks: " + what + advice);
   };
   if (std::abs(m.version3DDeg) > 30)
     flag("3D version " + Fixed(m.version3DDeg) + " deg is beyond +-30 deg");
@@ -109,7 +104,9 @@ GlenoidPlan MakeGlenoidPlan(const GlenoidLandmarks& L, const GlenoidMeasurements
   if (std::abs(m.inclinationDeg) > 30)
     flag("inclination " + Fixed(m.inclinationDeg) + " deg is beyond +-30 deg");
   if (p.correctionDeg > 15)
-    flag("the correction of " + Fixed(p.correctionDeg) + " deg is beyond 15 deg");
+    flag("the correction of " + Fixed(p.correctionDeg) + " deg is beyond 15 deg",
+         "; if it is real, reaming alone removes much bone from the face's high side and "
+         "medialises the joint line: consider an augmented implant");
   return p;
 }
 
