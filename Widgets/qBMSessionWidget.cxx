@@ -123,9 +123,10 @@ void qBMSessionWidgetPrivate::initDevice() {
                    [this](const QString& status) { this->showTouchStatus(status); });
   this->Probe->start();
 
-  this->ForceScaleSpinBox->setRange(bm::PanelLogic::MinForceScale(),
-                                    bm::PanelLogic::MaxForceScale());
+  // 0 reads "per tool": the session takes the tool's (a firm push feeds it at a surgeon's pace).
+  this->ForceScaleSpinBox->setRange(0.0, bm::PanelLogic::MaxForceScale());
   this->ForceScaleSpinBox->setDecimals(3);
+  this->ForceScaleSpinBox->setSpecialValueText(qBMSessionWidget::tr("per tool"));
   this->ForceScaleSpinBox->setValue(bm::PanelLogic::DefaultForceScale());
   this->ToolDepthSpinBox->setRange(-20.0, 20.0);
   this->ToolDepthSpinBox->setSingleStep(0.1);
@@ -343,9 +344,10 @@ void qBMSessionWidget::setVolumeRendering(bool on) {
 }
 
 void qBMSessionWidget::setSessionNumbers(double timeS, double depthMm, double removedMm3,
-                                         double thrustN, double torqueNmm, double frameP99Ms) {
+                                         double thrustN, double torqueNmm, double frameP99Ms,
+                                         double forceScale) {
   Q_D(qBMSessionWidget);
-  d->SessionNumbersLabel->setText(
+  QString text =
       tr("t %1 s, depth %2 mm, removed %3 mm^3\nthrust %4 N, torque %5 N mm, haptic frame p99 "
          "%6 ms")
           .arg(timeS, 0, 'f', 2)
@@ -353,7 +355,10 @@ void qBMSessionWidget::setSessionNumbers(double timeS, double depthMm, double re
           .arg(removedMm3, 0, 'f', 1)
           .arg(thrustN, 0, 'f', 1)
           .arg(torqueNmm, 0, 'f', 0)
-          .arg(frameP99Ms, 0, 'f', 2));
+          .arg(frameP99Ms, 0, 'f', 2);
+  if (forceScale > 0)
+    text += tr(", force scale %1").arg(forceScale, 0, 'g', 3);
+  d->SessionNumbersLabel->setText(text);
 }
 
 void qBMSessionWidget::setSessionState(bm::SessionState state, const QString& pauseReason) {

@@ -43,8 +43,8 @@ public:
   /// Session device, a vtkBMSessionSource::DeviceTypes value (0 scripted, 1 mouse proxy,
   /// 2 Touch). Default 0.
   int deviceType() const;
-  /// Force scale, tool N per device N (a Touch session). Default bm::kDefaultSessionForceScale
-  /// (50), range [0.001, 1000].
+  /// Force scale, tool N per device N (a Touch session). Default 0, shown as "per tool": the
+  /// tool's (bm::SessionForceScale); else in [0.001, 1000].
   double forceScale() const;
   /// Mouse proxy depth below the entry point, mm. Default -2, range [-20, 20].
   double toolDepth() const;
@@ -84,9 +84,10 @@ public Q_SLOTS:
   void setStartFromBoneFile(bool start);
   void setVolumeRendering(bool on);
   /// Show the running session's numbers: time (s), depth (mm), removed volume (mm^3), thrust (N),
-  /// torque (N mm), frame time p99 (ms).
+  /// torque (N mm), frame time p99 (ms) and the force scale in use (tool N per device N; 0: not
+  /// shown).
   void setSessionNumbers(double timeS, double depthMm, double removedMm3, double thrustN,
-                         double torqueNmm, double frameP99Ms);
+                         double torqueNmm, double frameP99Ms, double forceScale = 0);
   /// Show a one-line session status, and whether a session is running (enables the buttons).
   void setSessionStatus(const QString& message, bool running);
   /// Shows (true) or hides the busy indicator with `message` as the status while a session is

@@ -409,7 +409,7 @@ struct SessionRun {
   std::string engine;     ///< the engine that ran it (bm::Engine::Name())
 };
 
-/// The scripted hand pushes pushN (N, at the device, scaled by the session's default force scale)
+/// The scripted hand pushes pushN (N, at the device, scaled by the tool's force scale)
 /// along -axis from the scene's clearance above its entry point; the session runs `seconds` (s)
 /// of frames; candidates: the incremental path (the proxy's contact candidates and the engine's
 /// incremental pass) or the full pass (every contact query scans the shell, the engine visits
@@ -418,7 +418,7 @@ struct SessionRun {
 SessionRun RunHandSession(const bm::Scene& scene, bool choose, bool candidates, double pushN,
                           double tremorN, double seconds, bool realTime, double viewIntervalMs,
                           int64_t checksumFrames, const std::string& clDevice) {
-  // A hand on a Touch pushing through the session's default force scale, counting its overruns.
+  // A hand on a Touch pushing through the tool's force scale, counting its overruns.
   bm::SessionRequest req;
   req.mode = bm::ScriptMode::Hand;
   req.appliedForceN = pushN;
@@ -571,7 +571,7 @@ int SessionBench(const bm::cli::ParsedArgs& p) {
       std::cout << "voxmap " << scene.voxmapResolution << ", shell " << scene.shellResolution
                 << ", " << scene.threads << " engine threads";
     std::cout << "): scripted hand pushing " << push << " N (force scale "
-              << bm::kDefaultSessionForceScale << ") with " << tremor << " N of lateral tremor, "
+              << "the tool's, bm::SessionForceScale) with " << tremor << " N of lateral tremor, "
               << seconds << " s at " << 1.0 / scene.trial.frameS << " Hz"
               << (realTime ? "" : " (frames back to back)") << "; machine: " << machine << "\n";
     for (int run = 1; run <= repeats; ++run)
@@ -685,7 +685,7 @@ void BenchOptions(bm::cli::ParsedArgs& p) {
             "--session: seconds of session time of the full pass (default: --seconds)")
       .Real("push", 0.01, bm::DeviceLimits().maxForceN, "N",
             "--session: the hand's steady push at the device, N (default 2.5), rising over 0.5 "
-            "s; the tool gets the session's default force scale times it")
+            "s; the tool gets the tool's force scale times it")
       .Real("tremor", 0, bm::DeviceLimits().maxForceN, "N",
             "--session: lateral tremor, N (default 0.1)")
       .Flag("back-to-back", "--session: no sleeping between frames")

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "bmAtomicFile.h"
+#include "bmBreakthrough.h"
 #include "bmsimCommand.h"
 #include "bmsimProgressBar.h"
 #include "bmEdgeQuadrature.h"
@@ -44,8 +45,11 @@ void SessionRunOptions(ParsedArgs& p) {
             "force and hand modes: the push along the feed at the device, N, at most the "
             "Touch's " +
                 maxForce + " N (default 2.5)")
-      .Real("force-scale", 1e-3, kMaxForceScale, "S", "tool force = S x device force (default 50)")
+      .Real("force-scale", 1e-3, kMaxForceScale, "S",
+            "tool force = S x device force (default: the tool's, a 2.5 N push at a surgeon's feed)")
       .Int("seed", 0, 1000000000, "hand mode: tremor seed (default 1)")
+      .Flag("trained-hand", "force and hand modes: the hand stops pushing at breakthrough, after "
+                            "a 0.1 s reaction (default: it pushes on)")
       .Value("trajectory", "FILE", "trajectory mode: time_s,x_mm,y_mm,z_mm[,qw,qx,qy,qz] rows")
       .Real("duration", 0.001, 3600, "S",
             "seconds of session time (default: feed mode the trial's depth, force and hand "
@@ -160,8 +164,7 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
              : mode == "force" ? ScriptMode::Force
              : mode == "hand"  ? ScriptMode::Hand
                                : ScriptMode::Trajectory;
-  req.forceScale =
-      args.GetDouble("force-scale", 1e-3, kMaxForceScale).value_or(kDefaultSessionForceScale);
+  req.forceScale = args.GetDouble("force-scale", 1e-3, kMaxForceScale).value_or(0.0);
   try {
     req.contact = ContactMethodFromString(args.Get("contact", "cutting"));
     req.rendering = RenderingFromString(args.Get("rendering", "coupled"));
@@ -180,6 +183,9 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
   req.appliedForceN = args.GetDouble("force", 0.0, nominal.maxForceN).value_or(2.5);
   if (auto seed = args.GetInt("seed", 0, 1000000000))
     req.handSeed = uint64_t(*seed);
+  req.stopAtBreakthrough = args.Has("trained-hand");
+  if (req.stopAtBreakthrough && mode != "force" && mode != "hand")
+    throw UsageError("--trained-hand needs --mode force or hand (a hand that pushes)");
   // A hand on a Touch holds it for 10 s unless told otherwise; scripted runs last the device's
   // own time (bmSessionBuilder.h).
   req.durationS = args.GetDouble("duration", 0.001, 3600)
@@ -274,8 +280,21 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
                         Eigen::Vector3d(frames.back().proxyPos[0], frames.back().proxyPos[1],
                                         frames.back().proxyPos[2]),
                         setup.ToolRotation());
+  // The breakthrough plunge, where the tool went through (a drill past the far cortex).
+  const Breakthrough through = MeasureBreakthrough(frames, [&](const FrameRecord& f) {
+    return ToolDepthMm(setup, Eigen::Vector3d(f.proxyPos[0], f.proxyPos[1], f.proxyPos[2]),
+                       ToolRotationFromQuaternion(f.deviceQuat));
+  });
+  nlohmann::json breakthrough = nullptr;
+  if (through.found)
+    breakthrough = {{"time_s", through.timeS},
+                    {"depth_mm", through.depthMm},
+                    {"plunge_mm", through.plungeMm},
+                    {"stopped", through.stopped},
+                    {"stop_after_s", through.stopS}};
   nlohmann::json s = {
       {"scene", scene.name},
+      {"trained_hand", req.stopAtBreakthrough},
       {"device", deviceName},
       {"mode", mode},
       {"applied_force_N", mode == "force" || mode == "hand" ? req.appliedForceN : 0.0},
@@ -304,6 +323,7 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
       {"removed_volume_mm3", last.removedVolumeMm3},
       {"removed_voxels", last.removedVoxels},
       {"final_depth_mm", depth},
+      {"breakthrough", breakthrough},
       {"dropped_records", last.droppedRecords},
       {"voxmap_resolution", used.voxmapResolution},
       {"shell_resolution", used.shellResolution},
@@ -327,8 +347,15 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
             << "  thrust " << s["thrust_N"]["mean"].get<double>() << " N, torque "
             << s["torque_Nmm"]["mean"].get<double>() << " N mm, feed "
             << s["feed_mm_per_rev"]["mean"].get<double>() << " mm/rev, depth " << depth << " mm\n"
-            << "  pause reason: " << ToString(last.pauseReason) << "\n"
-            << "wrote " << outDir << "/session.csv and " << outDir << "/summary.json"
+            << "  pause reason: " << ToString(last.pauseReason) << "\n";
+  if (through.found) {
+    std::cout << "  breakthrough at " << through.timeS << " s, " << through.depthMm
+              << " mm deep: plunge " << (through.stopped ? "" : "at least ") << through.plungeMm
+              << " mm"
+              << (through.stopped ? ", the hand stopped it after " : ", still moving after ")
+              << through.stopS << " s\n";
+  }
+  std::cout << "wrote " << outDir << "/session.csv and " << outDir << "/summary.json"
             << (record ? " and " + *record : std::string()) << "\n";
   return last.pauseReason == PauseReason::Finished ? 0 : 1;
 }

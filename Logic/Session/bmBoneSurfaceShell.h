@@ -94,8 +94,10 @@ private:
   Voxmap& Bone_;
   std::vector<SurfacePoint> Points_;
   std::vector<int32_t> Free_;
-  std::vector<int32_t> PointOf_;              // per voxel: point slot or -1
-  std::vector<uint8_t> Known_;                // per voxel: 1 = the shell knows it as bone
+  std::vector<int32_t> PointOf_; // per voxel: point slot or -1
+  std::vector<uint8_t> Known_;   // per voxel: kKnown = the shell knows it as bone (| kTouched: a
+                                 // flood has it to refresh)
+  static constexpr uint8_t kKnown = 1, kTouched = 2;
   std::vector<std::vector<int32_t>> Buckets_; // per brick: point slots
   std::vector<uint64_t> Stamps_;              // per brick: Generation_ of its last change
   std::vector<int32_t> SeenCounts_;           // per brick: BrickCount when Sync last read it

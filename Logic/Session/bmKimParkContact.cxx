@@ -21,6 +21,12 @@ void KimParkContact::ToolBox(const Eigen::Matrix3d& R, const Eigen::Vector3d& p,
   hi = wc + we;
 }
 
+void KimParkContact::SetDepthCap(double capMm, double sliverFraction) {
+  Cap_ = capMm > 0 ? capMm : std::numeric_limits<double>::infinity();
+  Sliver_ = std::clamp(sliverFraction, 1e-6, 1.0);
+  SetCandidateRadius(Radius_);
+}
+
 void KimParkContact::SetCandidateRadius(double radiusMm) {
   Radius_ = radiusMm > 0 ? radiusMm : 0.0;
   HaveCandidates_ = false;
@@ -29,6 +35,7 @@ void KimParkContact::SetCandidateRadius(double radiusMm) {
     set = CandidateSet{};
   Candidates_.clear();
   Keys_.clear();
+  Deep_.clear();
   Groups_.clear();
 }
 
@@ -42,6 +49,7 @@ bool KimParkContact::Covers(const Eigen::Matrix3d& R, const Eigen::Vector3d& p) 
 void KimParkContact::SwapSet(CandidateSet& s) const {
   Candidates_.swap(s.candidates);
   Keys_.swap(s.keys);
+  Deep_.swap(s.deep);
   AnchorIds_.swap(s.anchorIds);
   Anchors_.swap(s.anchors);
   Groups_.swap(s.groups);
@@ -117,9 +125,13 @@ void KimParkContact::GatherBrick(int bi, int bj, int bk, const Eigen::Matrix3d& 
       d0 = Sdf_.Value(q);
       if (d0 >= L * rho + eps)
         continue; // stays outside the tool at every covered pose
+      if (d0 < -Cap_ - L * rho - eps && IsSliver(sp.voxel))
+        continue; // a sliver deeper than the cap at every covered pose (the grid's margin is
+                  // outside the tool, so the point stays in the grid there)
     }
-    Candidates_.push_back({sp.position, sp.normal, sp.material});
+    Candidates_.push_back({sp.position, sp.normal, sp.material, sp.voxel});
     Keys_.push_back(d0);
+    Deep_.push_back(0);
     AnchorIds_.push_back(anchorId);
     group.key = std::min(group.key, d0);
   }
@@ -134,6 +146,7 @@ void KimParkContact::Gather(const Eigen::Matrix3d& R, const Eigen::Vector3d& p) 
   ++Scans_;
   Candidates_.clear();
   Keys_.clear();
+  Deep_.clear();
   AnchorIds_.clear();
   Groups_.clear();
   LiveCandidates_ = 0;
@@ -201,7 +214,7 @@ void KimParkContact::ReAnchor(const Eigen::Matrix3d& Rt, const Eigen::Vector3d& 
   for (size_t k = 0; k < Anchors_.size(); ++k)
     Drops_[k] = L * (Rt * (p - Anchors_[k])).norm() + eps;
   for (size_t i = 0; i < Keys_.size(); ++i)
-    Keys_[i] -= Drops_[AnchorIds_[i]];
+    Keys_[i] += Deep_[i] ? Drops_[AnchorIds_[i]] : -Drops_[AnchorIds_[i]];
   std::fill(AnchorIds_.begin(), AnchorIds_.end(), uint8_t(0));
   Anchors_.assign(1, p);
 }
@@ -215,15 +228,18 @@ void KimParkContact::Compact() const {
   const size_t room = 2 * LiveCandidates_ + 8192;
   SpareCandidates_.clear();
   SpareKeys_.clear();
+  SpareDeep_.clear();
   SpareAnchorIds_.clear();
   SpareCandidates_.reserve(room);
   SpareKeys_.reserve(room);
+  SpareDeep_.reserve(room);
   SpareAnchorIds_.reserve(room);
   for (Group& grp : Groups_) {
     const uint32_t at = uint32_t(SpareCandidates_.size());
     SpareCandidates_.insert(SpareCandidates_.end(), Candidates_.begin() + grp.begin,
                             Candidates_.begin() + grp.end);
     SpareKeys_.insert(SpareKeys_.end(), Keys_.begin() + grp.begin, Keys_.begin() + grp.end);
+    SpareDeep_.insert(SpareDeep_.end(), Deep_.begin() + grp.begin, Deep_.begin() + grp.end);
     SpareAnchorIds_.insert(SpareAnchorIds_.end(), AnchorIds_.begin() + grp.begin,
                            AnchorIds_.begin() + grp.end);
     grp.end = at + (grp.end - grp.begin);
@@ -231,10 +247,12 @@ void KimParkContact::Compact() const {
   }
   Candidates_.swap(SpareCandidates_);
   Keys_.swap(SpareKeys_);
+  Deep_.swap(SpareDeep_);
   AnchorIds_.swap(SpareAnchorIds_);
   if (Candidates_.capacity() < room) { // the arrays in use get the same room
     Candidates_.reserve(room);
     Keys_.reserve(room);
+    Deep_.reserve(room);
     AnchorIds_.reserve(room);
   }
 }
@@ -251,7 +269,8 @@ ContactResult KimParkContact::Query(const Eigen::Matrix3d& R, const Eigen::Vecto
   Eigen::Matrix3d jacobianT = Eigen::Matrix3d::Zero(); // sum k_i N_i grad d_i^T, grad in T
   const double unknown = -std::numeric_limits<double>::infinity();
   // Adds the point's push; returns its distance (mm) where the field interpolated it, else -inf.
-  auto visit = [&](const Eigen::Vector3d& position, const Eigen::Vector3d& normal, float material) {
+  auto visit = [&](const Eigen::Vector3d& position, const Eigen::Vector3d& normal, float material,
+                   int64_t voxel) {
     const Eigen::Vector3d q = Rt * (position - p);
     if (q(0) < Sdf_.Lo()(0) || q(1) < Sdf_.Lo()(1) || q(2) < Sdf_.Lo()(2) || q(0) > Sdf_.Hi()(0) ||
         q(1) > Sdf_.Hi()(1) || q(2) > Sdf_.Hi()(2))
@@ -259,7 +278,7 @@ ContactResult KimParkContact::Query(const Eigen::Matrix3d& R, const Eigen::Vecto
     Eigen::Vector3d g;
     const double d = Sdf_.Sample(q, g);
     const double pen = -d - deadBandMm;
-    if (pen <= 0 || !Sdf_.InPart(q, part, rimBandMm))
+    if (pen <= 0 || (d < -Cap_ && IsSliver(voxel)) || !Sdf_.InPart(q, part, rimBandMm))
       return d == Sdf_.Far() ? unknown : d;
     const double k = kPoint * material;
     out.force += k * pen * normal;
@@ -296,27 +315,45 @@ ContactResult KimParkContact::Query(const Eigen::Matrix3d& R, const Eigen::Vecto
       if (grp.brick[0] < blo[0] || grp.brick[0] > bhi[0] || grp.brick[1] < blo[1] ||
           grp.brick[1] > bhi[1] || grp.brick[2] < blo[2] || grp.brick[2] > bhi[2])
         continue;
-      if (grp.key - (L * (Rt * (p - grp.anchor)).norm() + eps) >= skipFrom)
+      const double groupDrop = L * (Rt * (p - grp.anchor)).norm() + eps;
+      const double none = -std::numeric_limits<double>::infinity();
+      if (grp.key - groupDrop >= skipFrom &&
+          (grp.deepKey == none || grp.deepKey + groupDrop < -Cap_))
         continue;
       double key = std::numeric_limits<double>::infinity();
+      double deepKey = -std::numeric_limits<double>::infinity();
       for (uint32_t i = grp.begin; i < grp.end; ++i) {
-        const double bound = Keys_[i] - Drops_[AnchorIds_[i]];
-        if (bound >= skipFrom) {
-          key = std::min(key, bound);
-        } else {
-          const Candidate& c = Candidates_[i];
-          Keys_[i] = visit(c.position, c.normal, c.material);
-          AnchorIds_[i] = here;
-          key = std::min(key, Keys_[i]);
+        const double drop = Drops_[AnchorIds_[i]];
+        if (Deep_[i]) {
+          if (const double upper = Keys_[i] + drop; upper < -Cap_) {
+            deepKey = std::max(deepKey, upper);
+            continue;
+          }
+        } else if (const double lower = Keys_[i] - drop; lower >= skipFrom) {
+          key = std::min(key, lower);
+          continue;
         }
+        const Candidate& c = Candidates_[i];
+        const double d = visit(c.position, c.normal, c.material, c.voxel);
+        Keys_[i] = d;
+        AnchorIds_[i] = here;
+        // A deep sliver (-inf, no distance, is never one: it has no bound); fills only fall, so it
+        // stays a sliver.
+        Deep_[i] = d != none && d < -Cap_ && IsSliver(c.voxel);
+        if (Deep_[i])
+          deepKey = std::max(deepKey, d);
+        else
+          key = std::min(key, d);
       }
       grp.key = key;
+      grp.deepKey = deepKey;
       grp.anchor = p;
     }
   } else {
     ++Scans_;
-    Shell_.ForEachIn(lo, hi,
-                     [&](const SurfacePoint& sp) { visit(sp.position, sp.normal, sp.material); });
+    Shell_.ForEachIn(lo, hi, [&](const SurfacePoint& sp) {
+      visit(sp.position, sp.normal, sp.material, sp.voxel);
+    });
   }
   out.jacobian = jacobianT * Rt; // (R grad)^T = grad^T R^T: R applied once, not per point
   const double n = nsum.norm();

@@ -33,6 +33,19 @@
 // order; the other bricks' candidates and keys still hold. So a reaming frame, which changes a
 // few bricks at the tool's face, reads the few hundred points of those bricks instead of every
 // point under the tool (RefreshedBricks() counts them).
+// Slivers (SetDepthCap, the cutting method's): a point deeper than the cap inside the tool whose
+// voxel holds less than sliverFraction of bone does not push. It is bone the spinning tool's
+// envelope swept through and the engine's removal left: each element removes what it sweeps,
+// rounded down to whole fill units, so a voxel the tool passes over slowly keeps a sliver and
+// stays a surface point. At the drill's 0.02 mm voxels, 440 000 such points lay up to 1.2 mm
+// inside it, all under 10 % full beyond one voxel. They pushed 46 kN along the axis, which the
+// axial feed balance discards, and every query of the solve read them all. A fuller voxel that
+// deep is bone the tool was pushed into (a stiff arm can press a reamer three voxels into the
+// side of its cut): it pushes, so nothing tunnels. Fills only fall, so a sliver stays one. With
+// candidates, a sliver found deeper than the cap keeps an upper bound of its distance (its key
+// plus L times the tool's move since its anchor) and is not sampled while that bound stays below
+// the cap; a gather leaves out the slivers deeper than the cap at every covered pose. Same pushes,
+// same order, as a full scan (TestContactCandidates.cxx).
 // Several candidate sets are kept (kSets, the least recently used replaced): a proxy that moves
 // back and forth across the axis by more than rho from frame to frame (a reamer's lateral limit
 // cycle between its pilot-hole walls) finds the set gathered where it was a few frames before,
@@ -83,6 +96,11 @@ public:
                       ToolPart part = ToolPart::Whole, double rimBandMm = 0) const;
   /// Candidate radius rho (mm, >= 0; 0, the default: every query scans the shell under its box).
   void SetCandidateRadius(double radiusMm);
+  /// Depth cap (mm, > 0; default infinity: none) and sliver fraction (of a voxel's bone, in
+  /// (0, 1], default 0.25): slivers deeper than the cap inside the tool do not push (see above).
+  /// Drops the candidates.
+  void SetDepthCap(double capMm, double sliverFraction = 0.25);
+  double DepthCap() const { return Cap_; }
   double CandidateRadius() const { return Radius_; }
   /// Shell scans so far: full queries (no candidates) and candidate gathers; for benchmarks.
   int64_t Scans() const { return Scans_; }
@@ -100,14 +118,17 @@ private:
   struct Candidate {
     Eigen::Vector3d position, normal; // world mm, unit
     float material;
+    int64_t voxel; // the point's voxel (its fill tells a sliver)
   };
-  /// The candidates of one voxmap brick: [begin, end) of Candidates_; key = the least of their
-  /// keys.
+  /// The candidates of one voxmap brick: [begin, end) of Candidates_; key = the least of the
+  /// lower bounds of the candidates not known deeper than the cap, deepKey the greatest of the
+  /// upper bounds of those that are (-inf: none), both with the tool at `anchor`.
   struct Group {
     uint32_t begin = 0, end = 0;
     std::array<int, 3> brick{0, 0, 0};
-    Eigen::Vector3d anchor = Eigen::Vector3d::Zero(); // tool position its key holds for, mm
+    Eigen::Vector3d anchor = Eigen::Vector3d::Zero(); // tool position its keys hold for, mm
     double key = std::numeric_limits<double>::infinity();
+    double deepKey = -std::numeric_limits<double>::infinity();
   };
   /// Whether the candidates hold every point that can touch at (R, p).
   bool Covers(const Eigen::Matrix3d& R, const Eigen::Vector3d& p) const;
@@ -115,6 +136,7 @@ private:
   struct CandidateSet {
     std::vector<Candidate> candidates;
     std::vector<double> keys;
+    std::vector<uint8_t> deep;
     std::vector<uint8_t> anchorIds;
     std::vector<Eigen::Vector3d> anchors;
     std::vector<Group> groups;
@@ -139,7 +161,8 @@ private:
   /// After a change of the shell: gathers again the bricks whose points changed (at the gathering
   /// pose) and puts their groups back in brick order. Same candidates as a new Gather there.
   void Refresh() const;
-  /// Lowers every key to its bound with the tool at p (R^T = Rt) and anchors it there.
+  /// Moves every key to its bound with the tool at p (R^T = Rt) and anchors it there: lower
+  /// bounds down, the deep candidates' upper bounds up.
   void ReAnchor(const Eigen::Matrix3d& Rt, const Eigen::Vector3d& p) const;
   /// Drops the candidates of replaced groups from the arrays (keeps the groups' order).
   void Compact() const;
@@ -148,11 +171,17 @@ private:
   BoneSurfaceShell& Shell_;
   double KA_;
   double Radius_ = 0;
+  double Cap_ = std::numeric_limits<double>::infinity();
+  double Sliver_ = 0.25;
+  /// Whether the voxel holds less than the sliver fraction of bone.
+  bool IsSliver(int64_t voxel) const { return Shell_.Bone().Fraction(voxel) < Sliver_; }
   mutable std::vector<Candidate> Candidates_;
   static constexpr size_t kMaxAnchors = 255;
   /// Per candidate: a lower bound of its distance (mm) with the tool at its anchor (-inf: none),
-  /// and the anchor's index in Anchors_ (tool positions, world mm, of recent queries).
+  /// or, for a candidate found deeper than the cap (Deep_), an upper bound; and the anchor's
+  /// index in Anchors_ (tool positions, world mm, of recent queries).
   mutable std::vector<double> Keys_;
+  mutable std::vector<uint8_t> Deep_;
   mutable std::vector<uint8_t> AnchorIds_;
   mutable std::vector<Eigen::Vector3d> Anchors_;
   mutable std::vector<double> Drops_; // per anchor: L times the tool's move since, mm
@@ -167,6 +196,7 @@ private:
   // Compact's destination, swapped with the arrays in use (capacity kept).
   mutable std::vector<Candidate> SpareCandidates_;
   mutable std::vector<double> SpareKeys_;
+  mutable std::vector<uint8_t> SpareDeep_;
   mutable std::vector<uint8_t> SpareAnchorIds_;
   mutable int64_t RefreshedBricks_ = 0;
   static constexpr int kSets = 6; // candidate sets kept, the one in use included

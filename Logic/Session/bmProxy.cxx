@@ -46,6 +46,9 @@ Proxy::Proxy(MachiningSetup& setup, const DeviceLimits& limits, double frameS,
   Shell_ = std::make_unique<BoneSurfaceShell>(setup.Bone());
   Contact_ = std::make_unique<KimParkContact>(*Sdf_, *Shell_, o.contactStiffnessPerArea);
   Contact_->SetCandidateRadius(o.candidateRadiusVoxels * setup.Bone().Spacing());
+  if (o.method == ContactMethod::Cutting && o.rendering == Rendering::Coupled &&
+      o.contactDepthCapVoxels > 0)
+    Contact_->SetDepthCap(o.contactDepthCapVoxels * setup.Bone().Spacing());
 }
 
 Proxy::~Proxy() = default;
@@ -74,14 +77,25 @@ Eigen::Vector3d Proxy::Sweep(const Eigen::Vector3d& from, const Eigen::Vector3d&
     return to; // no bone anywhere near the path
   // A part's rim gets the lateral dead band: bone beside it is across the axis, not in front.
   const double rim = part == ToolPart::Whole ? 0.0 : O_.deadBandVoxels * Setup_.Bone().Spacing();
-  if (part != ToolPart::Whole && Contact_->Query(R, from, band, part, rim).points > 0)
+  if (part == ToolPart::NonCuttingLeading && Contact_->Query(R, from, band, part, rim).points > 0)
     return from; // a rigid part on bone goes no deeper
   const double step = O_.maxStepVoxels * Setup_.Bone().Spacing();
   const int n = std::max(1, int(std::ceil(L / step)));
-  for (int i = 1; i <= n; ++i) {
-    const Eigen::Vector3d q = from + d * (double(i) / n);
-    if (Contact_->Query(R, q, band, part, rim).points > 0)
-      return q; // first contact: at most one step deep
+  // In runs of kRun steps: a run whose part boxes hold no bone point is passed without a query
+  // (every query there would find none), so a tool falling through its own hole after
+  // breakthrough crosses the open space at once, not half a voxel per query.
+  constexpr int kRun = 16;
+  for (int first = 1; first <= n; first += kRun) {
+    const int last = std::min(n, first + kRun - 1);
+    Contact_->ToolBox(R, from + d * (double(first) / n), lo0, hi0, part);
+    Contact_->ToolBox(R, from + d * (double(last) / n), lo1, hi1, part);
+    if (Shell_->EmptyIn(lo0.cwiseMin(lo1), hi0.cwiseMax(hi1)))
+      continue;
+    for (int i = first; i <= last; ++i) {
+      const Eigen::Vector3d q = from + d * (double(i) / n);
+      if (Contact_->Query(R, q, band, part, rim).points > 0)
+        return q; // first contact: at most one step deep
+    }
   }
   return to;
 }
@@ -155,8 +169,8 @@ void Proxy::CuttingStep(const Eigen::Vector3d& xd, const Eigen::Vector3d& vd,
       p = P_ - Balance_.SolveAdvance(Fraction_, f0, Kc, n, T_,
                                      std::min(maxStep, O_.maxFeedMmPerRev * n * T_ / 60.0)) *
                    a;
-    else
-      p = Sweep(P_, P_ - (f0 / Kc) * a, R, 0.0);
+    else // free: the advance meets bone only with the surfaces that face the feed
+      p = Sweep(P_, P_ - (f0 / Kc) * a, R, 0.0, ToolPart::Leading);
     // Leading non-cutting surfaces are a rigid contact: the advance stops where they meet bone.
     p = Sweep(P_, p, R, 0.0, ToolPart::NonCuttingLeading);
     u = (P_ - p).dot(a);

@@ -9,7 +9,9 @@
 //    across the axis the bone is a rigid contact (Kim et al.'s point shell against the tool's
 //    distance field, with a dead band of ~1 voxel for the wall the engine is still thinning),
 //    solved with the axis held. Before any cutting element touches bone, the proxy moves freely
-//    toward the device but stops at first contact (swept in steps of at most half a voxel).
+//    toward the device but stops at first contact of a surface facing the feed (swept in steps
+//    of at most half a voxel; ToolPart::Leading): the flank of a drill in its own hole, beside the
+//    partial-volume wall, slides along it as it does while cutting.
 //    Non-cutting surfaces that lead the feed (a reamer's guide nipple; ToolPart::NonCuttingLeading)
 //    are a rigid contact along the axis too: the advance, cutting or free, stops at their first
 //    contact with bone and does not go deeper while they touch it, so the device's push is
@@ -69,6 +71,12 @@ struct ProxyOptions {
   /// contact queries where it took three, each over thousands of points in contact).
   double relaxToleranceMm = 1e-6;
   double deadBandVoxels = 1.0; ///< Cutting: lateral contact dead band, voxels
+  /// Cutting, coupled: points deeper than this inside the tool whose voxel holds less than a
+  /// quarter of its bone do not push (voxels, default 6: the dead band and five voxels; 0 = no
+  /// cap). They are slivers the spinning envelope swept through and the engine's removal left;
+  /// fuller voxels that deep still push, so nothing tunnels (KimParkContact::SetDepthCap,
+  /// Docs/Interaction.md).
+  double contactDepthCapVoxels = 6.0;
   /// Cutting: the largest feed the proxy cuts at, mm/rev (default 1.0, the top of the feed-balance
   /// table). It bounds the advance per frame to f n T / 60, so that a device far ahead of the proxy
   /// (a resume after a move, a mouse depth step) is followed over frames at a feed the force model
@@ -134,7 +142,9 @@ public:
 private:
   /// Moves from `from` toward `to` (world mm) in steps of at most maxStepVoxels and returns the
   /// first position where `part` of the tool touches bone beyond `band` (mm), or `to`. A part
-  /// other than the whole tool that already touches bone at `from` stays there (rigid).
+  /// other than the whole tool counts bone only inside its rim less the lateral dead band (bone
+  /// beside it is across the axis); the non-cutting leading part, already on bone at `from`,
+  /// stays there (rigid).
   Eigen::Vector3d Sweep(const Eigen::Vector3d& from, const Eigen::Vector3d& to,
                         const Eigen::Matrix3d& R, double band,
                         ToolPart part = ToolPart::Whole) const;

@@ -98,6 +98,10 @@ ScriptedDevice::ScriptedDevice(const ScriptedDeviceOptions& o) : O_(o) {
   }
   if (!(O_.massKg > 0))
     throw std::invalid_argument("scripted device: mass must be > 0");
+  if (!(O_.reactionS >= 0 && O_.reactionS <= 2))
+    throw std::invalid_argument("scripted device: the reaction time must be in [0, 2] s");
+  if (!(O_.holdDampingNsPerMm > 0 && O_.holdDampingNsPerMm <= 1))
+    throw std::invalid_argument("scripted device: the holding damping must be in (0, 1] N s/mm");
   if (O_.mode == ScriptMode::Force || O_.mode == ScriptMode::Hand) {
     if (!(O_.appliedForceN >= 0 && O_.appliedForceN <= O_.limits.maxForceN)) {
       std::ostringstream m;
@@ -170,9 +174,16 @@ DevicePose ScriptedDevice::PoseAt(double t) const {
   return p;
 }
 
+double ScriptedDevice::Release(double t) const {
+  constexpr double kLetGoS = 0.05; // the push falls to zero over this, s
+  if (FeltAt_ < 0 || t < FeltAt_ + O_.reactionS)
+    return 1.0;
+  return std::max(0.0, 1.0 - (t - FeltAt_ - O_.reactionS) / kLetGoS);
+}
+
 Eigen::Vector3d ScriptedDevice::HandForce(double t) const {
   if (O_.mode == ScriptMode::Force)
-    return -O_.axis * O_.appliedForceN;
+    return -O_.axis * O_.appliedForceN * Release(t);
   if (O_.mode != ScriptMode::Hand)
     return Eigen::Vector3d::Zero();
   auto sum = [t](const std::vector<Sine>& v) {
@@ -183,7 +194,7 @@ Eigen::Vector3d ScriptedDevice::HandForce(double t) const {
   };
   const double ramp =
       O_.handRampS > 0 && t < O_.handRampS ? 0.5 * (1 - std::cos(kPi * t / O_.handRampS)) : 1.0;
-  const double push = O_.appliedForceN * ramp * (1.0 + sum(Waver_));
+  const double push = O_.appliedForceN * ramp * (1.0 + sum(Waver_)) * Release(t);
   const Eigen::Vector3d f = -O_.axis * push + ramp * (U_ * sum(TremorU_) + V_ * sum(TremorV_));
   return VirtualCoupling::Clamp(f, O_.limits.maxForceN); // within the device's range
 }
@@ -192,8 +203,18 @@ void ScriptedDevice::Advance(double timeS, double dtS) {
   if (O_.mode == ScriptMode::Force || O_.mode == ScriptMode::Hand) {
     // Semi-implicit Euler: m dv/dt = F_applied + F_device - c v (N, kg, mm/s: 1 N/kg = 1000
     // mm/s^2).
+    if (O_.stopAtBreakthrough && FeltAt_ < 0) {
+      // The resistance the device renders along the axis (out of the bone): once it held half
+      // the push, its fall below half its peak is the breakthrough a trained hand feels.
+      const double resist = Force_.dot(O_.axis);
+      PeakResist_ = std::max(PeakResist_, resist);
+      if (PeakResist_ >= 0.5 * O_.appliedForceN && resist < 0.5 * PeakResist_)
+        FeltAt_ = timeS;
+    }
     const Eigen::Vector3d f = HandForce(timeS) + Force_;
-    const double m = O_.massKg, c = O_.dampingNsPerMm * 1000.0; // N s/m
+    const bool holding = FeltAt_ >= 0 && timeS >= FeltAt_ + O_.reactionS;
+    const double m = O_.massKg,
+                 c = (holding ? O_.holdDampingNsPerMm : O_.dampingNsPerMm) * 1000.0; // N s/m
     Velocity_ = (Velocity_ + dtS * 1000.0 * f / m) / (1.0 + dtS * c / m);
     Pose_.positionMm += Velocity_ * dtS;
     Pose_.rotation = O_.rotation;

@@ -16,6 +16,11 @@
 //    (std::mt19937_64), so a seed gives the same run every time; the total push never exceeds
 //    the device's maximum force.
 // Force and Hand modes take an applied force in [0, limits.maxForceN] (the device's range).
+// A trained hand (stopAtBreakthrough) stops pushing at breakthrough, as surgeons are trained to:
+// once the force the device renders along the axis, having held at least half the push, falls
+// below half of its peak so far (the far cortex giving way), the hand reacts after reactionS: its
+// push falls to zero over 50 ms and it holds (its damping rises to holdDampingNsPerMm). Without
+// it the hand keeps pushing through, and the session's runaway rule stops it.
 // Faults can be scripted for safety tests and fault drills: from `errorAtS` on Read reports an
 // error, from `silentAtS` on the device stops answering.
 //
@@ -59,6 +64,9 @@ struct ScriptedDeviceOptions {
   uint64_t handSeed = 1;         ///< Hand: seed of the tremor's and waver's frequencies and phases
   double massKg = 0.1;           ///< Force: moving mass, kg
   double dampingNsPerMm = 0.005; ///< Force: c, N s/mm (5 N s/m)
+  bool stopAtBreakthrough = false;  ///< Force, Hand: a trained hand's stop (above; default off)
+  double reactionS = 0.1;           ///< its reaction time, s (default 0.1, a trained hand's)
+  double holdDampingNsPerMm = 0.05; ///< its damping once it holds, N s/mm (default 50 N s/m)
   std::vector<TrajectorySample> trajectory; ///< Trajectory: samples, times increasing
   DeviceLimits limits;                      ///< nominal limits (default: the Touch)
   double errorAtS = -1;                     ///< >= 0: Read reports an error from then on
@@ -81,6 +89,8 @@ public:
   /// Hand mode: the hand's applied force at time t (s), device frame, N (Force mode: the constant
   /// push; other modes: zero).
   Eigen::Vector3d HandForce(double timeS) const;
+  /// A trained hand: when it felt the breakthrough (s; < 0: not yet).
+  double BreakthroughFeltAtS() const { return FeltAt_; }
 
 private:
   ScriptedDeviceOptions O_;
@@ -88,11 +98,15 @@ private:
   double Time_ = 0;
   Eigen::Vector3d Velocity_ = Eigen::Vector3d::Zero(); // Force mode, mm/s
   Eigen::Vector3d Force_ = Eigen::Vector3d::Zero();    // last written, N
+  double PeakResist_ = 0; // trained hand: the largest force rendered back along the axis, N
+  double FeltAt_ = -1;    // trained hand: when the resistance gave way, s
   std::string Error_;
   struct Sine {
     double amplitude, hz, phase; // N (or fraction), Hz, rad
   };
   std::vector<Sine> Waver_, TremorU_, TremorV_; // Hand mode, drawn from handSeed
+  /// The trained hand's push factor at time t (s): 1 until it reacts, then down to 0.
+  double Release(double timeS) const;
   Eigen::Vector3d U_ = Eigen::Vector3d::UnitX(), V_ = Eigen::Vector3d::UnitY(); // across axis
 };
 

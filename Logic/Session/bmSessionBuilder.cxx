@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "bmEdgeQuadrature.h"
+#include "bmFeedBalance.h"
 #include "bmToolModel.h"
 #include "bmTouchDevice.h"
 #include "bmVirtualCoupling.h"
@@ -77,6 +78,28 @@ DevicePose ToolPoseAtDepth(const MachiningSetup& setup, double depthMm) {
   return pose;
 }
 
+double SurgeonFeedMmPerRev(const ToolModel& tool, double speedRpm) {
+  if (!(speedRpm > 0))
+    throw std::invalid_argument("a surgeon's feed needs a positive spindle speed (rpm)");
+  const std::string kind = tool.Kind();
+  if (kind == "drill")
+    return 0.05;
+  const double mmPerS = kind == "reamer" ? 0.2 : 0.5;
+  return mmPerS * 60.0 / speedRpm;
+}
+
+double SessionForceScale(const MachiningSetup& setup) {
+  const double n = setup.GetScene().trial.speedRpm;
+  FeedBalance balance(setup.Tool(), setup.Model());
+  const double thrust = balance.FullThrust(SurgeonFeedMmPerRev(setup.Tool(), n), n);
+  double s = thrust / kFirmPushN;
+  if (!(s > 0))
+    return 1.0;
+  const double unit = std::pow(10.0, std::floor(std::log10(s))); // one significant figure
+  s = std::round(s / unit) * unit;
+  return std::clamp(s, 0.1, kMaxForceScale);
+}
+
 void ValidateSessionRequest(const SessionRequest& r) {
   const bool scripted = r.device == SessionDevice::Scripted;
   if (r.device == SessionDevice::Robot && r.mode != ScriptMode::Feed)
@@ -110,8 +133,8 @@ void ValidateSessionRequest(const SessionRequest& r) {
   const bool handHeld = r.device == SessionDevice::Touch ||
                         (scripted && (r.mode == ScriptMode::Force || r.mode == ScriptMode::Hand));
   if (handHeld) {
-    CouplingOptions co;
-    co.forceScale = r.forceScale != 0 ? r.forceScale : kDefaultSessionForceScale;
+    CouplingOptions co; // the check below does not depend on the scale: K and B scale together
+    co.forceScale = r.forceScale != 0 ? r.forceScale : 1.0;
     const double periodS = 1.0 / r.rateHz;
     const VirtualCoupling c(co, DeviceLimits(), periodS);
     if (!(c.Damping() > 0.5 * c.Stiffness() * periodS)) {
@@ -172,7 +195,7 @@ BuiltSession BuildSession(const Scene& scene, Voxmap bone, const SessionRequest&
   const bool positionSource = r.device == SessionDevice::Robot || r.device == SessionDevice::Mouse;
   o.proxy.coupling.forceScale = r.forceScale != 0 ? r.forceScale
                                 : positionSource  ? 1.0
-                                                  : kDefaultSessionForceScale;
+                                                  : SessionForceScale(setup);
   // The overrun pause protects a hand on a device; a scripted or robot run reports its overruns
   // instead, and frames back to back have no period to overrun.
   const bool hand = r.device == SessionDevice::Touch || r.device == SessionDevice::Mouse;
@@ -211,6 +234,7 @@ BuiltSession BuildSession(const Scene& scene, Voxmap bone, const SessionRequest&
     d.appliedForceN = r.appliedForceN;
     d.handTremorN = r.handTremorN;
     d.handSeed = r.handSeed;
+    d.stopAtBreakthrough = r.stopAtBreakthrough;
     d.trajectory = r.trajectory;
     if (positionSource)
       d.limits = PositionSourceLimits();

@@ -5,13 +5,13 @@
 // "Building a session").
 //
 // Devices:
-//  - Scripted: a simulated hand on a Touch (the Touch's limits, force scale
-//    kDefaultSessionForceScale): feed (prescribed feed and speed), force (a constant push), hand
+//  - Scripted: a simulated hand on a Touch (the Touch's limits, the tool's force scale,
+//    SessionForceScale): feed (prescribed feed and speed), force (a constant push), hand
 //    (a rising push with tremor) or trajectory (a recorded path) - bmScriptedDevice.h.
 //  - Robot: a robot arm feeding the tool along the trial at its feed and speed, a position source
 //    (PositionSourceLimits(), force scale 1).
 //  - Touch: a 3D Systems Touch through OpenHaptics (bmTouchDevice.h), its workspace centre 10 mm
-//    above the entry point along the axis, force scale kDefaultSessionForceScale.
+//    above the entry point along the axis, the tool's force scale (SessionForceScale).
 //  - Mouse: a programmable position source whose pose follows a depth (ToolPoseAtDepth), the
 //    panel's mouse proxy (PositionSourceLimits(), force scale 1).
 // Scripted and robot devices start with the tool's foremost cutting point the trial's clearance
@@ -47,16 +47,19 @@ struct SessionRequest {
   /// Scripted device's mode (default Feed); a robot always feeds.
   ScriptMode mode = ScriptMode::Feed;
   /// Scripted force and hand modes: the push along the feed at the device, N, in [0, the Touch's
-  /// maximum force] (default 2.5, a firm push on a Touch).
+  /// maximum force] (default kFirmPushN, 2.5).
   double appliedForceN = 2.5;
   /// Scripted hand mode: the lateral tremor's amplitude, N, in [0, the Touch's maximum force]
   /// (default 0.1), and its seed (default 1).
   double handTremorN = 0.1;
   uint64_t handSeed = 1;
+  /// Scripted force and hand modes: a trained hand that stops pushing at breakthrough
+  /// (ScriptedDeviceOptions::stopAtBreakthrough; default false: it pushes on).
+  bool stopAtBreakthrough = false;
   /// Scripted trajectory mode: the samples (bmScriptedDevice.h LoadTrajectoryCsv); required there.
   std::vector<TrajectorySample> trajectory;
   /// Tool force = forceScale x device force, in [1e-3, kMaxForceScale]; 0 (default): the
-  /// device's (scripted, touch: kDefaultSessionForceScale; robot, mouse: 1).
+  /// device's (scripted, touch: the tool's, SessionForceScale; robot, mouse: 1).
   double forceScale = 0;
   ContactMethod contact = ProxyOptions().method;  ///< default: the cutting contact
   Rendering rendering = ProxyOptions().rendering; ///< default: coupled
@@ -113,6 +116,21 @@ BuiltSession BuildSession(const Scene& scene, const SessionRequest& r,
                           const BoneProgress& progress = {});
 /// As above on a bone built by the caller.
 BuiltSession BuildSession(const Scene& scene, Voxmap bone, const SessionRequest& r);
+
+/// A firm push of a hand on the Touch, N (of its 3.3 N, leaving room for the lateral forces and
+/// the ripple): what the session's force scale is set for, and the scripted hand's default push.
+inline constexpr double kFirmPushN = 2.5;
+/// A careful surgeon's feed for the tool at speedRpm (rpm), mm/rev: a glenoid reamer 0.2 mm/s
+/// (2 mm reamed in about ten seconds), a twist drill 0.05 mm/rev (the middle of the 0.02-0.1
+/// mm/rev hand drilling at 1000 rpm), a burr 0.5 mm/s. Assumptions of a steady hand, not clinical
+/// measurements (Docs/Session.md, "Force scaling").
+double SurgeonFeedMmPerRev(const ToolModel& tool, double speedRpm);
+/// The force scale (tool N per device N) a hand on the device gets unless told otherwise: the one
+/// at which kFirmPushN balances the tool's fully engaged thrust at the surgeon's feed and the
+/// scene's speed (FeedBalance::FullThrust), to one significant figure (a comfort setting, not a
+/// measurement), in [0.1, kMaxForceScale]. The glenoid reamer's is 50, the 2.5 mm drill's 8, the
+/// skull's 2 mm burr's 0.4 (below 1 the hand feels the tool's force magnified).
+double SessionForceScale(const MachiningSetup& setup);
 
 /// Limits of the robot arm and the mouse proxy: position sources with no hand on them, held by a
 /// stiff arm (2000 N/mm, up to 5 kN), so the proxy lags the commanded pose by thrust / K (0.25 mm

@@ -26,30 +26,37 @@ ToolDistanceField::ToolDistanceField(const ToolModel& tool, int resolution, int 
     Segments_.push_back({a.rho, a.z, b.rho, b.z});
     // The outline runs from the tip around to the back, so the outward normal is (dz, -drho) / L:
     // it faces the feed (-z_t) where rho grows along the segment.
-    Leading_.push_back(a.kind == EdgeKind::None && b.rho - a.rho > 1e-9 * H_);
-    SegmentRhoMax_.push_back(std::max(a.rho, b.rho));
+    const bool facesFeed = b.rho - a.rho > 1e-9 * H_;
+    Parts_[0].member.push_back(facesFeed && a.kind == EdgeKind::None);
+    Parts_[1].member.push_back(facesFeed);
   }
-  // A leading surface is drawn as a run of short segments: its rim is the run's outer radius.
-  for (size_t i = 0; i < Segments_.size();) {
-    size_t j = i + 1;
-    while (Leading_[i] && j < Segments_.size() && Leading_[j])
-      ++j;
-    const double rim =
-        *std::max_element(SegmentRhoMax_.begin() + long(i), SegmentRhoMax_.begin() + long(j));
-    std::fill(SegmentRhoMax_.begin() + long(i), SegmentRhoMax_.begin() + long(j), rim);
-    i = j;
-  }
-  // The leading part's box: its segments swept around the axis, grown by the field's margin.
-  double leadRho = 0, leadZLo = 1e300, leadZHi = -1e300;
-  for (size_t i = 0; i < Segments_.size(); ++i)
-    if (Leading_[i]) {
-      leadRho = std::max(leadRho, SegmentRhoMax_[i]);
-      leadZLo = std::min({leadZLo, Segments_[i][1], Segments_[i][3]});
-      leadZHi = std::max({leadZHi, Segments_[i][1], Segments_[i][3]});
+  for (Part& part : Parts_) {
+    // A part's surface is drawn as a run of short segments: its rim is the run's outer radius.
+    part.rhoMax.resize(Segments_.size());
+    for (size_t i = 0; i < Segments_.size(); ++i)
+      part.rhoMax[i] = std::max(Segments_[i][0], Segments_[i][2]);
+    for (size_t i = 0; i < Segments_.size();) {
+      size_t j = i + 1;
+      while (part.member[i] && j < Segments_.size() && part.member[j])
+        ++j;
+      const double rim =
+          *std::max_element(part.rhoMax.begin() + long(i), part.rhoMax.begin() + long(j));
+      std::fill(part.rhoMax.begin() + long(i), part.rhoMax.begin() + long(j), rim);
+      i = j;
     }
-  if (leadZLo <= leadZHi) {
-    LeadLo_ = Eigen::Vector3d(-leadRho - Far_, -leadRho - Far_, leadZLo - Far_);
-    LeadHi_ = Eigen::Vector3d(leadRho + Far_, leadRho + Far_, leadZHi + Far_);
+    // The part's box: its segments swept around the axis, grown by the field's margin.
+    double rhoMax = 0, zLo = 1e300, zHi = -1e300;
+    for (size_t i = 0; i < Segments_.size(); ++i)
+      if (part.member[i]) {
+        rhoMax = std::max(rhoMax, part.rhoMax[i]);
+        zLo = std::min({zLo, Segments_[i][1], Segments_[i][3]});
+        zHi = std::max({zHi, Segments_[i][1], Segments_[i][3]});
+      }
+    part.any = zLo <= zHi;
+    if (part.any) {
+      part.lo = Eigen::Vector3d(-rhoMax - Far_, -rhoMax - Far_, zLo - Far_);
+      part.hi = Eigen::Vector3d(rhoMax + Far_, rhoMax + Far_, zHi + Far_);
+    }
   }
   // The table over (rho, z) at half the box's spacing, read by bilinear interpolation.
   const double h2 = H_ / 2;
@@ -58,12 +65,14 @@ ToolDistanceField::ToolDistanceField(const ToolModel& tool, int resolution, int 
   const double z0 = zr[0] - Far_ - H_;
   const int nz = int(std::ceil((zr[1] - zr[0] + 2 * Far_ + 2 * H_) / h2)) + 2;
   std::vector<double> t(size_t(nr) * nz);
-  LeadingTable_.resize(t.size());
+  for (Part& part : Parts_)
+    part.table.resize(t.size());
   for (int k = 0; k < nz; ++k)
     for (int i = 0; i < nr; ++i) {
       size_t seg = 0;
       t[size_t(k) * nr + i] = Signed(i * h2, z0 + k * h2, seg);
-      LeadingTable_[size_t(k) * nr + i] = Leading_[seg] ? int32_t(seg) : -1;
+      for (Part& part : Parts_)
+        part.table[size_t(k) * nr + i] = part.member[seg] ? int32_t(seg) : -1;
     }
   TableStep_ = h2;
   InvStep_ = 1 / h2;
@@ -121,18 +130,18 @@ bool ToolDistanceField::InPart(const Eigen::Vector3d& q, ToolPart part, double r
   const double rho = std::hypot(q(0), q(1));
   const int i = std::clamp(int(std::lround(rho / TableStep_)), 0, TableNr_ - 1);
   const int k = std::clamp(int(std::lround((q(2) - TableZ0_) / TableStep_)), 0, TableNz_ - 1);
-  const int32_t seg = LeadingTable_[size_t(k) * TableNr_ + i];
-  return seg >= 0 && rho <= SegmentRhoMax_[size_t(seg)] - rimBandMm;
+  const Part& p = PartOf(part);
+  const int32_t seg = p.table[size_t(k) * TableNr_ + i];
+  return seg >= 0 && rho <= p.rhoMax[size_t(seg)] - rimBandMm;
 }
 
 void ToolDistanceField::PartBox(ToolPart part, Eigen::Vector3d& lo, Eigen::Vector3d& hi) const {
-  lo = part == ToolPart::Whole ? Lo_ : LeadLo_;
-  hi = part == ToolPart::Whole ? Hi_ : LeadHi_;
+  lo = part == ToolPart::Whole ? Lo_ : PartOf(part).lo;
+  hi = part == ToolPart::Whole ? Hi_ : PartOf(part).hi;
 }
 
 bool ToolDistanceField::Has(ToolPart part) const {
-  return part == ToolPart::Whole ||
-         std::find(Leading_.begin(), Leading_.end(), 1) != Leading_.end();
+  return part == ToolPart::Whole || PartOf(part).any;
 }
 
 double ToolDistanceField::Exact(double rho, double z) const {

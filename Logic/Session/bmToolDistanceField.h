@@ -32,6 +32,7 @@ namespace bm {
 enum class ToolPart {
   Whole,             ///< every surface (default)
   NonCuttingLeading, ///< non-cutting surfaces facing the feed (outward normal . z_t < 0)
+  Leading,           ///< every surface facing the feed, cutting or not (what an advance meets)
 };
 
 class ToolDistanceField {
@@ -89,10 +90,17 @@ private:
   double Signed(double rho, double z, size_t& segment) const;
 
   std::vector<std::array<double, 4>> Segments_; // (rho0, z0, rho1, z1)
-  std::vector<unsigned char> Leading_;          // per segment: non-cutting, facing the feed
-  std::vector<int32_t> LeadingTable_; // nearest segment if it is leading, else -1; (rho, z) grid
-  std::vector<double> SegmentRhoMax_; // per segment: outer radius of its run of leading ones, mm
-  Eigen::Vector3d LeadLo_ = Eigen::Vector3d::Zero(), LeadHi_ = Eigen::Vector3d::Zero();
+  /// A part other than the whole tool: which segments belong to it, its table and its box.
+  struct Part {
+    std::vector<unsigned char> member; // per segment: in the part
+    std::vector<int32_t> table; // nearest segment if it is in the part, else -1; (rho, z) grid
+    std::vector<double> rhoMax; // per segment: outer radius of its run of the part's ones, mm
+    Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
+    bool any = false;
+  };
+  /// The part's tables (part != Whole).
+  const Part& PartOf(ToolPart part) const { return Parts_[part == ToolPart::Leading ? 1 : 0]; }
+  std::array<Part, 2> Parts_; // NonCuttingLeading, Leading
   double TableStep_ = 0, InvStep_ = 0, TableZ0_ = 0;
   int TableNr_ = 0, TableNz_ = 0;
   const ToolModel* Tool_ = nullptr;

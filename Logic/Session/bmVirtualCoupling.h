@@ -34,10 +34,6 @@ struct CouplingOptions {
 
 /// Largest accepted force scale (tool N per device N).
 inline constexpr double kMaxForceScale = 1000.0;
-/// The force scale `bmsim run` and the panel use for a session unless told otherwise: a firm Touch
-/// push of 2.5 N (of its 3.3 N) becomes the 125 N thrust at which the glenoid reamer advances at a
-/// surgeon-like ~0.03 mm/rev (Docs/Session.md, "Force scaling", gives the measurement).
-inline constexpr double kDefaultSessionForceScale = 50.0;
 
 /// Throws std::invalid_argument naming the accepted range when s is not a valid force scale.
 void CheckForceScale(double s);

@@ -294,7 +294,7 @@ void pqBMDockWindow::startSession(const QString& scene, int voxmapResolution, in
     vtkSMPropertyHelper(proxy, "Entry").Set(ct->entry().constData(), 3);
     vtkSMPropertyHelper(proxy, "Axis").Set(ct->axis().constData(), 3);
   }
-  // The panel's force scale is a Touch's; other devices keep theirs (0).
+  // The panel's force scale is a Touch's (0, "per tool": the tool's); other devices keep theirs.
   vtkSMPropertyHelper(proxy, "ForceScale")
       .Set(deviceType == vtkBMSessionSource::TOUCH ? panel->forceScale() : 0.0);
   // Building the bone takes seconds (a glenoid's import): on the source's worker thread, while
@@ -586,5 +586,6 @@ void pqBMDockWindow::pollSession() {
                            vtkSMPropertyHelper(proxy, "RemovedVolumeInfo").GetAsDouble(),
                            vtkSMPropertyHelper(proxy, "ThrustInfo").GetAsDouble(),
                            vtkSMPropertyHelper(proxy, "TorqueInfo").GetAsDouble(),
-                           vtkSMPropertyHelper(proxy, "FrameMsP99Info").GetAsDouble());
+                           vtkSMPropertyHelper(proxy, "FrameMsP99Info").GetAsDouble(),
+                           vtkSMPropertyHelper(proxy, "ForceScaleInUseInfo").GetAsDouble());
 }

@@ -42,6 +42,9 @@ void Expect(bool ok, const char* what) {
   std::printf("%s: %s\n", ok ? "ok" : "FAIL", what);
   failures += ok ? 0 : 1;
 }
+void Expect(bool ok, const std::string& what) {
+  Expect(ok, what.c_str());
+}
 
 /// ParaView's WheelNeedsFocusBehavior (pqParaViewBehaviors.cxx, ParaView 5.11): an application
 /// filter that eats the wheel events of spin boxes, combo boxes and sliders without the focus, so
@@ -176,7 +179,18 @@ int main(int argc, char* argv[]) {
   } else {
     Expect(false, "the session section has a ToolDepthSpinBox");
   }
-  Expect(session->forceScale() == 50.0, "the force scale defaults to 50 tool N per device N");
+  Expect(session->forceScale() == 0.0, "the force scale defaults to 0, the tool's");
+  if (auto* scale = session->findChild<QDoubleSpinBox*>("ForceScaleSpinBox"))
+    Expect(scale->text() == "per tool",
+           "the default force scale reads 'per tool', not '" + scale->text().toStdString() + "'");
+  else
+    Expect(false, "the session section has a ForceScaleSpinBox");
+  session->setSessionNumbers(1.0, 0.5, 2.0, 10.0, 20.0, 0.4, 6.0);
+  if (auto* numbers = session->findChild<QLabel*>("SessionNumbersLabel"))
+    Expect(numbers->text().endsWith("force scale 6"),
+           "the session's numbers name the force scale in use: " + numbers->text().toStdString());
+  else
+    Expect(false, "the session section has a SessionNumbersLabel");
   session->setForceScale(5000.0);
   Expect(session->forceScale() == 1000.0, "the force scale is clamped to 1000");
   // Save gives a name without an extension the voxmap's.

@@ -145,10 +145,12 @@ double MaxForceScale() {
   return kMaxForceScale;
 }
 double DefaultForceScale() {
-  return kDefaultSessionForceScale;
+  return 0.0;
 }
 
 std::string ForceScaleError(double scale) {
+  if (scale == 0)
+    return ""; // the tool's
   try {
     CheckForceScale(scale);
   } catch (const std::exception& e) {

@@ -56,7 +56,7 @@ bool IsPaused(SessionState state);
 bool IsActive(SessionState state);
 
 /// Force scale (tool N per device N): the accepted range [1e-3, 1000] (bm::CheckForceScale) and
-/// the sessions' default, bm::kDefaultSessionForceScale (50).
+/// the panel's default, 0: the tool's (bm::SessionForceScale).
 double MinForceScale();
 double MaxForceScale();
 double DefaultForceScale();

@@ -373,6 +373,7 @@ bool vtkBMSessionSource::FinishStart() {
   }
   try {
     in.GridReason = built->gridReason;
+    this->ForceScaleInUse = built->options.proxy.coupling.forceScale;
     in.Setup = std::move(built->setup);
     in.Mouse = built->mouse;
     in.Session = std::make_unique<bm::HapticSession>(*in.Setup, built->device, built->options);

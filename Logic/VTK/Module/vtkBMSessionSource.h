@@ -29,7 +29,7 @@
 // (bm::TouchDevice, libHD loaded at Start(); ProbeTouch() says whether it can be opened and why
 // not), its workspace centre placed 10 mm above the entry point along the axis; HAND is the
 // scripted hand on a simulated Touch (bm::SessionDevice::Scripted, bm::ScriptMode::Hand: a 2.5 N
-// push rising over 0.5 s with lateral tremor, force scale bm::kDefaultSessionForceScale; 60 s of
+// push rising over 0.5 s with lateral tremor, the tool's force scale, bm::SessionForceScale; 60 s
 // session, the benchmark's hand-like trial, unless MaxFrames says otherwise), for tests and
 // demonstrations without a device.
 //
@@ -158,7 +158,8 @@ public:
   ///@}
   ///@{
   /// Force scale, tool N per device N, in [1e-3, 1000] (bm::CheckForceScale); 0 (default): the
-  /// device's (bm::kDefaultSessionForceScale for a Touch, 1 for the mouse proxy). Takes effect at
+  /// device's (the tool's, bm::SessionForceScale, for a Touch or the scripted hand; 1 for the
+  /// mouse proxy). Takes effect at
   /// the next Start(), which fails naming the range for a value outside it.
   vtkSetMacro(ForceScale, double);
   vtkGetMacro(ForceScale, double);
@@ -243,6 +244,9 @@ public:
   vtkGetMacro(DepthMm, double);
   vtkGetMacro(FrameMsP50, double);
   vtkGetMacro(FrameMsP99, double);
+  /// The force scale the running session uses (tool N per device N): ForceScale, or the device's
+  /// when that is 0 (bm::SessionForceScale for a hand on a Touch); 0 before the first Start.
+  vtkGetMacro(ForceScaleInUse, double);
   /// Bricks re-extracted by the last execution, and its time, ms.
   vtkGetMacro(BricksUpdated, int);
   /// Changed bricks the last execution left for the next (its extraction time budget, 8 ms).
@@ -285,7 +289,7 @@ protected:
   double BoneBounds[6] = {0, 0, 0, 0, 0, 0};
   vtkIdType MaxFrames = -1;
   double ToolDepth = -2.0;
-  double ForceScale = 0;
+  double ForceScale = 0, ForceScaleInUse = 0;
   int State = 0;
   vtkIdType Frame = 0;
   double TimeS = 0, ThrustN = 0, TorqueNmm = 0, RemovedVolumeMm3 = 0, DepthMm = 0;

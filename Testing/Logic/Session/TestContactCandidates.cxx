@@ -1,11 +1,13 @@
 // KimParkContact's candidate points (SetCandidateRadius) are exact: along a wandering path of
-// tool poses, with and without dead band, for the whole tool and for the reamer's leading part,
+// tool poses, with and without dead band, with and without a depth cap (SetDepthCap), for the
+// whole tool and for the reamer's leading part,
 // across changes of orientation and of the shell (Boolean cuts), every query equals, bit for bit,
 // the full scan of a contact without candidates on the same shell and field, also when the engine's
 // removal changes the shell under them and when the tool jumps between places across the axis.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -32,6 +34,12 @@ TEST(ContactCandidates, QueriesEqualTheFullScan) {
   bm::KimParkContact full(sdf, shell), cached(sdf, shell);
   cached.SetCandidateRadius(2 * h);
   EXPECT_GE(sdf.LipschitzBound(), 1.0 - 1e-6); // a distance field has slope 1 somewhere
+  // The cutting method's depth cap (on this Boolean-cut block every voxel is full or void: no
+  // slivers, so the cap changes nothing here, and the cached path must agree).
+  bm::KimParkContact fullCap(sdf, shell), cachedCap(sdf, shell);
+  fullCap.SetDepthCap(1.5 * h);
+  cachedCap.SetDepthCap(1.5 * h);
+  cachedCap.SetCandidateRadius(2 * h);
 
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> step(-0.5 * h, 0.5 * h);
@@ -56,15 +64,21 @@ TEST(ContactCandidates, QueriesEqualTheFullScan) {
                               d = cached.Query(R, p, band, bm::ToolPart::NonCuttingLeading, h);
       ExpectSame(c, d);
       partTouching += c.points > 0;
+      const bm::ContactResult e = fullCap.Query(R, p, band);
+      ExpectSame(e, cachedCap.Query(R, p, band));
+      ExpectSame(fullCap.Query(R, p, band, bm::ToolPart::NonCuttingLeading, h),
+                 cachedCap.Query(R, p, band, bm::ToolPart::NonCuttingLeading, h));
+      ExpectSame(e, a);
     }
     if (HasFailure())
       break;
   }
   std::cout << "[candidates] " << touching << " whole-tool and " << partTouching
             << " leading-part queries in contact; " << full.Scans() << " full scans, "
-            << cached.Scans() << " gathers\n";
+            << cached.Scans() << " gathers (" << cachedCap.Scans() << " with the cap)\n";
   EXPECT_GT(touching, 100); // the path does press into the bone
   EXPECT_LT(cached.Scans(), full.Scans() / 4);
+  EXPECT_LT(cachedCap.Scans(), fullCap.Scans() / 4);
 }
 
 // The engine cuts under the candidates every step (BoneSurfaceShell::Sync regenerates the
@@ -81,13 +95,17 @@ TEST(ContactCandidates, FollowTheEnginesRemovalAndALateralCycleExactly) {
   bm::BoneSurfaceShell shell(setup.Bone());
   bm::KimParkContact full(sdf, shell), cached(sdf, shell);
   cached.SetCandidateRadius(2 * h);
+  bm::KimParkContact fullCap(sdf, shell), cachedCap(sdf, shell);
+  fullCap.SetDepthCap(h);
+  cachedCap.SetDepthCap(h);
+  cachedCap.SetCandidateRadius(2 * h);
   const Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
   const std::array<Eigen::Vector3d, 3> places{Eigen::Vector3d(2.5 * h, 0, 0),
                                               Eigen::Vector3d(-1.5 * h, 2.2 * h, 0),
                                               Eigen::Vector3d(-1.5 * h, -2.2 * h, 0)};
   Eigen::Vector3d prev(places[0](0), places[0](1), 0.1);
   int64_t removed = 0;
-  int touching = 0;
+  int touching = 0, capped = 0; // queries where slivers deeper than the cap did not push
   const int steps = 240;
   const double kSink = 0.0015; // mm a step
   for (int it = 0; it < steps; ++it) {
@@ -113,22 +131,30 @@ TEST(ContactCandidates, FollowTheEnginesRemovalAndALateralCycleExactly) {
       touching += a.points > 0;
       ExpectSame(full.Query(R, p, band, bm::ToolPart::NonCuttingLeading, h),
                  cached.Query(R, p, band, bm::ToolPart::NonCuttingLeading, h));
+      const bm::ContactResult e = fullCap.Query(R, p, band);
+      ExpectSame(e, cachedCap.Query(R, p, band));
+      EXPECT_LE(e.points, a.points);
+      capped += e.points < a.points;
     }
     if (it % 60 == 59) { // Sync, reading only the bricks that lost a voxel, keeps the surface
-      auto voxels = [](const bm::BoneSurfaceShell& sh) {
-        std::vector<int64_t> v;
+      // (each point's normal, refreshed once per flood, bit for bit a new shell's)
+      auto points = [](const bm::BoneSurfaceShell& sh) {
+        std::vector<std::array<double, 4>> v;
         const Eigen::Vector3d big = Eigen::Vector3d::Constant(1e9);
-        sh.ForEachIn(-big, big, [&](const bm::SurfacePoint& sp) { v.push_back(sp.voxel); });
+        sh.ForEachIn(-big, big, [&](const bm::SurfacePoint& sp) {
+          v.push_back({double(sp.voxel), sp.normal(0), sp.normal(1), sp.normal(2)});
+        });
         std::sort(v.begin(), v.end());
         return v;
       };
-      EXPECT_EQ(voxels(shell), voxels(bm::BoneSurfaceShell(setup.Bone())));
+      EXPECT_EQ(points(shell), points(bm::BoneSurfaceShell(setup.Bone())));
     }
     if (HasFailure())
       break;
   }
   std::cout << "[candidates] " << removed << " voxels removed, " << touching
-            << " queries in contact; " << cached.Scans() << " gathers, " << cached.RefreshedBricks()
+            << " queries in contact (" << capped << " with slivers beyond the cap); "
+            << cached.Scans() << " gathers, " << cached.RefreshedBricks()
             << " bricks gathered again\n";
   EXPECT_GT(removed, 0);
   EXPECT_GT(touching, 100);
@@ -139,3 +165,42 @@ TEST(ContactCandidates, FollowTheEnginesRemovalAndALateralCycleExactly) {
 }
 
 } // namespace
+
+// The sliver rule itself: a voxel deeper than the cap inside the tool pushes when it holds bone,
+// not when it holds a sliver of it (under the sliver fraction), cached or not; within the cap
+// every point pushes.
+TEST(ContactCandidates, OnlySliversDeeperThanTheCapStopPushing) {
+  const bm::Scene scene = bm::test::GuidedReamerScene(0.25, 48);
+  bm::MachiningSetup setup(scene, bm::MakeSceneBlock(scene));
+  bm::Voxmap& bone = setup.Bone();
+  const double h = bone.Spacing();
+  const bm::ToolDistanceField sdf(setup.Tool(), 64);
+  const Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  const Eigen::Vector3d p(0, 0, -0.3); // the tool pressed 0.3 mm into the block's top face
+  auto query = [&](double cap, bool cached) {
+    bm::BoneSurfaceShell shell(bone);
+    bm::KimParkContact c(sdf, shell);
+    if (cap > 0)
+      c.SetDepthCap(cap);
+    if (cached)
+      c.SetCandidateRadius(2 * h);
+    return c.Query(R, p, 0.0);
+  };
+  const bm::ContactResult all = query(0, false);
+  ASSERT_GT(all.maxDepthMm, 2 * h); // points deeper than a cap of two voxels
+  // Full bone deeper than the cap still pushes: the same contact.
+  ExpectSame(query(2 * h, false), all);
+  ExpectSame(query(2 * h, true), all);
+  // Every voxel made a sliver (a tenth full): those deeper than the cap stop pushing.
+  const auto d = bone.Dims();
+  for (int k = 0; k < d[2]; ++k)
+    for (int j = 0; j < d[1]; ++j)
+      for (int i = 0; i < d[0]; ++i)
+        if (const int64_t v = bone.Index(i, j, k); bone.GetFill(v) > 0)
+          bone.SetFill(v, bm::Voxmap::kFull / 10);
+  const bm::ContactResult slivers = query(2 * h, false);
+  ExpectSame(query(2 * h, true), slivers);
+  EXPECT_GT(slivers.points, 0);
+  EXPECT_LT(slivers.points, all.points);
+  EXPECT_LE(slivers.maxDepthMm, 2 * h + 1e-12);
+}

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -15,6 +16,8 @@
 #include <unistd.h>
 
 #include "bmEdgeQuadrature.h"
+#include "bmFeedBalance.h"
+#include "bmToolModel.h"
 #include "bmSessionBenchTable.h"
 #include "bmSceneBone.h"
 #include "bmSceneOverrides.h"
@@ -149,7 +152,7 @@ TEST(SessionBuilder, CommandLineAndSourceFeedsStartAtTheSamePoseAndRunTheSameFra
   EXPECT_EQ(b.options.maxFrames, a.options.maxFrames);
   EXPECT_NEAR(a.durationS, seconds, 1e-9);
   // They differ where the devices do: a hand on a Touch against a stiff robot arm.
-  EXPECT_DOUBLE_EQ(a.options.proxy.coupling.forceScale, bm::kDefaultSessionForceScale);
+  EXPECT_DOUBLE_EQ(a.options.proxy.coupling.forceScale, bm::SessionForceScale(*a.setup));
   EXPECT_DOUBLE_EQ(b.options.proxy.coupling.forceScale, 1.0);
   EXPECT_DOUBLE_EQ(a.device->Limits().maxForceN, bm::DeviceLimits().maxForceN);
   EXPECT_DOUBLE_EQ(b.device->Limits().maxForceN, bm::PositionSourceLimits().maxForceN);
@@ -249,7 +252,7 @@ TEST(SessionBuilder, DurationsFramesAndTouchPlacementFollowTheDevice) {
   EXPECT_EQ(tb.options.maxFrames, -1); // a hand on the device: no limit
   EXPECT_LT(tb.durationS, 0);
   EXPECT_EQ(tb.options.overrunLimit, 5);
-  EXPECT_DOUBLE_EQ(tb.options.proxy.coupling.forceScale, bm::kDefaultSessionForceScale);
+  EXPECT_DOUBLE_EQ(tb.options.proxy.coupling.forceScale, bm::SessionForceScale(*tb.setup));
 
   bm::SessionRequest mouse;
   mouse.device = bm::SessionDevice::Mouse;
@@ -381,3 +384,47 @@ TEST(SceneBone, BlockSceneIsTheSceneBlock) {
 }
 
 } // namespace
+
+// The force scale a hand gets by default is the tool's: a firm 2.5 N push on the Touch balances
+// the tool's fully engaged thrust at a surgeon's feed (the drill's 0.05 mm/rev, the reamer's
+// 0.2 mm/s), so the drill is not pushed with the reamer's 125 N.
+TEST(SessionBuilder, TheForceScaleIsTheTools) {
+  const auto scaleOf = [](const std::string& name) {
+    bm::SceneOverrides o;
+    o.voxmapResolution = 32;
+    const bm::Scene scene = bm::ApplyOverrides(bm::ResolveScene(name), o);
+    bm::SessionRequest touch;
+    touch.device = bm::SessionDevice::Touch;
+    const bm::BuiltSession b = bm::BuildSession(scene, touch);
+    const double s = b.options.proxy.coupling.forceScale;
+    EXPECT_DOUBLE_EQ(s, bm::SessionForceScale(*b.setup)) << name;
+    // The push at that scale balances the surgeon's feed's thrust, to one significant figure.
+    bm::FeedBalance balance(b.setup->Tool(), b.setup->Model());
+    const double n = scene.trial.speedRpm;
+    const double exact =
+        balance.FullThrust(bm::SurgeonFeedMmPerRev(b.setup->Tool(), n), n) / bm::kFirmPushN;
+    const double unit = std::pow(10.0, std::floor(std::log10(exact)));
+    EXPECT_NEAR(s, std::round(exact / unit) * unit, 1e-9 * s) << name << ": exact " << exact;
+    // A robot and the mouse are position sources: unscaled; a given scale is kept.
+    bm::SessionRequest mouse;
+    mouse.device = bm::SessionDevice::Mouse;
+    EXPECT_DOUBLE_EQ(bm::BuildSession(scene, mouse).options.proxy.coupling.forceScale, 1.0);
+    touch.forceScale = 7.5;
+    EXPECT_DOUBLE_EQ(bm::BuildSession(scene, touch).options.proxy.coupling.forceScale, 7.5);
+    return s;
+  };
+  const double drill = scaleOf("drilling"), reamer = scaleOf("glenoid"), burr = scaleOf("skull");
+  EXPECT_DOUBLE_EQ(reamer, 50.0); // the reamer's (Docs/Session.md, "Force scaling")
+  EXPECT_LT(drill, reamer / 4);
+  EXPECT_GT(burr, 0.1); // the small burr's thrust is under the push: the hand feels it magnified
+  EXPECT_LT(burr, drill);
+  std::cout << "[force scale] drill " << drill << ", glenoid reamer " << reamer << ", skull burr "
+            << burr << "\n";
+  // The surgeon's feeds: the drill's per revolution, the others' per second.
+  const auto tool = [](const std::string& name) {
+    return bm::MakeTool(bm::ResolveScene(name).tool);
+  };
+  EXPECT_DOUBLE_EQ(bm::SurgeonFeedMmPerRev(*tool("drilling"), 1000), 0.05);
+  EXPECT_DOUBLE_EQ(bm::SurgeonFeedMmPerRev(*tool("glenoid"), 500), 0.2 * 60 / 500);
+  EXPECT_THROW(bm::SurgeonFeedMmPerRev(*tool("glenoid"), 0), std::invalid_argument);
+}

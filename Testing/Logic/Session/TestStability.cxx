@@ -7,9 +7,9 @@
 //  4. Extrapolation across spindle speed: leave-one-condition-out calibration, ours vs Zheng's.
 //  5. Force ripple on a coarse (128^3) and a fine (512^3) voxmap, ours vs Kim et al.'s.
 //  6. No frame ever sends more than the device's maximum force.
-// Tests 1 and 6 also run with force scaling on (tool force = s x device force, s the default of a
-// session run from bmsim or the panel, kDefaultSessionForceScale): passivity and the force limit
-// hold at the device.
+// Tests 1 and 6 also run with force scaling on (tool force = s x device force, s = 50, the glenoid
+// reamer's session scale, the largest of the built-in tools' bm::SessionForceScale): passivity and
+// the force limit hold at the device.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -24,7 +24,8 @@ namespace {
 
 using bm::test::BurrScene;
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kT = 0.001; // 1 kHz
+constexpr double kT = 0.001;  // 1 kHz
+constexpr double kScale = 50; // the glenoid reamer's session force scale
 
 bm::ProxyOptions Options(bm::ContactMethod m, bm::Rendering r, double forceScale = 1.0) {
   bm::ProxyOptions o;
@@ -91,9 +92,8 @@ TEST(Stability, PassivityDirectPenaltyGainsEnergyCouplingStaysPassive) {
   // Force scaling on: the tool-side coupling is s times stiffer and stronger, the device gets 1/s
   // of its force; the energy the device puts into the hand still never grows.
   std::vector<double> scaled;
-  const double maxScaled =
-      PassivityRun(bm::Rendering::Coupled, scaled, bm::kDefaultSessionForceScale);
-  std::cout << "[passivity] coupled with force scale " << bm::kDefaultSessionForceScale << ":";
+  const double maxScaled = PassivityRun(bm::Rendering::Coupled, scaled, kScale);
+  std::cout << "[passivity] coupled with force scale " << kScale << ":";
   for (double e : scaled)
     std::cout << ' ' << std::setprecision(4) << e;
   std::cout << "\n[passivity] max E scaled " << maxScaled << " N mm\n";
@@ -303,7 +303,7 @@ TEST(Stability, NoFrameEverSendsMoreThanTheDevicesMaximumForce) {
   for (auto m : {bm::ContactMethod::Cutting, bm::ContactMethod::KimPark})
     for (auto r : {bm::Rendering::Coupled, bm::Rendering::Direct})
       for (double rpm : {0.0, 1000.0})
-        for (double scale : {1.0, bm::kDefaultSessionForceScale}) {
+        for (double scale : {1.0, kScale}) {
           bm::MachiningSetup setup(scene, bm::MakeSceneBlock(scene));
           bm::Proxy proxy(setup, bm::DeviceLimits{}, kT, Options(m, r, scale));
           for (int k = 0; k < 30; ++k) { // a 3 mm plunge, twice the block's depth

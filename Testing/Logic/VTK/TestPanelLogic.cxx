@@ -61,10 +61,11 @@ TEST(PanelLogic, StateInWords) {
 }
 
 TEST(PanelLogic, ForceScaleRange) {
-  EXPECT_DOUBLE_EQ(PL::DefaultForceScale(), 50.0);
+  EXPECT_DOUBLE_EQ(PL::DefaultForceScale(), 0.0); // the tool's
   EXPECT_EQ(PL::ForceScaleError(PL::DefaultForceScale()), "");
   EXPECT_EQ(PL::ForceScaleError(1.0), "");
-  EXPECT_NE(PL::ForceScaleError(0.0), "");
+  EXPECT_NE(PL::ForceScaleError(1e-4), "");
+  EXPECT_NE(PL::ForceScaleError(-1.0), "");
   EXPECT_NE(PL::ForceScaleError(PL::MaxForceScale() * 2), "");
   EXPECT_LT(PL::MinForceScale(), 1.0);
 }
