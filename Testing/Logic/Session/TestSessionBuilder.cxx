@@ -392,7 +392,12 @@ TEST(SessionBuilder, TheForceScaleIsTheTools) {
   const auto scaleOf = [](const std::string& name) {
     bm::SceneOverrides o;
     o.voxmapResolution = 32;
-    const bm::Scene scene = bm::ApplyOverrides(bm::ResolveScene(name), o);
+    bm::Scene scene = bm::ApplyOverrides(bm::ResolveScene(name), o);
+    // The scale is the tool's and the speed's: a block stands in for a CT bone (also in builds
+    // without CT import).
+    scene.bone.type = "block";
+    scene.bone.sizeMm = {40, 40, 5};
+    scene.bone.ct = nullptr;
     bm::SessionRequest touch;
     touch.device = bm::SessionDevice::Touch;
     const bm::BuiltSession b = bm::BuildSession(scene, touch);
