@@ -180,7 +180,7 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
   // The push is the hand's at the device: at most the device's maximum force (the Touch's for a
   // scripted device, the nominal one for the Touch before it reports its own).
   const DeviceLimits nominal;
-  req.appliedForceN = args.GetDouble("force", 0.0, nominal.maxForceN).value_or(2.5);
+  req.appliedForceN = args.GetDouble("force", 0.0, nominal.maxForceN).value_or(kFirmPushN);
   if (auto seed = args.GetInt("seed", 0, 1000000000))
     req.handSeed = uint64_t(*seed);
   req.stopAtBreakthrough = args.Has("trained-hand");

@@ -41,6 +41,10 @@ const char* ToString(SessionDevice d);
 /// "scripted", "robot", "touch" or "mouse"; throws std::invalid_argument listing them.
 SessionDevice SessionDeviceFromString(const std::string& s);
 
+/// A firm push of a hand on the Touch, N (of its 3.3 N, leaving room for the lateral forces and
+/// the ripple): what the session's force scale is set for, and the scripted hand's default push.
+inline constexpr double kFirmPushN = 2.5;
+
 /// What session to build on a scene. Defaults: a scripted feed at the scene's feed and speed.
 struct SessionRequest {
   SessionDevice device = SessionDevice::Scripted;
@@ -48,7 +52,7 @@ struct SessionRequest {
   ScriptMode mode = ScriptMode::Feed;
   /// Scripted force and hand modes: the push along the feed at the device, N, in [0, the Touch's
   /// maximum force] (default kFirmPushN, 2.5).
-  double appliedForceN = 2.5;
+  double appliedForceN = kFirmPushN;
   /// Scripted hand mode: the lateral tremor's amplitude, N, in [0, the Touch's maximum force]
   /// (default 0.1), and its seed (default 1).
   double handTremorN = 0.1;
@@ -117,9 +121,6 @@ BuiltSession BuildSession(const Scene& scene, const SessionRequest& r,
 /// As above on a bone built by the caller.
 BuiltSession BuildSession(const Scene& scene, Voxmap bone, const SessionRequest& r);
 
-/// A firm push of a hand on the Touch, N (of its 3.3 N, leaving room for the lateral forces and
-/// the ripple): what the session's force scale is set for, and the scripted hand's default push.
-inline constexpr double kFirmPushN = 2.5;
 /// A careful surgeon's feed for the tool at speedRpm (rpm), mm/rev: a glenoid reamer 0.2 mm/s
 /// (2 mm reamed in about ten seconds), a twist drill 0.05 mm/rev (the middle of the 0.02-0.1
 /// mm/rev hand drilling at 1000 rpm), a burr 0.5 mm/s. Assumptions of a steady hand, not clinical
