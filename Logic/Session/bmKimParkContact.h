@@ -34,8 +34,8 @@
 // few bricks at the tool's face, reads the few hundred points of those bricks instead of every
 // point under the tool (RefreshedBricks() counts them).
 // Slivers (SetDepthCap, the cutting method's): a point deeper than the cap inside the tool whose
-// voxel holds less than sliverFraction of bone does not push. It is bone the spinning tool's
-// envelope swept through and the engine's removal left: each element removes what it sweeps,
+// voxel holds less than sliverFraction of bone (default 5 %) does not push. It is bone the spinning
+// tool's envelope swept through and the engine's removal left: each element removes what it sweeps,
 // rounded down to whole fill units, so a voxel the tool passes over slowly keeps a sliver and
 // stays a surface point. At the drill's 0.02 mm voxels, 440 000 such points lay up to 1.2 mm
 // inside it, all under 10 % full beyond one voxel. They pushed 46 kN along the axis, which the
@@ -97,9 +97,9 @@ public:
   /// Candidate radius rho (mm, >= 0; 0, the default: every query scans the shell under its box).
   void SetCandidateRadius(double radiusMm);
   /// Depth cap (mm, > 0; default infinity: none) and sliver fraction (of a voxel's bone, in
-  /// (0, 1], default 0.25): slivers deeper than the cap inside the tool do not push (see above).
+  /// (0, 1], default 0.05): slivers deeper than the cap inside the tool do not push (see above).
   /// Drops the candidates.
-  void SetDepthCap(double capMm, double sliverFraction = 0.25);
+  void SetDepthCap(double capMm, double sliverFraction = 0.05);
   double DepthCap() const { return Cap_; }
   double CandidateRadius() const { return Radius_; }
   /// Shell scans so far: full queries (no candidates) and candidate gathers; for benchmarks.
@@ -172,7 +172,7 @@ private:
   double KA_;
   double Radius_ = 0;
   double Cap_ = std::numeric_limits<double>::infinity();
-  double Sliver_ = 0.25;
+  double Sliver_ = 0.05;
   /// Whether the voxel holds less than the sliver fraction of bone.
   bool IsSliver(int64_t voxel) const { return Shell_.Bone().Fraction(voxel) < Sliver_; }
   mutable std::vector<Candidate> Candidates_;

@@ -71,8 +71,8 @@ struct ProxyOptions {
   /// contact queries where it took three, each over thousands of points in contact).
   double relaxToleranceMm = 1e-6;
   double deadBandVoxels = 1.0; ///< Cutting: lateral contact dead band, voxels
-  /// Cutting, coupled: points deeper than this inside the tool whose voxel holds less than a
-  /// quarter of its bone do not push (voxels, default 6: the dead band and five voxels; 0 = no
+  /// Cutting, coupled: points deeper than this inside the tool whose voxel holds less than 5 % of
+  /// its bone do not push (voxels, default 6: the dead band and five voxels; 0 = no
   /// cap). They are slivers the spinning envelope swept through and the engine's removal left;
   /// fuller voxels that deep still push, so nothing tunnels (KimParkContact::SetDepthCap,
   /// Docs/Interaction.md).

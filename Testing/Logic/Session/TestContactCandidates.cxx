@@ -191,13 +191,14 @@ TEST(ContactCandidates, OnlySliversDeeperThanTheCapStopPushing) {
   // Full bone deeper than the cap still pushes: the same contact.
   ExpectSame(query(2 * h, false), all);
   ExpectSame(query(2 * h, true), all);
-  // Every voxel made a sliver (a tenth full): those deeper than the cap stop pushing.
+  // Every voxel made a sliver (4 % full, under the default 5 %): those deeper than the cap stop
+  // pushing.
   const auto d = bone.Dims();
   for (int k = 0; k < d[2]; ++k)
     for (int j = 0; j < d[1]; ++j)
       for (int i = 0; i < d[0]; ++i)
         if (const int64_t v = bone.Index(i, j, k); bone.GetFill(v) > 0)
-          bone.SetFill(v, bm::Voxmap::kFull / 10);
+          bone.SetFill(v, bm::Voxmap::kFull / 25);
   const bm::ContactResult slivers = query(2 * h, false);
   ExpectSame(query(2 * h, true), slivers);
   EXPECT_GT(slivers.points, 0);
