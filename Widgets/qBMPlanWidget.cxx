@@ -8,7 +8,9 @@
 #include <QFormLayout>
 #include <QGridLayout>
 #include <QHBoxLayout>
+#include <QFileDialog>
 #include <QLabel>
+#include <QLineEdit>
 #include <QPushButton>
 #include <QSignalBlocker>
 #include <QVBoxLayout>
@@ -30,8 +32,11 @@ class qBMPlanWidgetPrivate {
 public:
   explicit qBMPlanWidgetPrivate(qBMPlanWidget& object) : q_ptr(&object) {}
   void init();
+  /// A spin box that plans again when edited; for landmark `landmark` (>= 0), an edit also
+  /// turns on the landmark's Use box (a typed value is meant to be used, and a plan would
+  /// otherwise replace it with the detected one).
   QDoubleSpinBox* spinBox(const QString& name, double lo, double hi, double value,
-                          const QString& suffix, const QString& tip);
+                          const QString& suffix, const QString& tip, int landmark = -1);
 
   qBMPlanWidget* const q_ptr;
   std::array<QCheckBox*, kLandmarks> Use{};
@@ -49,11 +54,47 @@ public:
   QPushButton* Plan = nullptr;
   QPushButton* RunPin = nullptr;
   QPushButton* RunReam = nullptr;
+  QPushButton* PlaceFace = nullptr;
+  QPushButton* PlaceRim = nullptr;
+  QPushButton* ClearPlaced = nullptr;
+  QLabel* Placed = nullptr;
+  QLineEdit* ReportFolder = nullptr;
+  QLabel* ReportStatus = nullptr;
+  int Mode = 0;
+  bool HaveFacePoint = false;
+  QVector<double> FacePoint{0, 0, 0};
+  QVector<double> RimPoints;
+  void showPlaced();
 };
+
+void qBMPlanWidgetPrivate::showPlaced() {
+  const int rim = this->RimPoints.size() / 3;
+  QString text;
+  if (this->Mode == 1)
+    text = qBMPlanWidget::tr("Click on the glenoid face in the 3D view.");
+  else if (this->Mode == 2)
+    text = qBMPlanWidget::tr("Click points on the glenoid's rim in the 3D view: %1 placed%2.")
+               .arg(rim)
+               .arg(rim < 3 ? qBMPlanWidget::tr(" (three or more needed)") : QString());
+  else if (this->HaveFacePoint)
+    text = qBMPlanWidget::tr("Placed: a point on the face at (%1, %2, %3) mm.")
+               .arg(this->FacePoint[0], 0, 'f', 1)
+               .arg(this->FacePoint[1], 0, 'f', 1)
+               .arg(this->FacePoint[2], 0, 'f', 1);
+  else if (rim >= 3)
+    text = qBMPlanWidget::tr("Placed: %1 points on the rim.").arg(rim);
+  else
+    text = qBMPlanWidget::tr("Detected (nothing placed).");
+  this->Placed->setText(text);
+  const QSignalBlocker b0(this->PlaceFace), b1(this->PlaceRim);
+  this->PlaceFace->setChecked(this->Mode == 1);
+  this->PlaceRim->setChecked(this->Mode == 2);
+  this->ClearPlaced->setEnabled(this->HaveFacePoint || !this->RimPoints.isEmpty());
+}
 
 QDoubleSpinBox* qBMPlanWidgetPrivate::spinBox(const QString& name, double lo, double hi,
                                               double value, const QString& suffix,
-                                              const QString& tip) {
+                                              const QString& tip, int landmark) {
   Q_Q(qBMPlanWidget);
   auto* box = new QDoubleSpinBox(q);
   box->setObjectName(name);
@@ -64,7 +105,13 @@ QDoubleSpinBox* qBMPlanWidgetPrivate::spinBox(const QString& name, double lo, do
   box->setToolTip(tip);
   box->setKeyboardTracking(false); // one plan per edit, not per keystroke
   QObject::connect(box, QOverload<double>::of(&QDoubleSpinBox::valueChanged), q,
-                   [q](double) { Q_EMIT q->planRequested(); });
+                   [this, q, landmark](double) {
+                     if (landmark >= 0 && this->Use[size_t(landmark)]) {
+                       const QSignalBlocker block(this->Use[size_t(landmark)]);
+                       this->Use[size_t(landmark)]->setChecked(true);
+                     }
+                     Q_EMIT q->planRequested();
+                   });
   return box;
 }
 
@@ -93,9 +140,9 @@ void qBMPlanWidgetPrivate::init() {
       const QString box = name + QStringList{"X", "Y", "Z"}[c] + "SpinBox";
       this->Point[i][c] = direction
                               ? this->spinBox(box, -1, 1, c == 0 ? 1 : 0, "",
-                                              qBMPlanWidget::tr("Direction component (world)"))
+                                              qBMPlanWidget::tr("Direction component (world)"), i)
                               : this->spinBox(box, -10000, 10000, 0, " mm",
-                                              qBMPlanWidget::tr("World coordinate, mm"));
+                                              qBMPlanWidget::tr("World coordinate, mm"), i);
       if (direction)
         this->Point[i][c]->setDecimals(4);
       marks->addWidget(this->Point[i][c], i, c + 1);
@@ -156,7 +203,91 @@ void qBMPlanWidgetPrivate::init() {
   buttons->addWidget(this->Plan);
   buttons->addWidget(this->RunPin);
   buttons->addWidget(this->RunReam);
+
+  // Placing the glenoid in the 3D view.
+  auto* place = new QHBoxLayout;
+  this->PlaceFace = new QPushButton(qBMPlanWidget::tr("Click the face"), q);
+  this->PlaceFace->setObjectName("PlaceFaceButton");
+  this->PlaceFace->setCheckable(true);
+  this->PlaceFace->setToolTip(qBMPlanWidget::tr(
+      "Then click on the glenoid face in the 3D view: the glenoid is traced around that point "
+      "(for when it is not found: no humeral head in the scan, or one fused to the glenoid)"));
+  this->PlaceRim = new QPushButton(qBMPlanWidget::tr("Click the rim"), q);
+  this->PlaceRim->setObjectName("PlaceRimButton");
+  this->PlaceRim->setCheckable(true);
+  this->PlaceRim->setToolTip(qBMPlanWidget::tr(
+      "Then click three or more points around the glenoid's rim in the 3D view: their plane "
+      "gives the glenoid's centre and face normal"));
+  this->ClearPlaced = new QPushButton(qBMPlanWidget::tr("Clear placed"), q);
+  this->ClearPlaced->setObjectName("ClearPlacedButton");
+  this->ClearPlaced->setToolTip(qBMPlanWidget::tr("Forget the clicked points: detect again"));
+  QObject::connect(this->PlaceFace, &QPushButton::toggled, q,
+                   [q](bool on) { q->setPlacementMode(on ? 1 : 0); });
+  QObject::connect(this->PlaceRim, &QPushButton::toggled, q,
+                   [q](bool on) { q->setPlacementMode(on ? 2 : 0); });
+  QObject::connect(this->ClearPlaced, &QPushButton::clicked, q, &qBMPlanWidget::clearPlacedPoints);
+  place->addWidget(this->PlaceFace);
+  place->addWidget(this->PlaceRim);
+  place->addWidget(this->ClearPlaced);
+  this->Placed = label("PlacedLabel");
+  layout->insertLayout(1, place);
+  layout->insertWidget(2, this->Placed);
+
+  // Seeing the plan: its view and slices.
+  auto* see = new QHBoxLayout;
+  auto* view = new QPushButton(qBMPlanWidget::tr("View plan"), q);
+  view->setObjectName("ViewPlanButton");
+  view->setToolTip(qBMPlanWidget::tr("Look down the planned axis, as the report's pictures do"));
+  auto* axial = new QPushButton(qBMPlanWidget::tr("Axial slice"), q);
+  axial->setObjectName("AxialSliceButton");
+  axial->setToolTip(qBMPlanWidget::tr("The CT on the axial plane through the glenoid centre"));
+  auto* along = new QPushButton(qBMPlanWidget::tr("Slice along axis"), q);
+  along->setObjectName("AxisSliceButton");
+  along->setToolTip(
+      qBMPlanWidget::tr("The CT on the plane holding the planned axis and the superior direction"));
+  QObject::connect(view, &QPushButton::clicked, q, &qBMPlanWidget::viewPlanRequested);
+  QObject::connect(axial, &QPushButton::clicked, q, [q]() { Q_EMIT q->sliceRequested(0); });
+  QObject::connect(along, &QPushButton::clicked, q, [q]() { Q_EMIT q->sliceRequested(1); });
+  see->addWidget(view);
+  see->addWidget(axial);
+  see->addWidget(along);
+  layout->addLayout(see);
   layout->addLayout(buttons);
+
+  // The report, as bmsim plan writes it.
+  auto* report = new QHBoxLayout;
+  this->ReportFolder = new QLineEdit(q);
+  this->ReportFolder->setObjectName("ReportFolderLineEdit");
+  this->ReportFolder->setPlaceholderText(qBMPlanWidget::tr("folder for the plan's report"));
+  auto* browse = new QPushButton(qBMPlanWidget::tr("..."), q);
+  browse->setObjectName("ReportFolderBrowseButton");
+  QObject::connect(browse, &QPushButton::clicked, q, [this, q]() {
+    const QString dir = QFileDialog::getExistingDirectory(
+        q, qBMPlanWidget::tr("Folder for the plan's report"), this->ReportFolder->text());
+    if (!dir.isEmpty())
+      this->ReportFolder->setText(dir);
+  });
+  auto* write = new QPushButton(qBMPlanWidget::tr("Write report"), q);
+  write->setObjectName("WriteReportButton");
+  write->setToolTip(qBMPlanWidget::tr("plan.json, the step scenes and plan_report.md/.html/.json, "
+                                      "as bmsim plan writes them"));
+  QObject::connect(write, &QPushButton::clicked, q, &qBMPlanWidget::writeReportRequested);
+  auto* result = new QPushButton(qBMPlanWidget::tr("Write result"), q);
+  result->setObjectName("WriteResultButton");
+  result->setToolTip(qBMPlanWidget::tr(
+      "After the plan's reaming: the outcome on the bone (removed bone, the reamed face against "
+      "the plan, seating), the glenoid before and after, plan_result.md/.html, as bmsim run "
+      "writes a plan's result"));
+  QObject::connect(result, &QPushButton::clicked, q, &qBMPlanWidget::writeResultRequested);
+  report->addWidget(this->ReportFolder, 1);
+  report->addWidget(browse);
+  report->addWidget(write);
+  report->addWidget(result);
+  layout->addLayout(report);
+  this->ReportStatus = label("ReportStatusLabel");
+  this->ReportStatus->setText(QString());
+  layout->addWidget(this->ReportStatus);
+  this->showPlaced();
 }
 
 qBMPlanWidget::qBMPlanWidget(QWidget* parent)
@@ -261,9 +392,13 @@ void qBMPlanWidget::setPlanResult(const qBMPlanResult& r) {
              : std::isfinite(r.widthMm) ? tr("The reamer overhangs the glenoid.")
                                         : tr("The reamer's size is not checked (no rim)."));
   status << r.warnings;
+  if (r.implausible)
+    status.prepend(tr("CHECK THE PLAN: the measurements are implausible for a glenoid (see the "
+                      "warnings); check the landmarks before running the steps."));
   if (!r.canRunSteps)
     status << tr("Name the CT to run the steps.");
   d->Status->setText(status.join("\n"));
+  d->Status->setStyleSheet(r.implausible ? "color: #c00000; font-weight: bold" : QString());
   const QVector<double>* used[kLandmarks] = {&r.glenoidCentre, &r.trigonum, &r.inferiorAngle,
                                              &r.faceNormal};
   for (int i = 0; i < kLandmarks; ++i)
@@ -281,6 +416,94 @@ void qBMPlanWidget::setPlanFailure(const QString& error) {
   for (QLabel* l : {d->FriedmanVersion, d->Version3D, d->Inclination, d->Size, d->Axis})
     l->setText(tr("-"));
   d->Status->setText(tr("No plan: %1").arg(error));
+  d->Status->setStyleSheet(QString());
   d->RunPin->setEnabled(false);
   d->RunReam->setEnabled(false);
+}
+
+int qBMPlanWidget::placementMode() const {
+  Q_D(const qBMPlanWidget);
+  return d->Mode;
+}
+
+bool qBMPlanWidget::useFacePoint() const {
+  Q_D(const qBMPlanWidget);
+  return d->HaveFacePoint;
+}
+
+QVector<double> qBMPlanWidget::facePoint() const {
+  Q_D(const qBMPlanWidget);
+  return d->FacePoint;
+}
+
+QVector<double> qBMPlanWidget::rimPoints() const {
+  Q_D(const qBMPlanWidget);
+  return d->RimPoints;
+}
+
+QString qBMPlanWidget::reportFolder() const {
+  Q_D(const qBMPlanWidget);
+  return d->ReportFolder->text();
+}
+
+void qBMPlanWidget::setPlacementMode(int mode) {
+  Q_D(qBMPlanWidget);
+  mode = mode == 1 || mode == 2 ? mode : 0;
+  if (mode == d->Mode)
+    return;
+  d->Mode = mode;
+  if (mode == 2) { // a new set of rim points
+    d->RimPoints.clear();
+    d->HaveFacePoint = false;
+  }
+  d->showPlaced();
+  Q_EMIT this->placementModeChanged(mode);
+}
+
+void qBMPlanWidget::addPlacedPoint(const QVector<double>& point) {
+  Q_D(qBMPlanWidget);
+  if (point.size() < 3 || d->Mode == 0)
+    return;
+  if (d->Mode == 1) {
+    d->FacePoint = {point[0], point[1], point[2]};
+    d->HaveFacePoint = true;
+    d->RimPoints.clear();
+    // A placed glenoid replaces a typed centre and normal.
+    for (int i : {0, 3}) {
+      const QSignalBlocker block(d->Use[i]);
+      d->Use[i]->setChecked(false);
+    }
+    this->setPlacementMode(0);
+    Q_EMIT this->planRequested();
+    return;
+  }
+  d->RimPoints << point[0] << point[1] << point[2];
+  d->showPlaced();
+  if (d->RimPoints.size() >= 9) {
+    for (int i : {0, 3}) {
+      const QSignalBlocker block(d->Use[i]);
+      d->Use[i]->setChecked(false);
+    }
+    Q_EMIT this->planRequested();
+  }
+}
+
+void qBMPlanWidget::clearPlacedPoints() {
+  Q_D(qBMPlanWidget);
+  d->HaveFacePoint = false;
+  d->RimPoints.clear();
+  this->setPlacementMode(0);
+  d->showPlaced();
+  Q_EMIT this->planRequested();
+}
+
+void qBMPlanWidget::setReportFolder(const QString& folder) {
+  Q_D(qBMPlanWidget);
+  d->ReportFolder->setText(folder);
+}
+
+void qBMPlanWidget::setReportStatus(const QString& text, bool ok) {
+  Q_D(qBMPlanWidget);
+  d->ReportStatus->setText(text);
+  d->ReportStatus->setStyleSheet(ok ? QString() : QString("color: #c00000"));
 }

@@ -3,7 +3,9 @@
 // landmark, what dragging its handle in the 3D view sets) and the face normal, the target
 // version and inclination,
 // the reaming depth and reamer diameter; the measured angles and sizes, the proposed axis and the
-// plan's warnings or why planning failed; buttons that run the guide-pin and the reaming steps.
+// plan's warnings or why planning failed (implausible results flagged before the steps run);
+// placing the glenoid by clicks in the 3D view (Click the face, Click the rim); the plan's view
+// and slices; writing the plan's report; buttons that run the guide-pin and the reaming steps.
 //
 // Computes nothing: the plan is made by the BM Glenoid Plan filter (vtkBMGlenoidPlanFilter) that
 // whoever listens to planRequested() updates; its result comes back through setPlanResult() or
@@ -29,6 +31,7 @@ struct qBMPlanResult {
   QVector<double> faceNormal;                             ///< the face normal used (unit)
   QVector<double> entry, axis;                            ///< the planned axis (unit), 3 each
   QStringList warnings;
+  bool implausible = false; ///< version or inclination beyond +-30 deg, or correction > 15 deg
   bool canRunSteps = false; ///< a plan scene exists (the CT is known)
 };
 
@@ -55,6 +58,18 @@ public:
   double reamerDiameter() const;
   /// The text of the measured angles' labels (for tests and the status line).
   QString measurementsText() const;
+  /// Placing the glenoid by clicking in the 3D view, for when detection fails: 0 off, 1 "Click
+  /// the face" (the next click on the bone is a point on the glenoid face; the glenoid is traced
+  /// around it), 2 "Click the rim" (each click adds a point on the glenoid's rim; three or more
+  /// give the glenoid). Default 0.
+  int placementMode() const;
+  /// The point clicked on the face (world mm), when one is in use.
+  bool useFacePoint() const;
+  QVector<double> facePoint() const;
+  /// The points clicked on the rim (world mm, 3 per point).
+  QVector<double> rimPoints() const;
+  /// The folder "Write report" writes into (default empty: none chosen).
+  QString reportFolder() const;
 
 public Q_SLOTS:
   /// Sets landmark `i` (world mm) and uses it (the 3D view's handle was dragged); emits
@@ -68,12 +83,37 @@ public Q_SLOTS:
   /// Shows why planning failed (e.g. "no glenoid found: ... place landmarks") and disables the
   /// step buttons.
   void setPlanFailure(const QString& error);
+  /// Sets the placement mode (see placementMode()); emits placementModeChanged().
+  void setPlacementMode(int mode);
+  /// A point clicked on the bone in the 3D view (world mm) in the current placement mode: "Click
+  /// the face" takes it as the face point, ends the mode and emits planRequested(); "Click the
+  /// rim" adds it and, from the third point on, emits planRequested(). Ignored with the mode off.
+  void addPlacedPoint(const QVector<double>& point);
+  /// Forgets the face point and the rim points (the glenoid is detected again); emits
+  /// planRequested().
+  void clearPlacedPoints();
+  void setReportFolder(const QString& folder);
+  /// Shows what writing the report did (the folder and files, or why it failed).
+  void setReportStatus(const QString& text, bool ok);
 
 Q_SIGNALS:
   /// Plan (again) with the section's settings: Plan pressed, a landmark or target changed.
   void planRequested();
   /// Run step `step` of the plan (0 the guide-pin hole, 1 the reaming) in a session.
   void runStepRequested(int step);
+  /// The placement mode changed (0 off, 1 face, 2 rim): clicks in the 3D view are to be sent to
+  /// addPlacedPoint() while it is not 0.
+  void placementModeChanged(int mode);
+  /// Point the 3D view's camera as the plan's pictures do (down the planned axis).
+  void viewPlanRequested();
+  /// Show a slice through the plan: 0 axial at the glenoid centre, 1 along the planned axis
+  /// (containing the axis and the superior direction).
+  void sliceRequested(int kind);
+  /// Write the plan's files and report into reportFolder(), as bmsim plan writes them.
+  void writeReportRequested();
+  /// Write the result of the plan's steps as run (the outcome on the bone, the pictures before
+  /// and after, plan_result.md/.html) into reportFolder(), as bmsim run writes a plan's.
+  void writeResultRequested();
 
 protected:
   QScopedPointer<qBMPlanWidgetPrivate> d_ptr;

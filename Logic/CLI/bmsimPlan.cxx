@@ -12,7 +12,7 @@
 #include "bmGlenoidMeasurements.h"
 #include "bmGlenoidPlan.h"
 #include "bmImport.h"
-#include "bmPlanReport.h"
+#include "bmPlanFiles.h"
 #include "bmScapulaCT.h"
 #include "bmWindowedVolume.h"
 #include "bmSegmentedBone.h"
@@ -212,8 +212,9 @@ static void PlanCommandOptions(ParsedArgs& p) {
       .Value("landmarks", "FILE",
              "landmarks replacing detected ones: a plan.json (its edited planning.landmarks) or "
              "a JSON object of glenoid_centre_mm, face_normal, trigonum_mm, inferior_angle_mm "
-             "(world mm, LPS) or rim_points_mm (three or more points on the rim, in place of "
-             "the centre and normal); a centre and normal alone make a plan")
+             "(world mm, LPS), rim_points_mm (three or more points on the rim, in place of "
+             "the centre and normal) or face_point_mm (a point on the glenoid face: the glenoid "
+             "is traced around it); a centre and normal alone make a plan")
       .Value("side", "left|right|auto",
              "the shoulder to plan (default auto: the one found; with both in the scan, name "
              "one)")
@@ -381,7 +382,7 @@ static int PlanCommand(const ParsedArgs& p) {
   GlenoidMeasurements m;
   GlenoidPlan plan;
   try {
-    if (side == ShoulderSide::Any && !(ov.glenoidCentre && ov.faceNormal) && ov.rimPoints.empty())
+    if (side == ShoulderSide::Any && !ov.glenoidCentre && !ov.facePoint && ov.rimPoints.empty())
       L = DetectOneShoulder(bone, ov, detect);
     else
       L = DetectLandmarks(bone, ov, detect);
@@ -412,10 +413,7 @@ static int PlanCommand(const ParsedArgs& p) {
     }
     rep.failure = e.what();
     placeCT();
-    WriteFilesAtomic(
-        {{(fs::path(out) / "plan_report.md").string(), PlanReportMarkdown(rep)},
-         {(fs::path(out) / "plan_report.html").string(), PlanReportHtml(rep)},
-         {(fs::path(out) / "plan_report.json").string(), PlanReportJson(rep).dump(2) + "\n"}});
+    WritePlanFiles(out, rep, nullptr);
     if (!quiet && isatty(2))
       std::fprintf(stderr, "\n");
     std::cerr << "bmsim plan: " << e.what() << "\nwrote " << (fs::path(out) / "plan_report.md")
@@ -434,13 +432,7 @@ static int PlanCommand(const ParsedArgs& p) {
     for (nlohmann::json* j : {&scenes.plan, &scenes.pin, &scenes.ream})
       (*j)["bone"]["ct"]["seed"] = *s;
   placeCT();
-  WriteFilesAtomic(
-      {{(fs::path(out) / "plan.json").string(), scenes.plan.dump(2) + "\n"},
-       {(fs::path(out) / "step1-guide-pin.json").string(), scenes.pin.dump(2) + "\n"},
-       {(fs::path(out) / "step2-ream.json").string(), scenes.ream.dump(2) + "\n"},
-       {(fs::path(out) / "plan_report.md").string(), PlanReportMarkdown(rep)},
-       {(fs::path(out) / "plan_report.html").string(), PlanReportHtml(rep)},
-       {(fs::path(out) / "plan_report.json").string(), PlanReportJson(rep).dump(2) + "\n"}});
+  WritePlanFiles(out, rep, &scenes);
   progress(1.0, "planned");
   if (!quiet && isatty(2))
     std::fprintf(stderr, "\n");

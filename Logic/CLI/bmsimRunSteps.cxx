@@ -4,13 +4,13 @@
 #include <cctype>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <optional>
 
 #include "bmAtomicFile.h"
 #include "bmFeedTrial.h"
 #include "bmMachiningSetup.h"
-#include "bmPlanRunReport.h"
-#include "bmReamingOutcome.h"
+#include "bmPlanResult.h"
 #ifdef BM_WITH_REPORT
 #include "bmGlenoidPictures.h"
 #include "bmTrialReport.h"
@@ -36,18 +36,6 @@ std::string StepFolder(size_t i, const std::string& name) {
   while (!slug.empty() && slug.back() == '-')
     slug.pop_back();
   return std::to_string(i + 1) + "-" + (slug.empty() ? "step" : slug);
-}
-
-Vec3 ToVec3(const nlohmann::json& j, const Eigen::Vector3d& def) {
-  if (j.is_array() && j.size() == 3)
-    return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
-  return {def(0), def(1), def(2)};
-}
-
-double PlanValue(const nlohmann::json& plan, const char* key, double def) {
-  return plan.is_object() && plan.contains(key) && plan.at(key).is_number()
-             ? plan.at(key).get<double>()
-             : def;
 }
 
 } // namespace
@@ -106,57 +94,49 @@ int RunSceneSteps(const bm::Scene& scene, const ParsedArgs& args, const std::str
     bone = setup.Bone(); // the cut bone goes on to the next step
   }
 
-  nlohmann::json summary = {{"plan", scene.name}, {"steps", steps}, {"completed", !blocked}};
-  if (!scene.planning.is_null())
-    summary["planning"] = scene.planning;
+  // The outcome, the glenoid before and after with the plan drawn, and the report: written
+  // together, the summary last (it says the set is complete).
+  PlanResultInput result;
+  result.planName = scene.name;
+  result.planning = scene.planning;
+  result.steps = steps;
+  result.completed = !blocked;
+  result.before = &before;
+  result.after = &bone;
   if (reamStep) {
     const bm::TrialSpec& t = scene.Step(*reamStep).trial;
-    ReamingOutcomeOptions o;
-    const nlohmann::json& p = scene.planning;
-    o.baseplateDiameterMm = PlanValue(p, "baseplate_diameter_mm", o.baseplateDiameterMm);
-    o.backRadiusMm = PlanValue(p, "baseplate_back_radius_mm", o.backRadiusMm);
-    o.gapMm = PlanValue(p, "seating_gap_mm", o.gapMm);
-    o.pegLengthMm = PlanValue(p, "peg_length_mm", o.pegLengthMm);
-    o.pegRadiusMm = PlanValue(p, "peg_radius_mm", o.pegRadiusMm);
-    o.pinRadiusMm = PlanValue(p, "pin_radius_mm", o.pinRadiusMm);
-    o.pinDepthMm = PlanValue(p, "pin_depth_mm", o.pinDepthMm);
-    const Vec3 entry =
-        ToVec3(p.is_object() ? p.value("entry_mm", nlohmann::json()) : nullptr, t.entry);
-    const Vec3 axis =
-        Normalized(ToVec3(p.is_object() ? p.value("axis", nlohmann::json()) : nullptr, t.axis));
-    const ReamingOutcome outcome =
-        MeasureReamingOutcome(before, bone, entry, axis, *reamer, reamReached, o);
-    summary["outcome"] = outcome.ToJson();
-    summary["outcome"]["options"] = {{"baseplate_diameter_mm", o.baseplateDiameterMm},
-                                     {"baseplate_back_radius_mm", o.backRadiusMm},
-                                     {"seating_gap_mm", o.gapMm},
-                                     {"peg_length_mm", o.pegLengthMm},
-                                     {"peg_radius_mm", o.pegRadiusMm}};
-    std::cout << "  outcome: removed " << outcome.removedMm3 << " mm^3 (cortical "
-              << outcome.removedCorticalMm3 << ", cancellous " << outcome.removedCancellousMm3
-              << "), reamed face " << outcome.faceAngleDeg << " deg from the axis, medialisation "
-              << outcome.medialisationMm << " mm, seating " << 100 * outcome.seating << " % within "
-              << o.gapMm << " mm, bone beyond the peg " << outcome.boneBeyondPegMm << " mm\n";
-    for (const std::string& w : outcome.warnings)
-      std::cout << "  warning: " << w << "\n";
+    result.reamer = reamer.get();
+    result.reamReachedMm = reamReached;
+    result.trialEntry = {t.entry(0), t.entry(1), t.entry(2)};
+    result.trialAxis = {t.axis(0), t.axis(1), t.axis(2)};
   }
-
-  // The glenoid before and after, with the planned axis, face normal, rim and face plane drawn.
+  PlanPictureWriter pictures;
 #ifdef BM_WITH_REPORT
-  if (report && scene.planning.is_object() && scene.planning.contains("entry_mm") &&
-      scene.planning.contains("axis")) {
-    const GlenoidPictureFiles files =
-        WriteGlenoidPictures(stagePath.string(), before, bone, scene.planning);
-    summary["pictures"] = {{"before", files.before}, {"after", files.after}};
-  }
+  if (report)
+    pictures = [](const std::string& dir, const Voxmap& b, const Voxmap& a,
+                  const nlohmann::json& planning) {
+      const GlenoidPictureFiles files = WriteGlenoidPictures(dir, b, a, planning);
+      return std::make_pair(files.before, files.after);
+    };
 #endif
-
-  // Everything was written: the step folders, pictures and results move into place together,
-  // the summary last (it says the set is complete).
-  summary = WithFaceAngles(std::move(summary));
-  WriteFilesAtomic({{(stagePath / "summary.json").string(), summary.dump(2) + "\n"},
-                    {(stagePath / "plan_result.md").string(), PlanRunMarkdown(summary)},
-                    {(stagePath / "plan_result.html").string(), PlanRunHtml(summary)}});
+  const nlohmann::json summary = WritePlanResult(stagePath.string(), result, pictures);
+  if (summary.contains("outcome")) {
+    const nlohmann::json& o = summary["outcome"];
+    // NaN (null in JSON) where the outcome could not be measured.
+    const auto num = [](const nlohmann::json& j, const char* key) {
+      return j.contains(key) && j[key].is_number() ? j[key].get<double>()
+                                                   : std::numeric_limits<double>::quiet_NaN();
+    };
+    std::cout << "  outcome: removed " << num(o, "removed_volume_mm3") << " mm^3 (cortical "
+              << num(o, "removed_cortical_mm3") << ", cancellous "
+              << num(o, "removed_cancellous_mm3") << "), reamed face "
+              << num(o, "reamed_face_angle_to_axis_deg") << " deg from the axis, medialisation "
+              << num(o, "medialisation_mm") << " mm, seating " << 100 * num(o, "seating_fraction")
+              << " % within " << num(o["options"], "seating_gap_mm") << " mm, bone beyond the peg "
+              << num(o, "bone_beyond_peg_mm") << " mm\n";
+    for (const auto& w : o.value("warnings", nlohmann::json::array()))
+      std::cout << "  warning: " << w.get<std::string>() << "\n";
+  }
   staged.Commit("summary.json");
   std::cout << "wrote " << outDir << "/summary.json, plan_result.md/.html and " << folders.size()
             << " step folders\n";

@@ -9,12 +9,20 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <tuple>
 
 namespace bm {
 
 namespace {
+
+/// A joint found within this of a placed centre or face point is the placed glenoid's (half a
+/// glenoid's height, 25-35 mm; the other shoulder's joint lies some 300 mm away).
+constexpr double kSameJointMm = 15.0;
+/// Radius of the face patch whose mean normal starts a placed glenoid's rim search, mm (inside
+/// a glenoid's half-width of 11-15 mm).
+constexpr double kPlacedFaceRadiusMm = 8.0;
 
 const char* kPlaceHint = "; place the landmarks in the plan's \"landmarks\" (glenoid_centre_mm and "
                          "face_normal; trigonum_mm and inferior_angle_mm)";
@@ -273,6 +281,21 @@ std::pair<int, double> NearestBone(const SegmentedBone& bone, const Vec3& p) {
   return {label, best};
 }
 
+/// The outward normal of bone `label`'s face around `c`: the mean of its surface normals within
+/// kPlacedFaceRadiusMm (a glenoid is 25-35 mm high; the patch stays on the face for a click
+/// within a few mm of its centre). The rim iteration then refines it to the rim plane's normal.
+Vec3 FaceNormalAround(const SegmentedBone& bone, int label, const Vec3& c) {
+  Vec3 sum{};
+  for (const auto& sp : bone.Surface())
+    if (sp.label == label && Distance(sp.p, c) <= kPlacedFaceRadiusMm)
+      sum = Add(sum, sp.normal);
+  const double len = Norm(sum);
+  if (!(len > 0))
+    throw NoGlenoidFound("no bone surface within " + Mm(kPlacedFaceRadiusMm) +
+                         " of the placed glenoid centre; click on the glenoid face");
+  return Scale(sum, 1.0 / len);
+}
+
 Vec3 UpAxis(const Vec3& n) {
   const Vec3 z{0, 0, 1};
   return Normalized(AddScaled(std::abs(n[2]) < 0.95 ? z : Vec3{0, 1, 0}, n,
@@ -316,11 +339,12 @@ LandmarkOverrides LandmarkOverrides::FromJson(const nlohmann::json& j) {
                                 : key == "face_normal"       ? &o.faceNormal
                                 : key == "trigonum_mm"       ? &o.trigonum
                                 : key == "inferior_angle_mm" ? &o.inferiorAngle
+                                : key == "face_point_mm"     ? &o.facePoint
                                                              : nullptr;
     if (!slot)
       throw std::invalid_argument("landmarks: unknown key \"" + key +
                                   "\" (glenoid_centre_mm, face_normal, trigonum_mm, "
-                                  "inferior_angle_mm, rim_points_mm)");
+                                  "inferior_angle_mm, rim_points_mm, face_point_mm)");
     if (!value.is_array() || value.size() != 3)
       throw std::invalid_argument("landmarks: \"" + key + "\" must be [x, y, z]");
     Vec3 v;
@@ -413,13 +437,37 @@ GlenoidLandmarks DetectLandmarks(const SegmentedBone& bone, const LandmarkOverri
       n = Scale(n, -1);
     c = plane.centroid;
   } else {
-    const Joint j = FindJoint(bone, opt);
-    L.scapulaLabel = j.scapula;
-    L.humeralHeadFound = true;
-    L.humeralHeadCentre = j.head.centre;
-    L.humeralHeadRadiusMm = j.head.radiusMm;
-    c = ov.glenoidCentre ? *ov.glenoidCentre : j.centre;
-    n = ov.faceNormal ? *ov.faceNormal : j.normal;
+    // A centre placed with no normal, or a point clicked on the face: the joint found there, else
+    // (no joint: a humeral head out of the scan or fused to the glenoid, another shoulder's
+    // joint) the face's own normal around the point.
+    const std::optional<Vec3> near = ov.glenoidCentre ? ov.glenoidCentre : ov.facePoint;
+    std::optional<Joint> joint;
+    try {
+      joint = FindJoint(bone, opt);
+    } catch (const NoGlenoidFound&) {
+      if (!near)
+        throw;
+    }
+    if (joint && near && Distance(joint->centre, *near) > kSameJointMm)
+      joint.reset();
+    if (joint) {
+      L.scapulaLabel = joint->scapula;
+      L.humeralHeadFound = true;
+      L.humeralHeadCentre = joint->head.centre;
+      L.humeralHeadRadiusMm = joint->head.radiusMm;
+      c = ov.glenoidCentre ? *ov.glenoidCentre : joint->centre;
+      n = ov.faceNormal ? *ov.faceNormal : joint->normal;
+    } else {
+      c = *near;
+      double best;
+      std::tie(L.scapulaLabel, best) = NearestBone(bone, c);
+      if (best > 10)
+        throw NoGlenoidFound(std::string(ov.glenoidCentre ? "the placed glenoid centre"
+                                                          : "the point placed on the face") +
+                             " is " + Mm(best) +
+                             " from the nearest bone surface; click on the glenoid face");
+      n = ov.faceNormal ? *ov.faceNormal : FaceNormalAround(bone, L.scapulaLabel, c);
+    }
   }
   if (ov.faceNormal) {
     // A normal given the wrong way round: the scapula lies ahead of the face and not behind it.
@@ -435,8 +483,15 @@ GlenoidLandmarks DetectLandmarks(const SegmentedBone& bone, const LandmarkOverri
       throw NoGlenoidFound(s.str());
     }
   }
-  L.centreSource = ov.glenoidCentre ? "user" : fromRim ? "user rim" : "detected";
-  L.normalSource = ov.faceNormal ? "user" : fromRim ? "user rim" : "detected";
+  L.centreSource = ov.glenoidCentre ? "user"
+                   : fromRim        ? "user rim"
+                   : ov.facePoint   ? "user face point"
+                                    : "detected";
+  L.normalSource = ov.faceNormal ? "user"
+                   : fromRim     ? "user rim"
+                   : (ov.glenoidCentre || ov.facePoint) && !L.humeralHeadFound
+                       ? "face around the placed point"
+                       : "detected";
   // Rim, plane and centre around the axis.
   std::vector<Vec3> cands;
   std::vector<Vec3> candNormals;

@@ -30,7 +30,8 @@
 // steps that depend on it: a given centre and normal skip step 1 (the bone nearest the centre is
 // the scapula) and are kept as given, and then a rim that cannot be traced is not available
 // instead of a failure; a given normal that points into the bone (the scapula ahead of the face,
-// none behind it) is refused. A given T or I is used as given.
+// none behind it) is refused. A centre given alone takes the normal of the joint found within
+// 15 mm of it, else of the face around it. A given T or I is used as given.
 // A side (DetectionOptions::side) keeps only joints whose face looks toward that side: a right
 // glenoid faces the patient's right (-x in LPS), a left one +x.
 #pragma once
@@ -61,8 +62,15 @@ struct LandmarkOverrides {
   /// normal, the centre and normal are those of the rim's plane (the normal turned out of the
   /// bone). "rim_points_mm": [[x, y, z], ...].
   std::vector<Vec3> rimPoints;
+  /// A point clicked on the glenoid face (world mm; "face_point_mm"), with no centre or normal
+  /// given: the glenoid whose joint lies within 15 mm of it, else (no joint: the humeral head out
+  /// of the scan or fused to the glenoid) the face around it, traced as detection does (the
+  /// face's mean normal within 8 mm starts the rim search; the centre and normal are then the
+  /// rim's, not the click's).
+  std::optional<Vec3> facePoint;
   bool Empty() const {
-    return !glenoidCentre && !faceNormal && !trigonum && !inferiorAngle && rimPoints.empty();
+    return !glenoidCentre && !faceNormal && !trigonum && !inferiorAngle && rimPoints.empty() &&
+           !facePoint;
   }
   /// From a JSON object with any of the keys above (GlenoidLandmarks::ToJson's "source",
   /// "rim_mm", "humeral_head", "side" and "not_available" are skipped, so a plan's landmarks can

@@ -249,9 +249,16 @@ PlanScenes MakePlanScenes(const GlenoidLandmarks& L, const GlenoidMeasurements& 
                           const GlenoidPlan& plan, const nlohmann::json& importSettings) {
   const nlohmann::json bone = plan.CtBoneJsonWithSettings(importSettings);
   PlanScenes s{plan.SceneJson(bone), plan.StepSceneJson(0, bone), plan.StepSceneJson(1, bone)};
-  s.plan["planning"]["landmarks"] = L.ToJson();
-  s.plan["planning"]["measurements"] = m.ToJson();
+  s.plan["planning"] = PlanningJson(L, m, plan);
   return s;
+}
+
+nlohmann::json PlanningJson(const GlenoidLandmarks& L, const GlenoidMeasurements& m,
+                            const GlenoidPlan& plan) {
+  nlohmann::json j = plan.ToJson();
+  j["landmarks"] = L.ToJson();
+  j["measurements"] = m.ToJson();
+  return j;
 }
 
 nlohmann::json GlenoidPlan::ToJson() const {

@@ -76,6 +76,12 @@ struct GlenoidPlan {
   nlohmann::json ToJson() const;
 };
 
+/// The plan's "planning" block as the plan scene carries it: GlenoidPlan::ToJson with the
+/// landmarks ("landmarks": GlenoidLandmarks::ToJson) and the measurements ("measurements"). What
+/// the glyphs (bmPlanGlyphs.h) and the pictures draw.
+nlohmann::json PlanningJson(const GlenoidLandmarks& landmarks, const GlenoidMeasurements& m,
+                            const GlenoidPlan& plan);
+
 /// A plan's scenes, as both faces write them (bmsim plan's plan.json, step1-guide-pin.json,
 /// step2-ream.json; the plugin's plan filter): on the bone read with `importSettings`
 /// (GlenoidPlan::CtBoneJsonWithSettings), the plan scene carrying the landmarks and measurements

@@ -81,13 +81,15 @@ std::vector<Section> Sections(const nlohmann::json& s) {
                      st.value("name", std::string()) + " (" + st.value("tool", std::string()) + ")",
                  {},
                  {}};
-    step.rows = {
-        {"Reached depth (mm)", Num(At(ss, {"reached_depth_mm"}), 2)},
-        {"Removed volume (mm^3)", Num(At(ss, {"removed_volume_mm3"}))},
-        {"Mean thrust (N)", Num(At(ss, {"thrust_N"}))},
-        {"Mean torque (N mm)", Num(At(ss, {"torque_Nmm"}))},
-        {"Coefficient set", CoefficientSet(At(ss, {"coefficients"}))},
-        {"Forces over time, cut surface", st.value("folder", std::string()) + "/report.html"}};
+    step.rows = {{"Reached depth (mm)", Num(At(ss, {"reached_depth_mm"}), 2)},
+                 {"Removed volume (mm^3)", Num(At(ss, {"removed_volume_mm3"}))},
+                 {"Mean thrust (N)", Num(At(ss, {"thrust_N"}))},
+                 {"Mean torque (N mm)", Num(At(ss, {"torque_Nmm"}))},
+                 {"Coefficient set", CoefficientSet(At(ss, {"coefficients"}))}};
+    // A step run as a session in the viewer has no folder of its own.
+    if (!st.value("folder", std::string()).empty())
+      step.rows.push_back(
+          {"Forces over time, cut surface", st.value("folder", std::string()) + "/report.html"});
     for (const auto& w : ss.value("warnings", nlohmann::json::array()))
       step.notes.push_back(w.get<std::string>());
     out.push_back(step);

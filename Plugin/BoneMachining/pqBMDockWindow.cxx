@@ -71,6 +71,20 @@ pqBMDockWindow::pqBMDockWindow(QWidget* parent)
                    &pqBMDockWindow::planGlenoid);
   QObject::connect(this->Panel->planWidget(), &qBMPlanWidget::runStepRequested, this,
                    &pqBMDockWindow::runPlanStep);
+  QObject::connect(this->Panel->planWidget(), &qBMPlanWidget::placementModeChanged, this,
+                   &pqBMDockWindow::setPlacementMode);
+  QObject::connect(this->Panel->planWidget(), &qBMPlanWidget::viewPlanRequested, this,
+                   &pqBMDockWindow::viewPlan);
+  QObject::connect(this->Panel->planWidget(), &qBMPlanWidget::sliceRequested, this,
+                   &pqBMDockWindow::showPlanSlice);
+  QObject::connect(this->Panel->planWidget(), &qBMPlanWidget::writeReportRequested, this,
+                   &pqBMDockWindow::writePlanReport);
+  QObject::connect(this->Panel->planWidget(), &qBMPlanWidget::writeResultRequested, this,
+                   &pqBMDockWindow::writePlanResult);
+  this->HandleSync = new QTimer(this);
+  this->HandleSync->setSingleShot(true);
+  this->HandleSync->setInterval(250); // a drag's last move, not each one, is planned
+  QObject::connect(this->HandleSync, &QTimer::timeout, this, &pqBMDockWindow::syncDraggedLandmarks);
   // Picking in the 3D view (the surface point under the mouse): Ctrl+Shift+E adds an exclude
   // point, Ctrl+Shift+I sets the include seed of the CT bone.
   auto* exclude = new QShortcut(QKeySequence(tr("Ctrl+Shift+E")), this);
@@ -91,7 +105,10 @@ pqBMDockWindow::pqBMDockWindow(QWidget* parent)
   QObject::connect(this->Poll, &QTimer::timeout, this, &pqBMDockWindow::pollSession);
 }
 
-pqBMDockWindow::~pqBMDockWindow() = default;
+pqBMDockWindow::~pqBMDockWindow() {
+  if (this->GlenoidPlan && this->PlanObserver)
+    this->GlenoidPlan->getProxy()->RemoveObserver(this->PlanObserver);
+}
 
 bool pqBMDockWindow::HoldsImage(pqPipelineSource* source) {
   if (!source || source->getNumberOfOutputPorts() < 1)
@@ -166,6 +183,8 @@ bool pqBMDockWindow::eventFilter(QObject* watched, QEvent* event) {
       this->Panel->sessionWidget()->stepToolDepth(delta > 0 ? 1 : -1);
     return true;
   }
+  if (this->PlaceView && this->PlaceTargets.contains(watched) && this->placementEvent(event))
+    return true;
   return Superclass::eventFilter(watched, event);
 }
 
@@ -175,7 +194,15 @@ bool pqBMDockWindow::pickPoint(double world[3]) const {
   QWidget* widget = view ? view->widget() : nullptr;
   if (!renderView || !widget)
     return false;
-  const QPoint local = widget->mapFromGlobal(QCursor::pos());
+  return this->pickPointAt(widget->mapFromGlobal(QCursor::pos()), world);
+}
+
+bool pqBMDockWindow::pickPointAt(const QPoint& local, double world[3]) const {
+  pqView* view = pqActiveObjects::instance().activeView();
+  auto* renderView = view ? vtkSMRenderViewProxy::SafeDownCast(view->getViewProxy()) : nullptr;
+  QWidget* widget = view ? view->widget() : nullptr;
+  if (!renderView || !widget)
+    return false;
   if (!widget->rect().contains(local))
     return false; // the mouse is not over the view
   // Display coordinates: pixels from the bottom left.
@@ -299,6 +326,8 @@ void pqBMDockWindow::startSession(const QString& scene, int voxmapResolution, in
       .Set(deviceType == vtkBMSessionSource::TOUCH ? panel->forceScale() : 0.0);
   // Building the bone takes seconds (a glenoid's import): on the source's worker thread, while
   // the GUI goes on (the view redraws, the progress shows, Stop cancels).
+  vtkSMPropertyHelper(proxy, "KeepInitialBone").Set(this->KeepInitialBoneNext ? 1 : 0);
+  this->KeepInitialBoneNext = false;
   vtkSMPropertyHelper(proxy, "StartInBackground").Set(1);
   proxy->UpdateVTKObjects();
   panel->setBusy(true, tr("Building %1's bone and tool...").arg(source->getSMName()));

@@ -5,11 +5,14 @@
 
 #include <QDockWidget>
 #include <QElapsedTimer>
+#include <QPoint>
 #include <QPointer>
+#include <QVector>
 
 #include "vtkType.h"
 
 class pqPipelineSource;
+class vtkObject;
 class qBMPanel;
 class QTimer;
 
@@ -72,6 +75,28 @@ private Q_SLOTS:
   /// Runs step `step` of the plan (0 guide pin, 1 reaming) as a session on the step's scene (the
   /// step's tool, the CT's bone; the reaming on the bone the last session left, saved first).
   void runPlanStep(int step);
+  /// Clicks in the 3D view place the glenoid while the Planning section's placement mode is on
+  /// (its Click the face / Click the rim): a click (press and release within a few pixels, not a
+  /// drag, which still turns the camera) on the shown bone sends the surface point under it to
+  /// the section (qBMPlanWidget::addPlacedPoint).
+  void setPlacementMode(int mode);
+  /// The camera as the plan's pictures (bmPlanGlyphs.h PlanView): down the planned axis.
+  void viewPlan();
+  /// A slice of the CT (the image open in the pipeline, else the bone planned on) through the
+  /// plan: 0 axial at the glenoid centre, 1 along the planned axis and the superior direction;
+  /// one slice at a time, the camera square to it (pqBMDockPlanning.cxx).
+  void showPlanSlice(int kind);
+  /// Writes the plan's files and report into the section's report folder (the filter's
+  /// WriteReport: as bmsim plan writes them) and says what was written, or why not.
+  void writePlanReport();
+  /// Writes the result of the plan's steps as they were run (the guide-pin session's bone at its
+  /// start, the reaming session's bone now, both sessions' figures) into the section's report
+  /// folder (the filter's WriteResult), or says why not (no reaming of this plan run yet).
+  void writePlanResult();
+  /// A landmark's handle was dragged in the 3D view (the plan filter's GlenoidCentre, Trigonum
+  /// or InferiorAngle property changed outside planGlenoid): the section takes the point, uses
+  /// it, and plans again (debounced while dragging).
+  void syncDraggedLandmarks();
 
   /// Whether `source`'s first output is image data.
   static bool HoldsImage(pqPipelineSource* source);
@@ -87,6 +112,15 @@ private:
   /// The world point (mm) of the surface under the mouse in the active render view; false when
   /// the mouse is not over the view or over no surface.
   bool pickPoint(double world[3]) const;
+  /// The same at `local` (the view widget's coordinates, pixels from its top left).
+  bool pickPointAt(const QPoint& local, double world[3]) const;
+  /// A mouse event on the view while placing the glenoid; true when it was a placing click.
+  bool placementEvent(QEvent* event);
+  /// Shows the plan filter's glyphs in their own colours (the Colors array, not mapped).
+  void showPlanGlyphs();
+  /// The plan filter's property observer: a landmark changed while planGlenoid was not setting
+  /// it (a handle dragged) starts HandleSync.
+  void onPlanPropertyModified(vtkObject* caller, unsigned long event, void* name);
   qBMPanel* Panel;
   /// The view widget whose wheel steps the mouse proxy's depth (null: none).
   QPointer<QWidget> WheelView;
@@ -94,11 +128,24 @@ private:
   /// The session whose bone is being built (startSession waits for it; Stop cancels it).
   QPointer<pqPipelineSource> Starting;
   QPointer<pqPipelineSource> CTBone;
-  QPointer<pqPipelineSource> CTSurface;      ///< the preview's bone surface: a Contour of CTBone
-  QPointer<pqPipelineSource> CTImage;        ///< the open image BM CT Bone reads (null: its file)
-  QPointer<pqPipelineSource> GlenoidPlan;    ///< the Planning section's BM Glenoid Plan filter
-  QPointer<pqPipelineSource> PlanInput;      ///< the image it plans on
-  QPointer<pqPipelineSource> PinStepSession; ///< the session running the plan's guide-pin step
+  QPointer<pqPipelineSource> CTSurface;       ///< the preview's bone surface: a Contour of CTBone
+  QPointer<pqPipelineSource> CTImage;         ///< the open image BM CT Bone reads (null: its file)
+  QPointer<pqPipelineSource> GlenoidPlan;     ///< the Planning section's BM Glenoid Plan filter
+  QPointer<pqPipelineSource> PlanInput;       ///< the image it plans on
+  QPointer<pqPipelineSource> PinStepSession;  ///< the session running the plan's guide-pin step
+  QPointer<pqPipelineSource> PlanSlice;       ///< the slice through the plan (showPlanSlice)
+  QPointer<pqPipelineSource> ReamStepSession; ///< the session running the plan's reaming step
+  bool KeepInitialBoneNext = false; ///< the next session keeps its starting bone (pin step)
+  QString PlanBeforeBone;           ///< the pin step's starting bone, saved when reaming starts
+  QString PinStepFigures;           ///< the pin step's figures (JSON), taken then
+  QPointer<QWidget> PlaceView;      ///< the view widget clicks place the glenoid in
+  QVector<QPointer<QObject>> PlaceTargets; ///< it, its render widget and OpenGL window
+  QPoint PlacePress;                       ///< where the left button went down on it
+  bool PlacePressed = false;
+  bool SettingPlan = false;       ///< planGlenoid is setting the filter's properties
+  unsigned long PlanObserver = 0; ///< the plan filter's property observer (handle drags)
+  QTimer* HandleSync = nullptr;   ///< debounces handle drags into one plan
+  bool PlanViewSet = false;       ///< the camera was put on the first plan
   QTimer* Poll;
   /// The bone last saved (Save bone, or the plan's pin step) and the trial of the session that cut
   /// it: a session started from that file keeps the entry and axis (world mm; the bone file keeps

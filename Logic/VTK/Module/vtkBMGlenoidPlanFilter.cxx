@@ -4,24 +4,28 @@
 #include "bmGlenoidLandmarks.h"
 #include "bmGlenoidMeasurements.h"
 #include "bmGlenoidPlan.h"
+#include "bmPlanFiles.h"
+#include "bmGlenoidPictures.h"
+#include "bmPlanGlyphs.h"
+#include "bmPlanResult.h"
+#include "bmToolModel.h"
+#ifdef BM_WITH_IO
+#include "bmVoxmapFile.h"
+#endif
 #include "bmJson.h"
 #include "bmSegmentedBone.h"
 #include "bmVoxmap.h"
 
-#include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
-#include "vtkIntArray.h"
 #include "vtkMatrix3x3.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
-#include "vtkPoints.h"
 #include "vtkPolyData.h"
-#include "vtkStringArray.h"
 
 #include <nlohmann/json.hpp>
 
@@ -94,11 +98,22 @@ public:
   const void* Input = nullptr;
   vtkMTimeType InputMTime = 0;
   std::unique_ptr<bm::SegmentedBone> Bone;
-  // Detection cache: the landmarks for one glenoid-centre override (none = detected).
+  std::vector<bm::Vec3> RimPoints;
+  // Detection cache: the landmarks for one set of glenoid overrides (centre, normal, face point,
+  // rim points; none = detected), keyed by their JSON.
   bool HaveLandmarks = false;
-  std::optional<bm::Vec3> LandmarksCentre, LandmarksNormal;
+  std::string LandmarksKey;
   bm::GlenoidLandmarks Landmarks;
   std::optional<bm::Vec3> DetectedNormal; ///< the face normal detected without overrides
+  // The last plan, for WriteReport(): its landmarks, measurements and plan (or why it failed) and
+  // its scenes.
+  std::optional<bm::GlenoidLandmarks> LastLandmarks;
+  bm::GlenoidMeasurements LastMeasurements;
+  bm::GlenoidPlan LastPlan;
+  std::optional<bm::PlanScenes> LastScenes;
+  std::string LastFailure;
+  bool Planned = false; ///< a plan (or a failure to report) exists
+  std::string ReportError, ReportFiles;
 };
 
 vtkStandardNewMacro(vtkBMGlenoidPlanFilter);
@@ -111,6 +126,10 @@ vtkBMGlenoidPlanFilter::vtkBMGlenoidPlanFilter() : Internals(new vtkInternals) {
 vtkBMGlenoidPlanFilter::~vtkBMGlenoidPlanFilter() {
   this->SetCTFileName(nullptr);
   this->SetCTBoneSpecification(nullptr);
+  this->SetReportDirectory(nullptr);
+  this->SetResultBeforeBone(nullptr);
+  this->SetResultAfterBone(nullptr);
+  this->SetResultSteps(nullptr);
   delete this->Internals;
 }
 
@@ -139,6 +158,129 @@ const char* vtkBMGlenoidPlanFilter::GetReamStepScene() {
   return this->Internals->ReamScene.c_str();
 }
 
+void vtkBMGlenoidPlanFilter::AddRimPoint(double x, double y, double z) {
+  this->Internals->RimPoints.push_back({x, y, z});
+  this->Modified();
+}
+
+void vtkBMGlenoidPlanFilter::RemoveAllRimPoints() {
+  if (this->Internals->RimPoints.empty())
+    return;
+  this->Internals->RimPoints.clear();
+  this->Modified();
+}
+
+int vtkBMGlenoidPlanFilter::GetNumberOfRimPoints() const {
+  return int(this->Internals->RimPoints.size());
+}
+
+const char* vtkBMGlenoidPlanFilter::GetReportError() {
+  return this->Internals->ReportError.c_str();
+}
+
+const char* vtkBMGlenoidPlanFilter::GetReportFiles() {
+  return this->Internals->ReportFiles.c_str();
+}
+
+bool vtkBMGlenoidPlanFilter::WriteReport() {
+  vtkInternals& in = *this->Internals;
+  in.ReportError.clear();
+  in.ReportFiles.clear();
+  try {
+    if (!this->ReportDirectory || !*this->ReportDirectory)
+      throw std::runtime_error("no report folder given");
+    if (!in.Planned)
+      throw std::runtime_error("no plan yet: plan first");
+    bm::PlanReportInput rep;
+    const bool specified = this->CTBoneSpecification && *this->CTBoneSpecification;
+    std::string ct = this->CTFileName ? this->CTFileName : "";
+    if (specified) {
+      const nlohmann::json spec =
+          bm::ParseJson(std::string(this->CTBoneSpecification), "the CT bone's specification");
+      ct = spec.value("ct", ct);
+      rep.importSummary = "CT bone settings (BM CT Bone): " + spec.dump();
+    } else {
+      rep.importSummary = "bone from the image planned on (the CT's default import settings)";
+    }
+    rep.source = ct.empty() ? std::string("an image open in the viewer (no CT file named)") : ct;
+    if (in.LastLandmarks) {
+      rep.landmarks = &*in.LastLandmarks;
+      rep.measurements = &in.LastMeasurements;
+      rep.plan = &in.LastPlan;
+    } else {
+      rep.failure = in.LastFailure;
+    }
+    const std::vector<std::string> names =
+        bm::WritePlanFiles(this->ReportDirectory, rep, in.LastScenes ? &*in.LastScenes : nullptr);
+    for (const std::string& n : names)
+      in.ReportFiles += (in.ReportFiles.empty() ? "" : "\n") + n;
+    return true;
+  } catch (const std::exception& e) {
+    in.ReportError = e.what();
+    vtkErrorMacro(<< "glenoid plan report: " << in.ReportError);
+    return false;
+  }
+}
+
+bool vtkBMGlenoidPlanFilter::WriteResult() {
+  vtkInternals& in = *this->Internals;
+  in.ReportError.clear();
+  in.ReportFiles.clear();
+  try {
+    if (!this->ReportDirectory || !*this->ReportDirectory)
+      throw std::runtime_error("no folder given for the plan's result");
+    if (!in.LastLandmarks || !in.LastScenes)
+      throw std::runtime_error("no plan with steps: plan on a named CT first");
+    for (const char* f : {this->ResultBeforeBone, this->ResultAfterBone})
+      if (!f || !*f || !std::filesystem::is_regular_file(f))
+        throw std::runtime_error(std::string("the bone ") + (f && *f ? f : "(none)") +
+                                 " is missing: run the plan's guide pin, then its reaming");
+#ifdef BM_WITH_IO
+    const bm::Voxmap before = bm::LoadVoxmap(this->ResultBeforeBone);
+    const bm::Voxmap after = bm::LoadVoxmap(this->ResultAfterBone);
+#else
+    throw std::runtime_error("reading voxmaps needs the IO library, which this build leaves out");
+    const bm::Voxmap before({1, 1, 1}, 1.0, {0, 0, 0}), after = before;
+#endif
+    const nlohmann::json steps =
+        this->ResultSteps && *this->ResultSteps
+            ? bm::ParseJson(std::string(this->ResultSteps), "the plan's steps")
+            : nlohmann::json::array();
+    if (!steps.is_array())
+      throw std::runtime_error("the plan's steps must be a JSON array");
+    const nlohmann::json& scene = in.LastScenes->plan;
+    bm::PlanResultInput result;
+    result.planName = scene.value("name", "glenoid plan");
+    result.planning = scene.value("planning", nlohmann::json());
+    result.steps = steps;
+    result.before = &before;
+    result.after = &after;
+    // The reaming step: the plan's reamer, to the depth its session reached.
+    const nlohmann::json ream = nlohmann::json::parse(in.ReamScene);
+    const std::unique_ptr<bm::ToolModel> reamer = bm::MakeTool(ream.at("tool"));
+    for (const auto& step : steps)
+      if (step.value("tool", "") == "reamer" && step.contains("summary"))
+        result.reamReachedMm = step["summary"].value("reached_depth_mm", 0.0);
+    result.reamer = reamer.get();
+    const nlohmann::json summary =
+        bm::WritePlanResult(this->ReportDirectory, result,
+                            [](const std::string& dir, const bm::Voxmap& b, const bm::Voxmap& a,
+                               const nlohmann::json& planning) {
+                              const bm::GlenoidPictureFiles files =
+                                  bm::WriteGlenoidPictures(dir, b, a, planning);
+                              return std::make_pair(files.before, files.after);
+                            });
+    in.ReportFiles = "summary.json\nplan_result.md\nplan_result.html";
+    if (summary.contains("pictures"))
+      in.ReportFiles += "\nglenoid_before.png\nglenoid_after.png";
+    return true;
+  } catch (const std::exception& e) {
+    in.ReportError = e.what();
+    vtkErrorMacro(<< "glenoid plan result: " << in.ReportError);
+    return false;
+  }
+}
+
 int vtkBMGlenoidPlanFilter::RequestData(vtkInformation*, vtkInformationVector** inputVector,
                                         vtkInformationVector* outputVector) {
   vtkImageData* input = vtkImageData::GetData(inputVector[0], 0);
@@ -150,9 +292,14 @@ int vtkBMGlenoidPlanFilter::RequestData(vtkInformation*, vtkInformationVector** 
   in.PlanScene.clear();
   in.PinScene.clear();
   in.ReamScene.clear();
+  in.LastLandmarks.reset();
+  in.LastScenes.reset();
+  in.LastFailure.clear();
+  in.Planned = false;
+  std::fill(std::begin(this->PlanCamera), std::end(this->PlanCamera), 0.0);
   this->FriedmanVersion = this->Version3D = this->Inclination = 0;
   this->GlenoidHeight = this->GlenoidWidth = this->FaceRadius = this->Correction = 0;
-  this->ReamerFits = 0;
+  this->ReamerFits = this->Implausible = 0;
   std::fill(std::begin(this->GlenoidLine), std::end(this->GlenoidLine), 0.0);
   for (double* p : {this->UsedGlenoidCentre, this->UsedTrigonum, this->UsedInferiorAngle,
                     this->UsedFaceNormal, this->PlanEntry, this->PlanAxis})
@@ -170,7 +317,7 @@ int vtkBMGlenoidPlanFilter::RequestData(vtkInformation*, vtkInformationVector** 
       in.Input = input;
       in.InputMTime = input->GetMTime();
     }
-    // 2. Detection, once per glenoid-centre override. A given centre keeps the detected face
+    // 2. Detection, once per set of glenoid overrides. A given centre keeps the detected face
     // normal (no joint search); the trigonum and inferior angle are replaced afterwards.
     std::optional<bm::Vec3> centre;
     if (this->UseGlenoidCentre)
@@ -185,33 +332,46 @@ int vtkBMGlenoidPlanFilter::RequestData(vtkInformation*, vtkInformationVector** 
                                  ") is zero or not finite");
       givenNormal = bm::Scale(n, 1.0 / len);
     }
-    bm::LandmarkOverrides all;
-    all.glenoidCentre = centre;
+    bm::LandmarkOverrides base;
+    base.glenoidCentre = centre;
+    if (givenNormal)
+      base.faceNormal = givenNormal;
+    else if (centre && in.DetectedNormal)
+      base.faceNormal = in.DetectedNormal;
+    if (this->UseFacePoint && !centre && !givenNormal)
+      base.facePoint = ToVec3(this->FacePoint);
+    if (!centre && !givenNormal && !base.facePoint && in.RimPoints.size() >= 3)
+      base.rimPoints = in.RimPoints;
+    nlohmann::json key = nlohmann::json::object();
+    if (base.glenoidCentre)
+      key["c"] = *base.glenoidCentre;
+    if (base.faceNormal)
+      key["n"] = *base.faceNormal;
+    if (base.facePoint)
+      key["f"] = *base.facePoint;
+    if (!base.rimPoints.empty())
+      key["r"] = base.rimPoints;
+    bm::LandmarkOverrides all = base;
+    if (!givenNormal && centre)
+      all.faceNormal.reset(); // a detected normal is not the user's
     if (this->UseTrigonum)
       all.trigonum = ToVec3(this->Trigonum);
     if (this->UseInferiorAngle)
       all.inferiorAngle = ToVec3(this->InferiorAngle);
     bm::GlenoidLandmarks L;
-    if (in.HaveLandmarks && in.LandmarksCentre == centre && in.LandmarksNormal == givenNormal) {
+    if (in.HaveLandmarks && in.LandmarksKey == key.dump()) {
       L = in.Landmarks;
     } else {
       this->UpdateProgress(0.3);
-      bm::LandmarkOverrides base;
-      base.glenoidCentre = centre;
-      if (givenNormal)
-        base.faceNormal = givenNormal;
-      else if (centre && in.DetectedNormal)
-        base.faceNormal = in.DetectedNormal;
       try {
         L = bm::DetectLandmarks(*in.Bone, base);
         ++this->DetectionCount;
         if (base.faceNormal && !givenNormal)
           L.normalSource = "detected";
         in.Landmarks = L;
-        in.LandmarksCentre = centre;
-        in.LandmarksNormal = givenNormal;
+        in.LandmarksKey = key.dump();
         in.HaveLandmarks = true;
-        if (!centre && !givenNormal)
+        if (base.Empty())
           in.DetectedNormal = L.faceNormal;
       } catch (const bm::NoGlenoidFound&) {
         // A scapular landmark the detection could not find may be one the user gave.
@@ -260,6 +420,7 @@ int vtkBMGlenoidPlanFilter::RequestData(vtkInformation*, vtkInformationVector** 
     this->FaceRadius = m.faceRadiusMm;
     this->Correction = plan.correctionDeg;
     this->ReamerFits = plan.reamerFits ? 1 : 0;
+    this->Implausible = plan.implausible.empty() ? 0 : 1;
     Copy3(L.glenoidCentre, this->UsedGlenoidCentre);
     Copy3(L.trigonum, this->UsedTrigonum);
     Copy3(L.inferiorAngle, this->UsedInferiorAngle);
@@ -279,65 +440,36 @@ int vtkBMGlenoidPlanFilter::RequestData(vtkInformation*, vtkInformationVector** 
               ? bm::ParseJson(std::string(this->CTBoneSpecification), "the CT bone's specification")
               : nlohmann::json{{"ct", std::filesystem::absolute(this->CTFileName).string()}};
       const bm::PlanScenes scenes = bm::MakePlanScenes(L, m, plan, settings);
+      in.LastScenes = scenes;
       in.PlanScene = scenes.plan.dump(2);
       in.PinScene = scenes.pin.dump(2);
       in.ReamScene = scenes.ream.dump(2);
     }
 
-    // 4. The picture: landmarks, rim, axis, face normal.
-    vtkNew<vtkPoints> points;
-    vtkNew<vtkCellArray> verts, lines;
-    vtkNew<vtkStringArray> names;
-    names->SetName("Landmark");
-    vtkNew<vtkIntArray> part;
-    part->SetName("Part");
-    const std::pair<const char*, bm::Vec3> marks[] = {{"glenoid centre", L.glenoidCentre},
-                                                      {"trigonum", L.trigonum},
-                                                      {"inferior angle", L.inferiorAngle}};
-    for (const auto& [name, p] : marks) {
-      const vtkIdType id = points->InsertNextPoint(p.data());
-      names->InsertNextValue(name);
-      verts->InsertNextCell(1, &id);
+    in.LastLandmarks = L;
+    in.LastMeasurements = m;
+    in.LastPlan = plan;
+    in.Planned = true;
+
+    // 4. The picture: the plan's glyphs, and its camera.
+    const nlohmann::json planning = bm::PlanningJson(L, m, plan);
+    output->ShallowCopy(bm::MakePlanGlyphs(planning));
+    const bm::SurfaceView view = bm::PlanView(planning);
+    for (int a = 0; a < 3; ++a) {
+      this->PlanCamera[a] = view.focalMm[size_t(a)];
+      this->PlanCamera[3 + a] = view.toCamera[size_t(a)];
+      this->PlanCamera[6 + a] = view.viewUp[size_t(a)];
     }
-    auto addPoint = [&](const bm::Vec3& p) {
-      names->InsertNextValue("");
-      return points->InsertNextPoint(p.data());
-    };
-    if (!L.rim.empty()) {
-      lines->InsertNextCell(int(L.rim.size() + 1));
-      const vtkIdType first = addPoint(L.rim[0]);
-      lines->InsertCellPoint(first);
-      for (size_t i = 1; i < L.rim.size(); ++i)
-        lines->InsertCellPoint(addPoint(L.rim[i]));
-      lines->InsertCellPoint(first);
-    }
-    const vtkIdType axis[2] = {addPoint(plan.entry),
-                               addPoint(bm::AddScaled(plan.entry, plan.axis, 40.0))};
-    lines->InsertNextCell(2, axis);
-    const vtkIdType normal[2] = {addPoint(L.glenoidCentre),
-                                 addPoint(bm::AddScaled(L.glenoidCentre, L.faceNormal, 30.0))};
-    lines->InsertNextCell(2, normal);
-    const vtkIdType glenoidLine[2] = {addPoint(m.anteriorRim), addPoint(m.posteriorRim)};
-    lines->InsertNextCell(2, glenoidLine);
-    for (int i = 0; i < 3; ++i)
-      part->InsertNextValue(0);
-    if (!L.rim.empty())
-      part->InsertNextValue(1);
-    part->InsertNextValue(2);
-    part->InsertNextValue(3);
-    part->InsertNextValue(4);
-    output->SetPoints(points);
-    output->SetVerts(verts);
-    output->SetLines(lines);
-    output->GetPointData()->AddArray(names);
-    output->GetCellData()->AddArray(part);
+    this->PlanCamera[9] = view.halfHeightMm;
   } catch (const bm::NoGlenoidFound& e) {
     // The detection's hint names the plan file's keys; here the landmarks are the filter's.
     std::string what = e.what();
     what = what.substr(0, what.find("; place the landmarks"));
-    in.Error = what + "; place the landmarks: turn on Use Glenoid Centre and Use Face Normal and "
-                      "give them (drag the centre's handle onto the glenoid face in the 3D "
-                      "view), and Use Trigonum or Use Inferior Angle for one not found";
+    in.Error = what + "; place the glenoid: Click the face (or Click the rim, three or more "
+                      "points) and click on the bone in the 3D view, or give the centre and "
+                      "face normal; Use Trigonum or Use Inferior Angle for one not found";
+    in.LastFailure = in.Error;
+    in.Planned = true; // a failure's report says why
     output->Initialize();
     vtkErrorMacro(<< "glenoid plan: " << in.Error);
     return 0;

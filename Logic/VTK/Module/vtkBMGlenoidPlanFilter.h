@@ -12,13 +12,19 @@
 // Landmarks: each of the glenoid centre, the trigonum and the inferior angle is detected, or,
 // with its Use... flag on, the given point (world mm) is used instead (what dragging its handle in
 // the 3D view sets). A given glenoid centre keeps the detected face normal (or the given one,
-// UseFaceNormal) and re-fits the rim around the given centre.
+// UseFaceNormal; with neither, the face's normal around it) and re-fits the rim around the given
+// centre. Placed in the 3D view when detection fails (the dock's Place modes): a point clicked on
+// the face (UseFacePoint: the glenoid traced around it as detection would), or three or more
+// points clicked on the rim (RimPoints: their plane), bm::LandmarkOverrides.
 //
-// Output (vtkPolyData, world mm): vertices at the glenoid centre, trigonum and inferior angle
-// (point array "Landmark": their names), the rim as a closed polyline, the proposed reaming axis
-// (a line from the entry, 40 mm out of the bone), the face normal (a 30 mm line from the centre)
-// and Friedman's glenoid line; cell array "Part" (0 landmark, 1 rim, 2 axis, 3 face normal,
-// 4 glenoid line).
+// Output (vtkPolyData, world mm): the plan's glyphs as the report's pictures draw them
+// (bmPlanGlyphs.h): the planned axis, the face normal, the reamer's outline on the planned face
+// plane, the rim and the landmarks, each labelled, in its colour (point array "Colors", RGB; cell
+// array "Part", bm::PlanGlyphPart). The plan's camera (down the axis, tilted 30 deg) in
+// GetPlanCamera().
+//
+// Report: WriteReport() writes the plan's files into ReportDirectory as bmsim plan writes them
+// (bmPlanFiles.h: plan.json, the step scenes, plan_report.md/.html/.json).
 //
 // Caching: the segmentation is redone only when the input changes; the detection of the joint
 // (the expensive part) once per input; moving the trigonum or inferior angle, or changing the
@@ -64,6 +70,20 @@ public:
   vtkBooleanMacro(UseInferiorAngle, bool);
   vtkSetVector3Macro(InferiorAngle, double);
   vtkGetVector3Macro(InferiorAngle, double);
+  /// A point clicked on the glenoid face (world mm; used with UseFacePoint, default off, and no
+  /// glenoid centre given): the glenoid whose joint lies within 15 mm of it, else the face
+  /// traced around it (bm::LandmarkOverrides::facePoint).
+  vtkSetMacro(UseFacePoint, bool);
+  vtkGetMacro(UseFacePoint, bool);
+  vtkBooleanMacro(UseFacePoint, bool);
+  vtkSetVector3Macro(FacePoint, double);
+  vtkGetVector3Macro(FacePoint, double);
+  /// Points clicked on the glenoid's rim (world mm; default none): with three or more, and no
+  /// glenoid centre, face normal or face point given, the glenoid's centre and normal are their
+  /// plane's (the normal turned out of the bone).
+  void AddRimPoint(double x, double y, double z);
+  void RemoveAllRimPoints();
+  int GetNumberOfRimPoints() const;
   ///@}
   ///@{
   /// Plan settings (bm::PlanOptions): target version and inclination of the reaming axis, deg
@@ -115,6 +135,9 @@ public:
   vtkGetMacro(Correction, double);
   /// Whether the reamer fits the glenoid (no overhang); 0 also when the plan failed.
   vtkGetMacro(ReamerFits, int);
+  /// 1 when the measurements are implausible for a glenoid (version or inclination beyond
+  /// +-30 deg, correction beyond 15 deg: bm::GlenoidPlan::implausible; the warnings say which).
+  vtkGetMacro(Implausible, int);
   /// The landmarks used (detected or given), world mm.
   vtkGetVector3Macro(UsedGlenoidCentre, double);
   vtkGetVector3Macro(UsedTrigonum, double);
@@ -142,8 +165,45 @@ public:
   /// reaming (on the bone the pin step left: vtkBMSessionSource BoneFile). "" as GetPlanScene().
   const char* GetPinStepScene();
   const char* GetReamStepScene();
+  /// The plan's camera (bmPlanGlyphs.h PlanView): focal point (the entry, mm), the unit direction
+  /// from it to the eye, the view-up, and the half height in mm the view should show (10 values;
+  /// zero when the plan failed).
+  vtkGetVectorMacro(PlanCamera, double, 10);
   /// How many times the joint detection ran (for tests of the caching).
   vtkGetMacro(DetectionCount, int);
+  ///@}
+
+  ///@{
+  /// The folder WriteReport() writes into (created when missing; default none).
+  vtkSetStringMacro(ReportDirectory);
+  vtkGetStringMacro(ReportDirectory);
+  /// Writes the last plan's files into ReportDirectory as bmsim plan does (bmPlanFiles.h): with a
+  /// plan, plan.json and the step scenes (when the CT is known) and plan_report.md/.html/.json;
+  /// after a failed plan, the report of why. Returns false, with GetReportError() saying why,
+  /// when there is no folder, no plan was made or a file cannot be written (nothing is then
+  /// written).
+  bool WriteReport();
+  /// Why the last WriteReport() or WriteResult() failed ("" when it wrote), and what it wrote
+  /// (one name a line).
+  const char* GetReportError();
+  const char* GetReportFiles();
+  /// The plan's steps as they were run (in the viewer: the guide-pin and reaming sessions): the
+  /// bone before the first step and after the last (voxmap files on one grid, as the sessions'
+  /// SaveInitialBone and SaveBone write them) and each step's figures (a JSON array of {step,
+  /// name, tool, summary: {reached_depth_mm, removed_volume_mm3, ...}}).
+  vtkSetStringMacro(ResultBeforeBone);
+  vtkGetStringMacro(ResultBeforeBone);
+  vtkSetStringMacro(ResultAfterBone);
+  vtkGetStringMacro(ResultAfterBone);
+  vtkSetStringMacro(ResultSteps);
+  vtkGetStringMacro(ResultSteps);
+  /// Writes the plan's result into ReportDirectory as bmsim run writes a plan's (bmPlanResult.h):
+  /// the outcome of the reaming on the bone (the last plan's reamer, to the reaming step's reached
+  /// depth), the glenoid's pictures before and after with the plan drawn, summary.json and
+  /// plan_result.md/.html. Returns false, with GetReportError() saying why, when there is no
+  /// plan with steps, no folder, a bone file is missing or unreadable, the two bones are not on
+  /// one grid, or a file cannot be written.
+  bool WriteResult();
   ///@}
 
 protected:
@@ -161,6 +221,8 @@ protected:
   double Trigonum[3] = {0, 0, 0};
   bool UseInferiorAngle = false;
   double InferiorAngle[3] = {0, 0, 0};
+  bool UseFacePoint = false;
+  double FacePoint[3] = {0, 0, 0};
   double TargetVersion = 0;
   double TargetInclination = 0;
   double ReamDepth = 2.0;
@@ -169,10 +231,15 @@ protected:
   double PinDepth = 0;
   char* CTFileName = nullptr;
   char* CTBoneSpecification = nullptr;
+  char* ReportDirectory = nullptr;
+  char* ResultBeforeBone = nullptr;
+  char* ResultAfterBone = nullptr;
+  char* ResultSteps = nullptr;
 
   double FriedmanVersion = 0, Version3D = 0, Inclination = 0;
   double GlenoidHeight = 0, GlenoidWidth = 0, FaceRadius = 0, Correction = 0;
   int ReamerFits = 0;
+  int Implausible = 0;
   double UsedGlenoidCentre[3] = {0, 0, 0};
   double UsedTrigonum[3] = {0, 0, 0};
   double UsedInferiorAngle[3] = {0, 0, 0};
@@ -180,6 +247,7 @@ protected:
   double GlenoidLine[6] = {0, 0, 0, 0, 0, 0};
   double PlanEntry[3] = {0, 0, 0};
   double PlanAxis[3] = {0, 0, 0};
+  double PlanCamera[10] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
   int DetectionCount = 0;
 
 private:

@@ -56,6 +56,7 @@ constexpr double kSurfaceBudgetMs = 8.0;
 class vtkBMSessionSource::vtkInternals {
 public:
   std::unique_ptr<bm::MachiningSetup> Setup;
+  std::unique_ptr<bm::Voxmap> InitialBone; ///< the bone at Start (KeepInitialBone)
   std::shared_ptr<bm::ProgrammableDevice> Mouse;
   std::unique_ptr<bm::HapticSession> Session;
   std::string GridReason; ///< BuiltSession::gridReason of the session last started
@@ -375,6 +376,9 @@ bool vtkBMSessionSource::FinishStart() {
     in.GridReason = built->gridReason;
     this->ForceScaleInUse = built->options.proxy.coupling.forceScale;
     in.Setup = std::move(built->setup);
+    in.InitialBone.reset();
+    if (this->KeepInitialBone)
+      in.InitialBone = std::make_unique<bm::Voxmap>(in.Setup->Bone());
     in.Mouse = built->mouse;
     in.Session = std::make_unique<bm::HapticSession>(*in.Setup, built->device, built->options);
     const bm::Box3 box = in.Setup->Bone().Bounds();
@@ -469,6 +473,27 @@ bool vtkBMSessionSource::SaveBone(const char* path) {
   if (wasRunning)
     in.Session->Resume();
   return ok;
+}
+
+bool vtkBMSessionSource::SaveInitialBone(const char* path) {
+  vtkInternals& in = *this->Internals;
+  if (!path || !*path)
+    return true; // clearing the property
+  try {
+    if (!in.InitialBone)
+      throw std::runtime_error("no initial bone was kept: turn KeepInitialBone on before Start");
+#ifdef BM_WITH_IO
+    bm::SaveVoxmap(*in.InitialBone, path);
+#else
+    throw std::runtime_error("saving voxmaps needs the IO library, which this build leaves out");
+#endif
+    in.Error.clear();
+    return true;
+  } catch (const std::exception& e) {
+    in.Error = e.what();
+    vtkErrorMacro(<< "cannot save the initial bone: " << in.Error);
+    return false;
+  }
 }
 
 bool vtkBMSessionSource::GetNeedsUpdate() {

@@ -213,6 +213,15 @@ public:
   /// session bone, a refused extension or folder, a write failure. An empty path does nothing
   /// (returns true), so the server-manager property can be cleared.
   bool SaveBone(const char* path);
+  /// Whether the session keeps a copy of its bone as it was at Start (default off: it costs a
+  /// voxmap's memory), for SaveInitialBone: a plan's result compares the bone before its steps
+  /// with the bone after them.
+  vtkSetMacro(KeepInitialBone, bool);
+  vtkGetMacro(KeepInitialBone, bool);
+  /// Saves the bone as it was when the session started (KeepInitialBone on), as SaveBone saves
+  /// (atomic, .nrrd or .mha). Returns false (GetLastError()) when no initial bone was kept or the
+  /// write fails; an empty path does nothing (returns true).
+  bool SaveInitialBone(const char* path);
 
 #ifndef __VTK_WRAP__
   /// Whether a Touch can be opened now: starts and stops a bm::TouchDevice (libHD from
@@ -273,6 +282,7 @@ protected:
   char* Scene = nullptr;
   char* Tool = nullptr;
   char* BoneFile = nullptr;
+  bool KeepInitialBone = false;
   char* BoneCT = nullptr;
   bool OverrideTrial = false;
   double Entry[3] = {0, 0, 0};

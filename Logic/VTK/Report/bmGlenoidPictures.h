@@ -1,9 +1,9 @@
 // bmGlenoidPictures.h - pictures of the glenoid before and after a plan's steps, with what the
-// surgeon planned drawn on the bone: the planned reaming axis (red), the measured face normal
-// (green), the glenoid rim (yellow) and the planned face plane as a circle of the reamer's radius
-// around the glenoid centre (white). The camera looks down the planned axis, tilted 30 deg toward
-// the bone's superior side so that the depth of the cut shows. Rendering needs an X display
-// (bmSurfaceImage.h).
+// surgeon planned drawn on the bone as the 3D view draws it (bmPlanGlyphs.h): the planned reaming
+// axis (red), the measured face normal (green), the glenoid rim (yellow), the planned face plane
+// as the reamer's outline around the entry (white) and the glenoid centre, each labelled. The
+// camera is the plan's (PlanView: down the planned axis, tilted 30 deg so that the depth of the
+// cut shows). Rendering needs an X display (bmSurfaceImage.h).
 #pragma once
 
 #include <nlohmann/json_fwd.hpp>

@@ -179,6 +179,50 @@ TEST(GlenoidManualPath, RimPointsPlaceTheGlenoid) {
   EXPECT_THROW(DetectLandmarks(bone, line), NoGlenoidFound);
 }
 
+TEST(GlenoidManualPath, AClickOnTheFaceGivesTheGlenoid) {
+  // The scapula alone (the humeral head removed: no joint to find), as a preview that keeps one
+  // bone. A click on the face, 4 mm off its centre, gives the glenoid as detection would: the
+  // centre and normal come from the rim traced around the face's own normal.
+  const ScapulaPhantom ph{ScapulaPhantomParams{}};
+  const ScapulaTruth& t = ph.Truth();
+  Voxmap v = MakeScapulaVoxmap(ph, 1.0, 3);
+  for (int k = 0; k < v.Dims()[2]; ++k)
+    for (int j = 0; j < v.Dims()[1]; ++j)
+      for (int i = 0; i < v.Dims()[0]; ++i) {
+        const Vec3 p{v.Origin()[0] + i * v.Spacing(), v.Origin()[1] + j * v.Spacing(),
+                     v.Origin()[2] + k * v.Spacing()};
+        if (Distance(p, t.humeralHeadCentre) <= t.humeralHeadRadiusMm + 2)
+          v.SetFill(v.Index(i, j, k), 0);
+      }
+  const SegmentedBone bone(v);
+  EXPECT_THROW(DetectLandmarks(bone), NoGlenoidFound);
+  LandmarkOverrides ov;
+  ov.facePoint = AddScaled(t.glenoidCentre, t.superiorAxis, 4.0);
+  const GlenoidLandmarks L = DetectLandmarks(bone, ov);
+  EXPECT_EQ(L.centreSource, "user face point");
+  EXPECT_EQ(L.normalSource, "face around the placed point");
+  EXPECT_FALSE(L.humeralHeadFound);
+  EXPECT_LT(Distance(L.glenoidCentre, t.glenoidCentre), 1.0);
+  EXPECT_LT(AngleDeg(L.faceNormal, t.faceNormal), 1.0);
+  // With the head in the scan, the click picks the joint found there: the same glenoid.
+  const SegmentedBone whole(MakeScapulaVoxmap(ph, 1.0, 3));
+  const GlenoidLandmarks J = DetectLandmarks(whole, ov);
+  EXPECT_TRUE(J.humeralHeadFound);
+  EXPECT_LT(Distance(J.glenoidCentre, L.glenoidCentre), 1.0);
+  // A centre placed alone keeps the click and takes the face's normal.
+  LandmarkOverrides centre;
+  centre.glenoidCentre = ov.facePoint;
+  const GlenoidLandmarks C = DetectLandmarks(bone, centre);
+  EXPECT_EQ(C.centreSource, "user");
+  EXPECT_LT(Distance(C.glenoidCentre, *ov.facePoint), 1e-12);
+  EXPECT_LT(AngleDeg(C.faceNormal, t.faceNormal), 2.0);
+  // A click in the air is refused by name; the JSON key reads back.
+  LandmarkOverrides air;
+  air.facePoint = AddScaled(t.glenoidCentre, t.faceNormal, 30.0);
+  EXPECT_THROW(DetectLandmarks(bone, air), NoGlenoidFound);
+  EXPECT_TRUE(LandmarkOverrides::FromJson({{"face_point_mm", {1, 2, 3}}}).facePoint.has_value());
+}
+
 TEST(GlenoidManualPath, TheSideAskedForIsTheOneFound) {
   ScapulaPhantomParams left;
   left.rightSide = false;

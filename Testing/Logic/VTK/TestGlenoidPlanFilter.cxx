@@ -1,23 +1,31 @@
 // vtkBMGlenoidPlanFilter on the scapula phantom's voxmap (1 mm voxels, no CT): the measured
 // version and inclination against the phantom's truth, a moved trigonum changing Friedman's
 // version by the angle it was turned through without a new joint detection, the plan's targets,
-// the plan scene, and a bone without a glenoid refused with "no glenoid found".
+// the plan scene, the glenoid placed by a click on its face or on its rim where detection fails,
+// the report written as bmsim plan writes it, and a bone without a glenoid refused with "no
+// glenoid found".
 #include "vtkBMGlenoidPlanFilter.h"
 
 #include "bmBoneFractionImage.h"
+#include "bmPlanGlyphs.h"
 #include "bmScapulaPhantom.h"
 #include "bmScapulaVoxmap.h"
 
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkImageData.h"
+#include "vtkIntArray.h"
 #include "vtkNew.h"
+#include "vtkPointData.h"
 #include "vtkPolyData.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
 #include <string>
 
 namespace {
@@ -65,11 +73,21 @@ TEST(GlenoidPlanFilter, MeasuresThePhantomAndFollowsAMovedTrigonum) {
   EXPECT_GT(f->GetCorrection(), 5.0);
   EXPECT_STREQ(f->GetPlanScene(), ""); // no CT named
 
-  // The output: 3 landmark vertices, the rim, the axis and the normal.
+  // The output: the plan's glyphs, every part (the axis, the normal, the reamer's outline, the
+  // rim, the three landmarks) in its colour; the plan's camera down the axis.
   vtkPolyData* out = f->GetOutput();
-  EXPECT_EQ(out->GetNumberOfVerts(), 3);
-  EXPECT_EQ(out->GetNumberOfLines(), 4);
-  ASSERT_NE(out->GetCellData()->GetArray("Part"), nullptr);
+  auto* part = vtkIntArray::SafeDownCast(out->GetCellData()->GetArray("Part"));
+  ASSERT_NE(part, nullptr);
+  ASSERT_NE(out->GetPointData()->GetArray("Colors"), nullptr);
+  std::set<int> parts;
+  for (vtkIdType i = 0; i < part->GetNumberOfValues(); ++i)
+    parts.insert(part->GetValue(i));
+  EXPECT_EQ(parts.size(), size_t(bm::kPlanGlyphParts));
+  const double* cam = f->GetPlanCamera();
+  const double* axis = f->GetPlanAxis();
+  EXPECT_NEAR(cam[3] * axis[0] + cam[4] * axis[1] + cam[5] * axis[2], std::cos(30 * kPi / 180),
+              1e-9);
+  EXPECT_NEAR(cam[0], f->GetPlanEntry()[0], 1e-12);
 
   // Drag the trigonum 5 deg about the vertical through the glenoid line's midpoint: Friedman's
   // scapular axis (trigonum to that midpoint) turns 5 deg, so his version changes by 5 deg; no
@@ -139,4 +157,88 @@ TEST(GlenoidPlanFilter, ABoneWithoutAGlenoidAsksForLandmarks) {
   EXPECT_NE(error.find("no glenoid found"), std::string::npos) << error;
   EXPECT_EQ(f->GetOutput()->GetNumberOfPoints(), 0);
   EXPECT_EQ(f->GetFriedmanVersion(), 0.0);
+}
+
+TEST(GlenoidPlanFilter, AClickOnTheFaceOrTheRimPlacesTheGlenoidAndTheReportIsWritten) {
+  // The scapula without its humeral head: detection finds no joint; a point clicked on the face
+  // (3 mm off the centre) and then four points clicked on the rim each give the glenoid.
+  PhantomInput& in = Phantom();
+  const bm::ScapulaTruth& t = in.phantom.Truth();
+  bm::Voxmap v = bm::MakeScapulaVoxmap(in.phantom, 1.0, 3);
+  for (int k = 0; k < v.Dims()[2]; ++k)
+    for (int j = 0; j < v.Dims()[1]; ++j)
+      for (int i = 0; i < v.Dims()[0]; ++i) {
+        const bm::Vec3 p{v.Origin()[0] + i * v.Spacing(), v.Origin()[1] + j * v.Spacing(),
+                         v.Origin()[2] + k * v.Spacing()};
+        if (bm::Distance(p, t.humeralHeadCentre) <= t.humeralHeadRadiusMm + 2)
+          v.SetFill(v.Index(i, j, k), 0);
+      }
+  bm::BoneFractionImage image;
+  image.Update(v);
+  vtkNew<vtkBMGlenoidPlanFilter> f;
+  f->SetInputData(image.GetOutput());
+  f->SetCTFileName("/tmp/scapula-ct");
+  f->Update();
+  EXPECT_NE(std::string(f->GetLastError()).find("Click the face"), std::string::npos)
+      << f->GetLastError();
+  // The failure's report says why.
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(testing::TempDir()) / "bm-plan-filter-report";
+  fs::remove_all(dir);
+  f->SetReportDirectory(dir.string().c_str());
+  ASSERT_TRUE(f->WriteReport()) << f->GetReportError();
+  EXPECT_FALSE(fs::exists(dir / "plan.json"));
+  {
+    std::ifstream report(dir / "plan_report.json");
+    const nlohmann::json j = nlohmann::json::parse(report);
+    EXPECT_EQ(j.at("status"), "no_glenoid");
+  }
+
+  const bm::Vec3 click = bm::AddScaled(t.glenoidCentre, t.anteriorAxis, 3.0);
+  f->SetFacePoint(click[0], click[1], click[2]);
+  f->UseFacePointOn();
+  f->Update();
+  ASSERT_STREQ(f->GetLastError(), "");
+  const double* c = f->GetUsedGlenoidCentre();
+  EXPECT_LT(bm::Distance({c[0], c[1], c[2]}, t.glenoidCentre), 1.0);
+  const double* n = f->GetUsedFaceNormal();
+  EXPECT_LT(bm::AngleDeg({n[0], n[1], n[2]}, t.faceNormal), 1.0);
+  EXPECT_NEAR(f->GetVersion3D(), t.version3DDeg, 1.0);
+
+  // The report as bmsim plan writes it: the plan, its steps, the report saying planned.
+  fs::remove_all(dir);
+  ASSERT_TRUE(f->WriteReport()) << f->GetReportError();
+  for (const char* name : {"plan.json", "step1-guide-pin.json", "step2-ream.json", "plan_report.md",
+                           "plan_report.html", "plan_report.json"})
+    EXPECT_TRUE(fs::exists(dir / name)) << name;
+  EXPECT_NE(std::string(f->GetReportFiles()).find("plan_report.html"), std::string::npos);
+  {
+    std::ifstream report(dir / "plan_report.json");
+    const nlohmann::json j = nlohmann::json::parse(report);
+    EXPECT_EQ(j.at("status"), "planned");
+    std::ifstream plan(dir / "plan.json");
+    EXPECT_EQ(nlohmann::json::parse(plan).at("bone").at("ct").at("ct"), "/tmp/scapula-ct");
+  }
+  fs::remove_all(dir);
+  f->SetReportDirectory(nullptr);
+  EXPECT_FALSE(f->WriteReport());
+  EXPECT_NE(std::string(f->GetReportError()).find("folder"), std::string::npos);
+
+  // Four points on the rim, the face point off.
+  f->UseFacePointOff();
+  const bm::Vec3 up = bm::Normalized(
+      bm::AddScaled(t.superiorAxis, t.faceNormal, -bm::Dot(t.superiorAxis, t.faceNormal)));
+  const bm::Vec3 across = bm::Cross(t.faceNormal, up);
+  for (const auto& [a, b] : {std::pair{19.0, 0.0}, {0.0, 14.0}, {-19.0, 0.0}, {0.0, -14.0}}) {
+    const bm::Vec3 p = bm::AddScaled(bm::AddScaled(t.glenoidCentre, up, a), across, b);
+    f->AddRimPoint(p[0], p[1], p[2]);
+  }
+  EXPECT_EQ(f->GetNumberOfRimPoints(), 4);
+  f->Update();
+  ASSERT_STREQ(f->GetLastError(), "");
+  c = f->GetUsedGlenoidCentre();
+  EXPECT_LT(bm::Distance({c[0], c[1], c[2]}, t.glenoidCentre), 1.0);
+  f->RemoveAllRimPoints();
+  f->Update();
+  EXPECT_NE(std::string(f->GetLastError()).find("no glenoid found"), std::string::npos);
 }

@@ -1,0 +1,178 @@
+# BMDockPlaceChecks.py - the checks of BMDockPlacePlan.xml, run in paraview's Python shell (its
+# path in $BM_DOCK_PLACE_CHECKS): the glenoid placed by a click on the face in the 3D view, where
+# detection finds no glenoid (the preview keeps the scapula alone). The truth is the phantom's
+# (truth.json beside its DICOM series, ct-scapula). A failed check writes "BMDockPlace: ..." to
+# stderr and ends paraview with status 1. Units: mm, deg.
+import functools
+import json
+import math
+import os
+import traceback
+
+from paraview import simple
+
+bm_place = {}
+
+
+def bm_place_fail(message):
+    os.write(2, ("BMDockPlace: " + message + "\n").encode())
+    os._exit(1)
+
+
+def bm_place_check(fn):
+    """The shell prints a check's exception and goes on: an exception fails the test instead."""
+
+    @functools.wraps(fn)
+    def checked(*args):
+        try:
+            fn(*args)
+        except Exception:
+            bm_place_fail(fn.__name__ + " raised:\n" + traceback.format_exc())
+
+    return checked
+
+
+def _plan():
+    """The dock's BM Glenoid Plan filter."""
+    plans = [s for s in simple.GetSources().values()
+             if s.SMProxy.GetXMLName() == "BMGlenoidPlanFilter"]
+    if len(plans) != 1:
+        bm_place_fail("expected one BM Glenoid Plan filter, found %d" % len(plans))
+    return plans[0]
+
+
+def _truth():
+    with open(os.path.join("ct-scapula", "truth.json")) as f:
+        return json.load(f)
+
+
+@bm_place_check
+def bm_place_camera():
+    """Looks at the glenoid face from outside the joint, along its normal: the view's centre is
+    the glenoid centre (as a surgeon turns the bone to see the face before clicking it)."""
+    t = _truth()
+    c, n = t["glenoid_centre_mm"], t["face_normal"]
+    view = simple.GetActiveView()
+    simple.Render(view)  # simple's first render of a view resets its camera: not after ours
+    view.CameraFocalPoint = c
+    view.CameraPosition = [c[k] + 150.0 * n[k] for k in range(3)]
+    view.CameraViewUp = [0.0, 0.0, 1.0]
+    view.CameraParallelProjection = 0
+    simple.Render(view)
+
+
+@bm_place_check
+def bm_place_planned():
+    """The plan filter used the clicked point: the glenoid centre within 1.5 mm of the truth, the
+    face normal within 2 deg, the 3D version and inclination within 1.5 deg; its glyphs are shown
+    coloured by their own Colors array (every part); the camera then looks down the plan."""
+    t = _truth()
+    plan = _plan()
+    plan.SMProxy.UpdatePropertyInformation()
+    error = plan.GetProperty("LastErrorInfo").GetElement(0)
+    if error:
+        bm_place_fail("the plan failed: " + error)
+    if plan.UseFacePoint != 1:
+        bm_place_fail("the plan does not use a face point")
+    c = [plan.GetProperty("UsedGlenoidCentreInfo").GetElement(k) for k in range(3)]
+    n = [plan.GetProperty("UsedFaceNormalInfo").GetElement(k) for k in range(3)]
+    d = math.dist(c, t["glenoid_centre_mm"])
+    if d > 1.5:
+        bm_place_fail("glenoid centre %s is %.2f mm from the truth" % (c, d))
+    cosine = sum(a * b for a, b in zip(n, t["face_normal"]))
+    angle = math.degrees(math.acos(max(-1.0, min(1.0, cosine))))
+    if angle > 2.0:
+        bm_place_fail("face normal %s is %.2f deg from the truth" % (n, angle))
+    for info, key in (("Version3DInfo", "version_3d_deg"), ("InclinationInfo", "inclination_deg")):
+        v = plan.GetProperty(info).GetElement(0)
+        if abs(v - t[key]) > 1.5:
+            bm_place_fail("%s %.2f against the truth's %.2f" % (info, v, t[key]))
+    repr_ = simple.GetDisplayProperties(plan)
+    if repr_.Visibility != 1 or repr_.ColorArrayName[1] != "Colors" or repr_.MapScalars != 0:
+        bm_place_fail("the plan's glyphs are not shown in their colours (%s, map %s)"
+                      % (repr_.ColorArrayName, repr_.MapScalars))
+    parts = plan.CellData["Part"].GetRange()
+    if parts[0] != 0 or parts[1] < 4:
+        bm_place_fail("the glyphs' parts run %s" % (parts,))
+    view = simple.GetActiveView()
+    camera = plan.GetProperty("PlanCameraInfo")
+    focal = [camera.GetElement(k) for k in range(3)]
+    if math.dist(list(view.CameraFocalPoint), focal) > 1e-6:
+        bm_place_fail("the camera does not look at the plan (%s, not %s)"
+                      % (list(view.CameraFocalPoint), focal))
+
+
+@bm_place_check
+def bm_place_sliced():
+    """Axial slice: a Slice of the bone planned on, through the glenoid centre, normal z."""
+    plan = _plan()
+    slices = [s for name, s in simple.GetSources().items() if name[0].startswith("Slice")]
+    if len(slices) != 1:
+        bm_place_fail("expected one slice, found %d" % len(slices))
+    s = slices[0]
+    c = [plan.GetProperty("UsedGlenoidCentreInfo").GetElement(k) for k in range(3)]
+    if math.dist(list(s.SliceType.Origin), c) > 1e-6 or list(s.SliceType.Normal) != [0, 0, 1]:
+        bm_place_fail("the slice is at %s normal %s" % (list(s.SliceType.Origin),
+                                                        list(s.SliceType.Normal)))
+    if s.GetDataInformation().GetNumberOfPoints() < 100:
+        bm_place_fail("the slice is empty")
+
+
+@bm_place_check
+def bm_place_reported(folder):
+    """Write report wrote the plan as bmsim plan writes it: the scenes and the report, planned,
+    the glenoid centre 'user face point'."""
+    for name in ("plan.json", "step1-guide-pin.json", "step2-ream.json", "plan_report.md",
+                 "plan_report.html", "plan_report.json"):
+        if not os.path.isfile(os.path.join(folder, name)):
+            bm_place_fail("the report folder has no " + name)
+    with open(os.path.join(folder, "plan_report.json")) as f:
+        report = json.load(f)
+    if report.get("status") != "planned":
+        bm_place_fail("the report's status is %s" % report.get("status"))
+    with open(os.path.join(folder, "plan.json")) as f:
+        plan = json.load(f)
+    source = plan["planning"]["landmarks"].get("source", {})
+    if source.get("glenoid_centre") != "user face point":
+        bm_place_fail("the plan's centre came from %s" % source)
+
+
+@bm_place_check
+def bm_place_drag_trigonum():
+    """Moves the plan filter's trigonum as dragging its handle in the 3D view does (the property,
+    not the dock): to (-36.75, 88.06, 60.0) mm, 10 mm posterior of the phantom's."""
+    plan = _plan()
+    bm_place["version_before"] = plan.GetProperty("FriedmanVersionInfo").GetElement(0)
+    plan.Trigonum = [-36.75, 88.06, 60.0]
+
+
+@bm_place_check
+def bm_place_dragged():
+    """The dock followed the dragged handle: the plan ran again with the moved trigonum (used as
+    given) and Friedman's version changed."""
+    plan = _plan()
+    plan.SMProxy.UpdatePropertyInformation()
+    used = [plan.GetProperty("UsedTrigonumInfo").GetElement(k) for k in range(3)]
+    if math.dist(used, [-36.75, 88.06, 60.0]) > 1e-6:
+        bm_place_fail("the plan did not take the dragged trigonum (it used %s)" % used)
+    after = plan.GetProperty("FriedmanVersionInfo").GetElement(0)
+    if abs(after - bm_place["version_before"]) < 2.0:
+        bm_place_fail("Friedman's version did not follow the trigonum (%.2f -> %.2f deg)"
+                      % (bm_place["version_before"], after))
+
+
+@bm_place_check
+def bm_place_result(folder):
+    """Write result wrote the plan's result as bmsim run writes one: both steps with their
+    figures, the outcome on the bone (bone removed by the pin and the reamer), the pictures."""
+    with open(os.path.join(folder, "summary.json")) as f:
+        summary = json.load(f)
+    steps = summary.get("steps", [])
+    if [s.get("tool") for s in steps] != ["drill", "reamer"]:
+        bm_place_fail("the result's steps are %s" % [s.get("tool") for s in steps])
+    outcome = summary.get("outcome")
+    if not outcome or not outcome.get("removed_volume_mm3", 0) > 0:
+        bm_place_fail("the result has no outcome with bone removed: %s" % outcome)
+    for name in ("plan_result.md", "plan_result.html", "glenoid_before.png", "glenoid_after.png"):
+        if not os.path.isfile(os.path.join(folder, name)):
+            bm_place_fail("the result folder has no " + name)
