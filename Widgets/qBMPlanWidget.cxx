@@ -65,6 +65,13 @@ public:
   QVector<double> FacePoint{0, 0, 0};
   QVector<double> RimPoints;
   void showPlaced();
+  /// A glenoid placed by clicks replaces a typed centre and normal: their Use boxes go off.
+  void unuseTypedGlenoid() {
+    for (int i : {0, 3}) {
+      const QSignalBlocker block(this->Use[size_t(i)]);
+      this->Use[size_t(i)]->setChecked(false);
+    }
+  }
 };
 
 void qBMPlanWidgetPrivate::showPlaced() {
@@ -468,11 +475,7 @@ void qBMPlanWidget::addPlacedPoint(const QVector<double>& point) {
     d->FacePoint = {point[0], point[1], point[2]};
     d->HaveFacePoint = true;
     d->RimPoints.clear();
-    // A placed glenoid replaces a typed centre and normal.
-    for (int i : {0, 3}) {
-      const QSignalBlocker block(d->Use[i]);
-      d->Use[i]->setChecked(false);
-    }
+    d->unuseTypedGlenoid();
     this->setPlacementMode(0);
     Q_EMIT this->planRequested();
     return;
@@ -480,10 +483,7 @@ void qBMPlanWidget::addPlacedPoint(const QVector<double>& point) {
   d->RimPoints << point[0] << point[1] << point[2];
   d->showPlaced();
   if (d->RimPoints.size() >= 9) {
-    for (int i : {0, 3}) {
-      const QSignalBlocker block(d->Use[i]);
-      d->Use[i]->setChecked(false);
-    }
+    d->unuseTypedGlenoid();
     Q_EMIT this->planRequested();
   }
 }

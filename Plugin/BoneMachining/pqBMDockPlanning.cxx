@@ -44,6 +44,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <string>
 
 namespace {
@@ -420,24 +421,34 @@ void pqBMDockWindow::writePlanReport() {
     w->setReportStatus(tr("No report: choose a folder for it first."), false);
     return;
   }
+  this->invokePlanWriter("WriteReport", tr("No report: %1"), [&](vtkSMProxy* proxy) {
+    vtkSMPropertyHelper(proxy, "ReportDirectory").Set(folder.toUtf8().constData());
+  });
+}
+
+void pqBMDockWindow::invokePlanWriter(const char* command, const QString& refusal,
+                                      const std::function<void(vtkSMProxy*)>& set) {
+  qBMPlanWidget* w = this->Panel->planWidget();
   vtkSMProxy* proxy = this->GlenoidPlan->getProxy();
   {
     const bool was = this->SettingPlan;
     this->SettingPlan = true;
-    vtkSMPropertyHelper(proxy, "ReportDirectory").Set(folder.toUtf8().constData());
+    set(proxy);
     proxy->UpdateVTKObjects();
     this->SettingPlan = was;
   }
-  proxy->InvokeCommand("WriteReport");
+  proxy->InvokeCommand(command);
   proxy->UpdatePropertyInformation();
   const QString error =
       QString::fromStdString(vtkSMPropertyHelper(proxy, "ReportErrorInfo").GetAsString());
   if (!error.isEmpty()) {
-    w->setReportStatus(tr("No report: %1").arg(error), false);
+    w->setReportStatus(refusal.arg(error), false);
     return;
   }
   const QString files =
       QString::fromStdString(vtkSMPropertyHelper(proxy, "ReportFilesInfo").GetAsString());
+  const QString folder =
+      QString::fromStdString(vtkSMPropertyHelper(proxy, "ReportDirectory").GetAsString());
   w->setReportStatus(tr("Wrote %1 in %2.").arg(files.split('\n').join(", "), folder), true);
 }
 
@@ -548,26 +559,10 @@ void pqBMDockWindow::writePlanResult() {
   }
   const QString steps =
       QString("[%1,%2]").arg(this->PinStepFigures, SessionFigures(ream, 2, "ream", "reamer"));
-  vtkSMProxy* proxy = this->GlenoidPlan->getProxy();
-  {
-    const bool was = this->SettingPlan;
-    this->SettingPlan = true;
+  this->invokePlanWriter("WriteResult", tr("No result: %1"), [&](vtkSMProxy* proxy) {
     vtkSMPropertyHelper(proxy, "ReportDirectory").Set(folder.toUtf8().constData());
     vtkSMPropertyHelper(proxy, "ResultBeforeBone").Set(this->PlanBeforeBone.toUtf8().constData());
     vtkSMPropertyHelper(proxy, "ResultAfterBone").Set(after.toUtf8().constData());
     vtkSMPropertyHelper(proxy, "ResultSteps").Set(steps.toUtf8().constData());
-    proxy->UpdateVTKObjects();
-    this->SettingPlan = was;
-  }
-  proxy->InvokeCommand("WriteResult");
-  proxy->UpdatePropertyInformation();
-  const QString error =
-      QString::fromStdString(vtkSMPropertyHelper(proxy, "ReportErrorInfo").GetAsString());
-  if (!error.isEmpty()) {
-    w->setReportStatus(tr("No result: %1").arg(error), false);
-    return;
-  }
-  const QString files =
-      QString::fromStdString(vtkSMPropertyHelper(proxy, "ReportFilesInfo").GetAsString());
-  w->setReportStatus(tr("Wrote %1 in %2.").arg(files.split('\n').join(", "), folder), true);
+  });
 }

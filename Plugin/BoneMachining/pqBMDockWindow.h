@@ -9,10 +9,13 @@
 #include <QPointer>
 #include <QVector>
 
+#include <functional>
+
 #include "vtkType.h"
 
 class pqPipelineSource;
 class vtkObject;
+class vtkSMProxy;
 class qBMPanel;
 class QTimer;
 
@@ -116,6 +119,10 @@ private:
   bool pickPointAt(const QPoint& local, double world[3]) const;
   /// A mouse event on the view while placing the glenoid; true when it was a placing click.
   bool placementEvent(QEvent* event);
+  /// Sets the plan filter's properties (`set`, as the dock: not a handle drag), runs its
+  /// `command` (WriteReport, WriteResult) and shows what it wrote, or `refusal` with why not.
+  void invokePlanWriter(const char* command, const QString& refusal,
+                        const std::function<void(vtkSMProxy*)>& set);
   /// Shows the plan filter's glyphs in their own colours (the Colors array, not mapped).
   void showPlanGlyphs();
   /// The plan filter's property observer: a landmark changed while planGlenoid was not setting

@@ -5,32 +5,16 @@
 # and a sphere of radius 5 mm, 1.5 mm apart, values 220 in a background of 40, 0.5 mm voxels,
 # origin (10, 20, 30) mm. A failed check writes "BMDockCT: ..." to stderr and ends paraview with
 # status 1. Units: mm, mm^3.
-import functools
 import math
 import os
-import traceback
 
 from paraview import servermanager, simple
 
 bm_ct = {}
 
 
-def bm_ct_fail(message):
-    os.write(2, ("BMDockCT: " + message + "\n").encode())
-    os._exit(1)
-
-
-def bm_ct_check(fn):
-    """The shell prints a check's exception and goes on: an exception fails the test instead."""
-
-    @functools.wraps(fn)
-    def checked(*args):
-        try:
-            fn(*args)
-        except Exception:
-            bm_ct_fail(fn.__name__ + " raised:\n" + traceback.format_exc())
-
-    return checked
+exec(open(os.path.join(os.path.dirname(os.environ["BM_DOCK_CT_CHECKS"]), "BMDockCheckSupport.py")).read())
+bm_ct_fail, bm_ct_check = bm_check_support("BMDockCT")
 
 
 @bm_ct_check

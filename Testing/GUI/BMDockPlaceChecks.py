@@ -3,33 +3,17 @@
 # detection finds no glenoid (the preview keeps the scapula alone). The truth is the phantom's
 # (truth.json beside its DICOM series, ct-scapula). A failed check writes "BMDockPlace: ..." to
 # stderr and ends paraview with status 1. Units: mm, deg.
-import functools
 import json
 import math
 import os
-import traceback
 
 from paraview import simple
 
 bm_place = {}
 
 
-def bm_place_fail(message):
-    os.write(2, ("BMDockPlace: " + message + "\n").encode())
-    os._exit(1)
-
-
-def bm_place_check(fn):
-    """The shell prints a check's exception and goes on: an exception fails the test instead."""
-
-    @functools.wraps(fn)
-    def checked(*args):
-        try:
-            fn(*args)
-        except Exception:
-            bm_place_fail(fn.__name__ + " raised:\n" + traceback.format_exc())
-
-    return checked
+exec(open(os.path.join(os.path.dirname(os.environ["BM_DOCK_PLACE_CHECKS"]), "BMDockCheckSupport.py")).read())
+bm_place_fail, bm_place_check = bm_check_support("BMDockPlace")
 
 
 def _plan():

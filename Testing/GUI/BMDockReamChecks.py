@@ -7,10 +7,8 @@
 # and ends paraview with status 1, which fails the test.
 #
 # Units: mm, mm^3, N, ms, s.
-import functools
 import math
 import os
-import traceback
 
 from paraview import simple
 
@@ -28,22 +26,8 @@ BM_MIN_PEAK_THRUST_N = 20.0
 bm_ream = {"removed": 0.0, "frame": 0}
 
 
-def bm_ream_fail(message):
-    os.write(2, ("BMDockReam: " + message + "\n").encode())
-    os._exit(1)
-
-
-def bm_ream_check(fn):
-    """The shell prints a check's exception and goes on: an exception fails the test instead."""
-
-    @functools.wraps(fn)
-    def checked(*args):
-        try:
-            fn(*args)
-        except Exception:
-            bm_ream_fail(fn.__name__ + " raised:\n" + traceback.format_exc())
-
-    return checked
+exec(open(os.path.join(os.path.dirname(os.environ["BM_DOCK_REAM_CHECKS"]), "BMDockCheckSupport.py")).read())
+bm_ream_fail, bm_ream_check = bm_check_support("BMDockReam")
 
 
 def bm_ream_source():
