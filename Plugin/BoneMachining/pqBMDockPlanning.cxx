@@ -312,8 +312,9 @@ void pqBMDockWindow::viewPlan() {
   vtkSMPropertyHelper(proxy, "PlanCameraInfo").Get(c, 10);
   if (!(c[9] > 0))
     return; // no plan
-  // The view's 30 deg angle shows the half height at this distance.
-  const double distance = c[9] / std::tan(15.0 * 3.14159265358979323846 / 180.0);
+  // The view's 30 deg angle shows twice the pictures' half height at this distance: the glenoid
+  // with the scapula's neck around it.
+  const double distance = 2.0 * c[9] / std::tan(15.0 * 3.14159265358979323846 / 180.0);
   const double position[3] = {c[0] + distance * c[3], c[1] + distance * c[4],
                               c[2] + distance * c[5]};
   // The bone's surface again, not a slice through it.
@@ -394,6 +395,9 @@ void pqBMDockWindow::showPlanSlice(int kind) {
       lut->ApplyPreset("Grayscale", true);
     repr->UpdateVTKObjects();
   }
+  // The plan stays the active source: the slice's plane widget (a large red circle) is not
+  // shown over the plan.
+  pqActiveObjects::instance().setActiveSource(this->GlenoidPlan);
   // The bone's surface would hide the slice through it (View plan shows it again).
   if (this->CTSurface)
     controller->Hide(vtkSMSourceProxy::SafeDownCast(this->CTSurface->getProxy()), 0,
@@ -518,6 +522,12 @@ void pqBMDockWindow::runPlanStep(int step) {
   } else {
     session->setStartFromBoneFile(false);
   }
+  if (this->PlanSlice) // the session's bone, not a slice through the CT, from now on
+    if (pqView* view = pqActiveObjects::instance().activeView()) {
+      vtkNew<vtkSMParaViewPipelineControllerWithRendering> controller;
+      controller->Hide(vtkSMSourceProxy::SafeDownCast(this->PlanSlice->getProxy()), 0,
+                       view->getViewProxy());
+    }
   this->KeepInitialBoneNext = step == 0; // the plan's result needs the bone before the pin
   this->startSession(path, 0, 0, session->deviceType());
   this->PinStepSession = step == 0 ? this->Session : nullptr;

@@ -148,12 +148,18 @@ def bm_place_dragged():
 @bm_place_check
 def bm_place_result(folder):
     """Write result wrote the plan's result as bmsim run writes one: both steps with their
-    figures, the outcome on the bone (bone removed by the pin and the reamer), the pictures."""
+    figures (stopped short of their depths, and said so), the outcome on the bone (bone removed
+    by the pin and the reamer), the pictures."""
     with open(os.path.join(folder, "summary.json")) as f:
         summary = json.load(f)
     steps = summary.get("steps", [])
     if [s.get("tool") for s in steps] != ["drill", "reamer"]:
         bm_place_fail("the result's steps are %s" % [s.get("tool") for s in steps])
+    # The sessions ran a few seconds, not to their planned depths: the result says so.
+    if summary.get("completed") is not False or not any(
+            "stopped at" in w for s in steps for w in s["summary"].get("warnings", [])):
+        bm_place_fail("the result does not say the steps stopped short: completed %s, steps %s"
+                      % (summary.get("completed"), steps))
     outcome = summary.get("outcome")
     if not outcome or not outcome.get("removed_volume_mm3", 0) > 0:
         bm_place_fail("the result has no outcome with bone removed: %s" % outcome)

@@ -36,6 +36,7 @@
 #include <memory>
 #include <optional>
 #include <stdexcept>
+#include <sstream>
 #include <string>
 
 namespace {
@@ -242,17 +243,36 @@ bool vtkBMGlenoidPlanFilter::WriteResult() {
     throw std::runtime_error("reading voxmaps needs the IO library, which this build leaves out");
     const bm::Voxmap before({1, 1, 1}, 1.0, {0, 0, 0}), after = before;
 #endif
-    const nlohmann::json steps =
-        this->ResultSteps && *this->ResultSteps
-            ? bm::ParseJson(std::string(this->ResultSteps), "the plan's steps")
-            : nlohmann::json::array();
+    nlohmann::json steps = this->ResultSteps && *this->ResultSteps
+                               ? bm::ParseJson(std::string(this->ResultSteps), "the plan's steps")
+                               : nlohmann::json::array();
     if (!steps.is_array())
       throw std::runtime_error("the plan's steps must be a JSON array");
+    // A step is complete when it reached its scene's depth (within 0.1 mm); a session stopped
+    // short says so.
+    bool completed = !steps.empty();
+    for (auto& step : steps) {
+      const std::string& scene = step.value("tool", "") == "reamer" ? in.ReamScene : in.PinScene;
+      const double planned = nlohmann::json::parse(scene).at("trial").value("depth_mm", 0.0);
+      nlohmann::json& summary = step["summary"];
+      const double reached = summary.is_object() && summary.contains("reached_depth_mm") &&
+                                     summary["reached_depth_mm"].is_number()
+                                 ? summary["reached_depth_mm"].get<double>()
+                                 : -1e9;
+      if (reached < planned - 0.1) {
+        completed = false;
+        std::ostringstream w;
+        w.precision(2);
+        w << std::fixed << "stopped at " << reached << " mm of the planned " << planned << " mm";
+        summary["warnings"].push_back(w.str());
+      }
+    }
     const nlohmann::json& scene = in.LastScenes->plan;
     bm::PlanResultInput result;
     result.planName = scene.value("name", "glenoid plan");
     result.planning = scene.value("planning", nlohmann::json());
     result.steps = steps;
+    result.completed = completed;
     result.before = &before;
     result.after = &after;
     // The reaming step: the plan's reamer, to the depth its session reached.
@@ -471,8 +491,11 @@ int vtkBMGlenoidPlanFilter::RequestData(vtkInformation*, vtkInformationVector** 
     in.LastFailure = in.Error;
     in.Planned = true; // a failure's report says why
     output->Initialize();
-    vtkErrorMacro(<< "glenoid plan: " << in.Error);
-    return 0;
+    // An answer, not a fault: the dock shows it and asks for the glenoid to be placed
+    // (LastErrorInfo). An error or warning would also open ParaView's Output Messages over the
+    // view the surgeon is to click in.
+    vtkDebugMacro(<< "glenoid plan: " << in.Error);
+    return 1;
   } catch (const std::exception& e) {
     in.Error = e.what();
     output->Initialize();

@@ -30,8 +30,9 @@
 // (the expensive part) once per input; moving the trigonum or inferior angle, or changing the
 // targets, re-runs only the measurements and the plan.
 //
-// Failure: when no glenoid is found (a CT without a shoulder, one bone only) the output is empty,
-// GetLastError() says what was not found and which landmarks to place, and the request fails.
+// Failure: when no glenoid is found (a CT without a shoulder, one bone only) the output is empty
+// and GetLastError() says what was not found and how to place the glenoid (no error message, not
+// a failed request: it is an answer the dock shows); a bad setting fails the request.
 #pragma once
 
 #include "BMVTKLogicModule.h" // for the export macro
