@@ -13,6 +13,9 @@
 #include "bmGlenoidPlan.h"
 #include "bmImport.h"
 #include "bmPlanFiles.h"
+#ifdef BM_WITH_REPORT
+#include "bmFailurePicture.h"
+#endif
 #include "bmScapulaCT.h"
 #include "bmWindowedVolume.h"
 #include "bmSegmentedBone.h"
@@ -80,8 +83,10 @@ static GlenoidLandmarks DetectOneShoulder(const SegmentedBone& bone, const Landm
   if (found[0] && found[1]) {
     const Vec3 &l = found[0]->glenoidCentre, &r = found[1]->glenoidCentre;
     throw NoGlenoidFound("both shoulders are in the scan (a left glenoid at (" + Fx(l[0]) + ", " +
-                         Fx(l[1]) + ", " + Fx(l[2]) + ") mm, a right one at (" + Fx(r[0]) + ", " +
-                         Fx(r[1]) + ", " + Fx(r[2]) + ") mm): choose one with --side left|right");
+                             Fx(l[1]) + ", " + Fx(l[2]) + ") mm, a right one at (" + Fx(r[0]) +
+                             ", " + Fx(r[1]) + ", " + Fx(r[2]) +
+                             ") mm): choose one with --side left|right",
+                         {l, r});
   }
   if (found[0] || found[1])
     return found[0] ? *found[0] : *found[1];
@@ -208,7 +213,8 @@ static void PlanCommandOptions(ParsedArgs& p) {
       .Value("o,out", "DIR",
              "folder to create (must not exist or be empty; required); receives plan.json (both "
              "steps), step1-guide-pin.json, step2-ream.json (single-step scenes for bmsim run), "
-             "plan_report.md/.html/.json")
+             "plan_report.md/.html/.json; with no glenoid found, the report and "
+             "plan_failure.png (the bone searched, the rejected joints marked)")
       .Value("landmarks", "FILE",
              "landmarks replacing detected ones: a plan.json (its edited planning.landmarks) or "
              "a JSON object of glenoid_centre_mm, face_normal, trigonum_mm, inferior_angle_mm "
@@ -413,6 +419,19 @@ static int PlanCommand(const ParsedArgs& p) {
     }
     rep.failure = e.what();
     placeCT();
+#ifdef BM_WITH_REPORT
+    // The bone searched, with the joints the failure names marked.
+    if (const auto* none = dynamic_cast<const NoGlenoidFound*>(&e)) {
+      try {
+        WriteFailurePicture((fs::path(out) / "plan_failure.png").string(), r.voxmap,
+                            none->rejectedAt);
+        rep.failurePicture = "plan_failure.png";
+      } catch (const std::exception& pictureError) {
+        std::cerr << "bmsim plan: the failure's picture was not drawn: " << pictureError.what()
+                  << "\n";
+      }
+    }
+#endif
     WritePlanFiles(out, rep, nullptr);
     if (!quiet && isatty(2))
       std::fprintf(stderr, "\n");

@@ -99,6 +99,7 @@ Joint FindJoint(const SegmentedBone& bone, const DetectionOptions& opt) {
   std::sort(cands.begin(), cands.end(),
             [](const auto& a, const auto& b) { return a.second.size() > b.second.size(); });
   std::string reasons;
+  std::vector<Vec3> rejectedAt;
   for (size_t c = 0; c < cands.size() && c < 8; ++c) {
     const auto [L, M] = cands[c].first;
     std::vector<Vec3> patch, normals;
@@ -112,6 +113,7 @@ Joint FindJoint(const SegmentedBone& bone, const DetectionOptions& opt) {
         "bone " + std::to_string(L) + " facing bone " + std::to_string(M) + where.str();
     auto reject = [&](const std::string& why) {
       reasons += (reasons.empty() ? "" : "; ") + what + ": " + why;
+      rejectedAt.push_back(at);
     };
     if (patch.size() < 30) {
       reject("joint surface too small");
@@ -188,7 +190,7 @@ Joint FindJoint(const SegmentedBone& bone, const DetectionOptions& opt) {
     j.head = fh;
     return j;
   }
-  throw NoGlenoidFound("no glenoid found (" + reasons + ")" + kPlaceHint);
+  throw NoGlenoidFound("no glenoid found (" + reasons + ")" + kPlaceHint, rejectedAt);
 }
 
 /// Centroid of the voxels of `label` within `radius` of the voxel farthest from `from`

@@ -44,13 +44,18 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace bm {
 
-/// Detection failed: the message says what was not found and which landmarks to place.
+/// Detection failed: the message says what was not found and which landmarks to place;
+/// `rejectedAt` holds where each joint the message names lies (world mm, in its order: the
+/// rejected pairs' joint patches, or both shoulders' glenoids), for a picture of the failure.
 struct NoGlenoidFound : std::runtime_error {
-  using std::runtime_error::runtime_error;
+  explicit NoGlenoidFound(const std::string& what, std::vector<Vec3> at = {})
+      : std::runtime_error(what), rejectedAt(std::move(at)) {}
+  std::vector<Vec3> rejectedAt;
 };
 
 struct LandmarkOverrides {

@@ -151,6 +151,8 @@ nlohmann::json PlanReportJson(const PlanReportInput& in) {
   if (!in.landmarks || !in.measurements || !in.plan) {
     j["status"] = "no_glenoid";
     j["message"] = in.failure;
+    if (!in.failurePicture.empty())
+      j["picture"] = in.failurePicture;
     j["landmarks_to_place"] = kToPlace;
   } else {
     j["status"] = "planned";
@@ -170,8 +172,12 @@ std::string PlanReportMarkdown(const PlanReportInput& in) {
   if (!in.importSummary.empty())
     md << "```\n" << in.importSummary << (in.importSummary.back() == '\n' ? "" : "\n") << "```\n\n";
   if (c.landmarks.empty()) {
-    md << "## No plan: " << c.failure << "\n\n"
-       << "Place these landmarks in a JSON file and plan again with `--landmarks FILE`:\n\n";
+    md << "## No plan: " << c.failure << "\n\n";
+    if (!in.failurePicture.empty())
+      md << "![The bone searched, seen from the front; each joint the message names is marked "
+            "with its number]("
+         << in.failurePicture << ")\n\n";
+    md << "Place these landmarks in a JSON file and plan again with `--landmarks FILE`:\n\n";
     for (const auto& [k, v] : kToPlace.items())
       md << "- `" << k << "`: " << v.get<std::string>() << "\n";
     return md.str();
@@ -203,8 +209,13 @@ std::string PlanReportHtml(const PlanReportInput& in) {
   if (!in.importSummary.empty())
     h << "<pre>" << HtmlEscape(in.importSummary) << "</pre>\n";
   if (c.landmarks.empty()) {
-    h << "<h2 class=\"warn\">No plan: " << HtmlEscape(c.failure) << "</h2>\n"
-      << "<p>Place these landmarks in a JSON file and plan again with <code>--landmarks "
+    h << "<h2 class=\"warn\">No plan: " << HtmlEscape(c.failure) << "</h2>\n";
+    if (!in.failurePicture.empty())
+      h << "<p><img src=\"" << HtmlEscape(in.failurePicture)
+        << "\" alt=\"The bone searched, seen from the front\" width=\"600\"><br>The bone "
+           "searched, seen from the front (the patient's left on the right); each joint the "
+           "message names is marked with its number.</p>\n";
+    h << "<p>Place these landmarks in a JSON file and plan again with <code>--landmarks "
          "FILE</code>:</p>\n<ul>\n";
     for (const auto& [k, v] : kToPlace.items())
       h << "<li><code>" << HtmlEscape(k) << "</code>: " << HtmlEscape(v.get<std::string>())

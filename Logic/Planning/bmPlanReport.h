@@ -19,6 +19,8 @@ struct PlanReportInput {
   const GlenoidMeasurements* measurements = nullptr;
   const GlenoidPlan* plan = nullptr;
   std::string failure;  ///< why no plan (NoGlenoidFound's message) when landmarks is null
+  /// The failure's picture beside the report (a file name: bmFailurePicture.h), "" for none.
+  std::string failurePicture;
   nlohmann::json truth; ///< a phantom's ScapulaTruthJson, or null
 };
 
@@ -27,7 +29,8 @@ struct PlanReportInput {
 nlohmann::json PlanReportJson(const PlanReportInput& in);
 /// The same as a Markdown document for the surgeon.
 std::string PlanReportMarkdown(const PlanReportInput& in);
-/// The same as a self-contained HTML page (no scripts, no external files).
+/// The same as an HTML page (no scripts; the failure's picture, when there is one, is the file
+/// beside it).
 std::string PlanReportHtml(const PlanReportInput& in);
 
 } // namespace bm

@@ -97,6 +97,11 @@ if(NOT rc EQUAL 3 OR NOT err MATCHES "no glenoid found" OR NOT EXISTS "${dir}/pl
   message(FATAL_ERROR "plan cube.vti: exit ${rc} (expected 3, no glenoid, with ct.mha and the "
                       "report):\n${out}\n${err}")
 endif()
+# The failure's report shows the bone searched (bmFailurePicture.h).
+file(READ "${dir}/plan/plan_report.md" report)
+if(NOT EXISTS "${dir}/plan/plan_failure.png" OR NOT report MATCHES "\\(plan_failure.png\\)")
+  message(FATAL_ERROR "plan cube.vti: no failure picture in the report:\n${report}")
+endif()
 file(GLOB left "${dir}/plan/.*")
 if(left)
   message(FATAL_ERROR "plan cube.vti left temporaries: ${left}")

@@ -101,4 +101,9 @@ TEST(GlenoidPlan, ReportNamesMethodsAndFailure) {
   none.failure = "no glenoid found";
   EXPECT_EQ(PlanReportJson(none)["status"], "no_glenoid");
   EXPECT_NE(PlanReportMarkdown(none).find("trigonum_mm"), std::string::npos);
+  EXPECT_EQ(PlanReportMarkdown(none).find(".png"), std::string::npos);
+  none.failurePicture = "plan_failure.png";
+  EXPECT_NE(PlanReportMarkdown(none).find("](plan_failure.png)"), std::string::npos);
+  EXPECT_NE(PlanReportHtml(none).find("<img src=\"plan_failure.png\""), std::string::npos);
+  EXPECT_EQ(PlanReportJson(none)["picture"], "plan_failure.png");
 }

@@ -127,6 +127,15 @@ TEST(PlanningFromCT, HeadCTHasNoGlenoid) {
   } catch (const NoGlenoidFound& e) {
     EXPECT_NE(std::string(e.what()).find("no glenoid found"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("place the landmarks"), std::string::npos) << e.what();
+    // Where each rejected pair lies, in the message's order, for the failure's picture.
+    const std::string what = e.what();
+    size_t named = 0;
+    for (size_t at = what.find(") mm: "); at != std::string::npos; at = what.find(") mm: ", at + 1))
+      ++named; // "bone L facing bone M at (x, y, z) mm: why"
+    EXPECT_GT(named, 0u);
+    EXPECT_EQ(e.rejectedAt.size(), named);
+    for (const Vec3& p : e.rejectedAt)
+      EXPECT_NE(bone.LabelAt(p) + 1, 0); // finite, inside or beside the scan
   }
 }
 #endif
