@@ -65,6 +65,15 @@ public:
   QVector<double> FacePoint{0, 0, 0};
   QVector<double> RimPoints;
   void showPlaced();
+  /// A push button named `name` (for the GUI tests), with its tooltip; checkable when asked.
+  QPushButton* button(const QString& text, const char* name, const QString& tip,
+                      bool checkable = false) {
+    auto* b = new QPushButton(text, this->q_ptr);
+    b->setObjectName(name);
+    b->setToolTip(tip);
+    b->setCheckable(checkable);
+    return b;
+  }
   /// A glenoid placed by clicks replaces a typed centre and normal: their Use boxes go off.
   void unuseTypedGlenoid() {
     for (int i : {0, 3}) {
@@ -213,21 +222,19 @@ void qBMPlanWidgetPrivate::init() {
 
   // Placing the glenoid in the 3D view.
   auto* place = new QHBoxLayout;
-  this->PlaceFace = new QPushButton(qBMPlanWidget::tr("Click the face"), q);
-  this->PlaceFace->setObjectName("PlaceFaceButton");
-  this->PlaceFace->setCheckable(true);
-  this->PlaceFace->setToolTip(qBMPlanWidget::tr(
-      "Then click on the glenoid face in the 3D view: the glenoid is traced around that point "
-      "(for when it is not found: no humeral head in the scan, or one fused to the glenoid)"));
-  this->PlaceRim = new QPushButton(qBMPlanWidget::tr("Click the rim"), q);
-  this->PlaceRim->setObjectName("PlaceRimButton");
-  this->PlaceRim->setCheckable(true);
-  this->PlaceRim->setToolTip(qBMPlanWidget::tr(
-      "Then click three or more points around the glenoid's rim in the 3D view: their plane "
-      "gives the glenoid's centre and face normal"));
-  this->ClearPlaced = new QPushButton(qBMPlanWidget::tr("Clear placed"), q);
-  this->ClearPlaced->setObjectName("ClearPlacedButton");
-  this->ClearPlaced->setToolTip(qBMPlanWidget::tr("Forget the clicked points: detect again"));
+  this->PlaceFace = this->button(
+      qBMPlanWidget::tr("Click the face"), "PlaceFaceButton",
+      qBMPlanWidget::tr(
+          "Then click on the glenoid face in the 3D view: the glenoid is traced around that point "
+          "(for when it is not found: no humeral head in the scan, or one fused to the glenoid)"),
+      true);
+  this->PlaceRim = this->button(
+      qBMPlanWidget::tr("Click the rim"), "PlaceRimButton",
+      qBMPlanWidget::tr("Then click three or more points around the glenoid's rim in the 3D view: "
+                        "their plane gives the glenoid's centre and face normal"),
+      true);
+  this->ClearPlaced = this->button(qBMPlanWidget::tr("Clear placed"), "ClearPlacedButton",
+                                   qBMPlanWidget::tr("Forget the clicked points: detect again"));
   QObject::connect(this->PlaceFace, &QPushButton::toggled, q,
                    [q](bool on) { q->setPlacementMode(on ? 1 : 0); });
   QObject::connect(this->PlaceRim, &QPushButton::toggled, q,
@@ -242,15 +249,14 @@ void qBMPlanWidgetPrivate::init() {
 
   // Seeing the plan: its view and slices.
   auto* see = new QHBoxLayout;
-  auto* view = new QPushButton(qBMPlanWidget::tr("View plan"), q);
-  view->setObjectName("ViewPlanButton");
-  view->setToolTip(qBMPlanWidget::tr("Look down the planned axis, as the report's pictures do"));
-  auto* axial = new QPushButton(qBMPlanWidget::tr("Axial slice"), q);
-  axial->setObjectName("AxialSliceButton");
-  axial->setToolTip(qBMPlanWidget::tr("The CT on the axial plane through the glenoid centre"));
-  auto* along = new QPushButton(qBMPlanWidget::tr("Slice along axis"), q);
-  along->setObjectName("AxisSliceButton");
-  along->setToolTip(
+  auto* view =
+      this->button(qBMPlanWidget::tr("View plan"), "ViewPlanButton",
+                   qBMPlanWidget::tr("Look down the planned axis, as the report's pictures do"));
+  auto* axial =
+      this->button(qBMPlanWidget::tr("Axial slice"), "AxialSliceButton",
+                   qBMPlanWidget::tr("The CT on the axial plane through the glenoid centre"));
+  auto* along = this->button(
+      qBMPlanWidget::tr("Slice along axis"), "AxisSliceButton",
       qBMPlanWidget::tr("The CT on the plane holding the planned axis and the superior direction"));
   QObject::connect(view, &QPushButton::clicked, q, &qBMPlanWidget::viewPlanRequested);
   QObject::connect(axial, &QPushButton::clicked, q, [q]() { Q_EMIT q->sliceRequested(0); });
@@ -266,25 +272,25 @@ void qBMPlanWidgetPrivate::init() {
   this->ReportFolder = new QLineEdit(q);
   this->ReportFolder->setObjectName("ReportFolderLineEdit");
   this->ReportFolder->setPlaceholderText(qBMPlanWidget::tr("folder for the plan's report"));
-  auto* browse = new QPushButton(qBMPlanWidget::tr("..."), q);
-  browse->setObjectName("ReportFolderBrowseButton");
+  auto* browse = this->button(qBMPlanWidget::tr("..."), "ReportFolderBrowseButton",
+                              qBMPlanWidget::tr("Choose the report's folder"));
   QObject::connect(browse, &QPushButton::clicked, q, [this, q]() {
     const QString dir = QFileDialog::getExistingDirectory(
         q, qBMPlanWidget::tr("Folder for the plan's report"), this->ReportFolder->text());
     if (!dir.isEmpty())
       this->ReportFolder->setText(dir);
   });
-  auto* write = new QPushButton(qBMPlanWidget::tr("Write report"), q);
-  write->setObjectName("WriteReportButton");
-  write->setToolTip(qBMPlanWidget::tr("plan.json, the step scenes and plan_report.md/.html/.json, "
-                                      "as bmsim plan writes them"));
+  auto* write = this->button(
+      qBMPlanWidget::tr("Write report"), "WriteReportButton",
+      qBMPlanWidget::tr("plan.json, the step scenes and plan_report.md/.html/.json, as bmsim plan "
+                        "writes them"));
   QObject::connect(write, &QPushButton::clicked, q, &qBMPlanWidget::writeReportRequested);
-  auto* result = new QPushButton(qBMPlanWidget::tr("Write result"), q);
-  result->setObjectName("WriteResultButton");
-  result->setToolTip(qBMPlanWidget::tr(
-      "After the plan's reaming: the outcome on the bone (removed bone, the reamed face against "
-      "the plan, seating), the glenoid before and after, plan_result.md/.html, as bmsim run "
-      "writes a plan's result"));
+  auto* result = this->button(
+      qBMPlanWidget::tr("Write result"), "WriteResultButton",
+      qBMPlanWidget::tr(
+          "After the plan's reaming: the outcome on the bone (removed bone, the reamed face "
+          "against the plan, seating), the glenoid before and after, plan_result.md/.html, as "
+          "bmsim run writes a plan's result"));
   QObject::connect(result, &QPushButton::clicked, q, &qBMPlanWidget::writeResultRequested);
   report->addWidget(this->ReportFolder, 1);
   report->addWidget(browse);

@@ -8,13 +8,11 @@
 #include <vtkAppendPolyData.h>
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
-#include <vtkPointData.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataNormals.h>
 #include <vtkSphereSource.h>
 #include <vtkTransform.h>
 #include <vtkTransformPolyDataFilter.h>
-#include <vtkUnsignedCharArray.h>
 #include <vtkVectorText.h>
 
 #include <algorithm>
@@ -23,21 +21,6 @@
 #include <vector>
 
 namespace bm {
-namespace {
-
-void Paint(vtkPolyData* mesh, const unsigned char rgb[3]) {
-  mesh->GetPointData()->Initialize();
-  vtkNew<vtkUnsignedCharArray> colours;
-  colours->SetName("Colors");
-  colours->SetNumberOfComponents(3);
-  colours->SetNumberOfTuples(mesh->GetNumberOfPoints());
-  for (vtkIdType i = 0; i < mesh->GetNumberOfPoints(); ++i)
-    colours->SetTypedTuple(i, rgb);
-  mesh->GetPointData()->AddArray(colours);
-}
-
-} // namespace
-
 void WriteFailurePicture(const std::string& path, const Voxmap& bone,
                          const std::vector<std::array<double, 3>>& marks, int sizePx) {
   BoneSurface extractor;
@@ -46,8 +29,8 @@ void WriteFailurePicture(const std::string& path, const Voxmap& bone,
   surface->DeepCopy(extractor.GetOutput());
   if (surface->GetNumberOfPoints() == 0)
     throw std::runtime_error("no bone surface to draw");
-  const unsigned char ivory[3] = {237, 227, 199}, yellow[3] = {250, 210, 0};
-  Paint(surface, ivory);
+  const unsigned char yellow[3] = {250, 210, 0};
+  PaintPoints(surface, kBoneIvory);
   double b[6];
   surface->GetBounds(b);
   const double size = std::max({b[1] - b[0], b[3] - b[2], b[5] - b[4]});
@@ -83,7 +66,7 @@ void WriteFailurePicture(const std::string& path, const Voxmap& bone,
     sphere->Update();
     vtkNew<vtkPolyData> ball;
     ball->DeepCopy(sphere->GetOutput());
-    Paint(ball, yellow);
+    PaintPoints(ball, yellow);
     append->AddInputData(ball);
     // The number in front of the mark (toward the camera, -y), in the x-z plane facing it: x
     // (the patient's left) appears on the picture's right, as a CT is read from the front.
@@ -106,7 +89,7 @@ void WriteFailurePicture(const std::string& path, const Voxmap& bone,
     placed->Update();
     vtkNew<vtkPolyData> number;
     number->DeepCopy(placed->GetOutput());
-    Paint(number, yellow);
+    PaintPoints(number, yellow);
     append->AddInputData(number);
   }
   vtkNew<vtkPolyDataNormals> normals;

@@ -13,7 +13,6 @@
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataNormals.h>
-#include <vtkUnsignedCharArray.h>
 
 #include <nlohmann/json.hpp>
 
@@ -26,18 +25,6 @@
 namespace bm {
 namespace {
 
-/// Every point of `mesh` coloured ivory (the "Colors" array bmSurfaceImage.h draws).
-void PaintIvory(vtkPolyData* mesh) {
-  const unsigned char ivory[3] = {237, 227, 199};
-  vtkNew<vtkUnsignedCharArray> colors;
-  colors->SetName("Colors");
-  colors->SetNumberOfComponents(3);
-  colors->SetNumberOfTuples(mesh->GetNumberOfPoints());
-  for (vtkIdType i = 0; i < mesh->GetNumberOfPoints(); ++i)
-    colors->SetTypedTuple(i, ivory);
-  mesh->GetPointData()->AddArray(colors);
-}
-
 /// The bone's surface, ivory, with the overlays appended, and normals for shading.
 vtkSmartPointer<vtkPolyData> Scene(const Voxmap& bone, vtkPolyData* glyphs) {
   BoneSurface extractor;
@@ -45,7 +32,7 @@ vtkSmartPointer<vtkPolyData> Scene(const Voxmap& bone, vtkPolyData* glyphs) {
   vtkNew<vtkPolyData> surface;
   surface->DeepCopy(extractor.GetOutput());
   surface->GetPointData()->Initialize();
-  PaintIvory(surface);
+  PaintPoints(surface, kBoneIvory);
   vtkNew<vtkPolyData> overlay;
   overlay->ShallowCopy(glyphs);
   overlay->GetCellData()->Initialize(); // only the colours travel through the append

@@ -7,14 +7,12 @@
 #include <vtkIntArray.h>
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
-#include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkSphereSource.h>
 #include <vtkTransform.h>
 #include <vtkTransformPolyDataFilter.h>
 #include <vtkTubeFilter.h>
-#include <vtkUnsignedCharArray.h>
 #include <vtkVectorText.h>
 
 #include <Eigen/Dense>
@@ -51,15 +49,8 @@ Eigen::Vector3d Vec(const nlohmann::json& j, const std::string& what) {
 
 /// Every point of `mesh` in the part's colour, every cell marked with the part; no other arrays.
 void Mark(vtkPolyData* mesh, PlanGlyphPart part) {
-  mesh->GetPointData()->Initialize();
+  PaintPoints(mesh, PlanGlyphColour(part));
   mesh->GetCellData()->Initialize();
-  vtkNew<vtkUnsignedCharArray> colours;
-  colours->SetName("Colors");
-  colours->SetNumberOfComponents(3);
-  colours->SetNumberOfTuples(mesh->GetNumberOfPoints());
-  for (vtkIdType i = 0; i < mesh->GetNumberOfPoints(); ++i)
-    colours->SetTypedTuple(i, PlanGlyphColour(part));
-  mesh->GetPointData()->AddArray(colours);
   vtkNew<vtkIntArray> parts;
   parts->SetName("Part");
   parts->SetNumberOfTuples(mesh->GetNumberOfCells());

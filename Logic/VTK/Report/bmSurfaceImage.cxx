@@ -15,12 +15,26 @@
 #include <vtkProperty.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
+#include <vtkUnsignedCharArray.h>
 #include <vtkWindowToImageFilter.h>
 
 #include "bmAtomicFile.h"
 #include "bmVirtualDisplay.h"
 
 namespace bm {
+
+const unsigned char kBoneIvory[3] = {237, 227, 199};
+
+void PaintPoints(vtkPolyData* mesh, const unsigned char rgb[3]) {
+  mesh->GetPointData()->Initialize();
+  vtkNew<vtkUnsignedCharArray> colours;
+  colours->SetName("Colors");
+  colours->SetNumberOfComponents(3);
+  colours->SetNumberOfTuples(mesh->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < mesh->GetNumberOfPoints(); ++i)
+    colours->SetTypedTuple(i, rgb);
+  mesh->GetPointData()->AddArray(colours);
+}
 
 vtkSmartPointer<vtkImageData> RenderSurface(vtkPolyData* surface, const SurfaceView& view) {
   VirtualDisplay::Ensure();

@@ -22,6 +22,12 @@ struct SurfaceView {
   int widthPx = 800, heightPx = 800;
 };
 
+/// Replaces `mesh`'s point data with the RGB point array "Colors" that RenderSurface draws, every
+/// point `rgb` (0..255).
+void PaintPoints(vtkPolyData* mesh, const unsigned char rgb[3]);
+/// Bone ivory, as RenderSurface draws a surface without colours (RGB 0..255).
+extern const unsigned char kBoneIvory[3];
+
 /// Renders `surface` (RGB point array "Colors" when present, otherwise bone ivory) as seen from
 /// `view`, lit by a headlight, on a dark background. Returns the RGB image.
 vtkSmartPointer<vtkImageData> RenderSurface(vtkPolyData* surface, const SurfaceView& view);
