@@ -113,7 +113,8 @@ public:
   bm::GlenoidPlan LastPlan;
   std::optional<bm::PlanScenes> LastScenes;
   std::string LastFailure;
-  bool Planned = false; ///< a plan (or a failure to report) exists
+  /// A plan, or a failure to report, exists.
+  bool Planned() const { return LastLandmarks || !LastFailure.empty(); }
   std::string ReportError, ReportFiles;
 };
 
@@ -190,7 +191,7 @@ bool vtkBMGlenoidPlanFilter::WriteReport() {
   try {
     if (!this->ReportDirectory || !*this->ReportDirectory)
       throw std::runtime_error("no report folder given");
-    if (!in.Planned)
+    if (!in.Planned())
       throw std::runtime_error("no plan yet: plan first");
     bm::PlanReportInput rep;
     const bool specified = this->CTBoneSpecification && *this->CTBoneSpecification;
@@ -252,8 +253,9 @@ bool vtkBMGlenoidPlanFilter::WriteResult() {
     // short says so.
     bool completed = !steps.empty();
     for (auto& step : steps) {
-      const std::string& scene = step.value("tool", "") == "reamer" ? in.ReamScene : in.PinScene;
-      const double planned = nlohmann::json::parse(scene).at("trial").value("depth_mm", 0.0);
+      const nlohmann::json& scene =
+          step.value("tool", "") == "reamer" ? in.LastScenes->ream : in.LastScenes->pin;
+      const double planned = scene.at("trial").value("depth_mm", 0.0);
       nlohmann::json& summary = step["summary"];
       const double reached = summary.is_object() && summary.contains("reached_depth_mm") &&
                                      summary["reached_depth_mm"].is_number()
@@ -276,7 +278,7 @@ bool vtkBMGlenoidPlanFilter::WriteResult() {
     result.before = &before;
     result.after = &after;
     // The reaming step: the plan's reamer, to the depth its session reached.
-    const nlohmann::json ream = nlohmann::json::parse(in.ReamScene);
+    const nlohmann::json& ream = in.LastScenes->ream;
     const std::unique_ptr<bm::ToolModel> reamer = bm::MakeTool(ream.at("tool"));
     for (const auto& step : steps)
       if (step.value("tool", "") == "reamer" && step.contains("summary"))
@@ -315,7 +317,6 @@ int vtkBMGlenoidPlanFilter::RequestData(vtkInformation*, vtkInformationVector** 
   in.LastLandmarks.reset();
   in.LastScenes.reset();
   in.LastFailure.clear();
-  in.Planned = false;
   std::fill(std::begin(this->PlanCamera), std::end(this->PlanCamera), 0.0);
   this->FriedmanVersion = this->Version3D = this->Inclination = 0;
   this->GlenoidHeight = this->GlenoidWidth = this->FaceRadius = this->Correction = 0;
@@ -469,7 +470,6 @@ int vtkBMGlenoidPlanFilter::RequestData(vtkInformation*, vtkInformationVector** 
     in.LastLandmarks = L;
     in.LastMeasurements = m;
     in.LastPlan = plan;
-    in.Planned = true;
 
     // 4. The picture: the plan's glyphs, and its camera.
     const nlohmann::json planning = bm::PlanningJson(L, m, plan);
@@ -489,7 +489,6 @@ int vtkBMGlenoidPlanFilter::RequestData(vtkInformation*, vtkInformationVector** 
                       "points) and click on the bone in the 3D view, or give the centre and "
                       "face normal; Use Trigonum or Use Inferior Angle for one not found";
     in.LastFailure = in.Error;
-    in.Planned = true; // a failure's report says why
     output->Initialize();
     // An answer, not a fault: the dock shows it and asks for the glenoid to be placed
     // (LastErrorInfo). An error or warning would also open ParaView's Output Messages over the
