@@ -9,6 +9,7 @@
 # Units: mm, mm^3, N, ms, s.
 import math
 import os
+import time
 
 from paraview import simple
 
@@ -22,6 +23,15 @@ BM_THRUST_PER_FEED = 1.1 * 532.8 / 0.1
 BM_MAX_THRUST_N = 1.1 * 532.8
 # Less thrust than this in every row means the reamer never met bone, N.
 BM_MIN_PEAK_THRUST_N = 20.0
+
+# bm::HapticSession's overrun rule as the dock's sessions use it: a pause when more than this
+# many of the last BM_OVERRUN_WINDOW frames took over the 1 ms period.
+BM_OVERRUN_LIMIT = 5
+BM_OVERRUN_WINDOW = 100
+# After resuming an overrun pause, time for the reamer to reach the typed depth, s: the mouse
+# proxy slews at 20 mm/s (1 mm in 0.05 s), the scripted hand pushes on; the GUI thread waits here
+# and the haptic thread runs on.
+BM_RESUME_CATCH_UP_S = 1.0
 
 bm_ream = {"removed": 0.0, "frame": 0}
 
@@ -121,17 +131,43 @@ def bm_ream_started(above_bone=True):
                      "it" % (distance, fits))
 
 
+def bm_ream_overruns_justify_pause(history):
+    """Whether the History rows (every frame, 1 ms rows) hold what the session's overrun rule
+    pauses on: more than BM_OVERRUN_LIMIT of some BM_OVERRUN_WINDOW consecutive frames over 1 ms
+    (bm::HapticSession's defaults, which the dock's sessions use)."""
+    over = [1 if ms > 1.0 else 0 for ms in history["frame_ms"]]
+    count = 0
+    for i, o in enumerate(over):
+        count += o - (over[i - BM_OVERRUN_WINDOW] if i >= BM_OVERRUN_WINDOW else 0)
+        if count > BM_OVERRUN_LIMIT:
+            return True
+    return False
+
+
 @bm_ream_check
 def bm_ream_running(depth_at_least_mm, removed_more_than_mm3):
-    """Running, not paused on overruns; the reamer at least depth_at_least_mm below the entry;
-    more than removed_more_than_mm3 more removed than at the last check; every History row's
-    thrust within BM_MAX_THRUST_N and within what the engaged reamer gives at that row's feed,
-    and some row's above BM_MIN_PEAK_THRUST_N."""
+    """Running; the reamer at least depth_at_least_mm below the entry; more than
+    removed_more_than_mm3 more removed than at the last check; every History row's thrust within
+    BM_MAX_THRUST_N and within what the engaged reamer gives at that row's feed, and some row's
+    above BM_MIN_PEAK_THRUST_N. Frame times are the machine's, not the product's (benchmarks
+    measure them): a pause on overruns passes when the History holds the overruns the rule
+    pauses on, and the session is resumed (the Resume command, as the dock's button sends it)
+    and given BM_RESUME_CATCH_UP_S to reach the typed depth before the checks go on. Any other
+    state, or an overrun pause the frame times do not explain, fails."""
     source = bm_ream_source()
     simple.UpdatePipeline(proxy=source)
     source.SMProxy.UpdatePropertyInformation()
     state, reason = bm_ream_state(source)
     history = bm_ream_history(source)
+    if state == 2 and reason == "overrun" and bm_ream_overruns_justify_pause(history):
+        os.write(2, ("BMDockReam: paused on overruns under this machine's load (%s); "
+                     "resuming\n" % bm_ream_timing(history)).encode())
+        source.SMProxy.InvokeCommand("Resume")
+        time.sleep(BM_RESUME_CATCH_UP_S)
+        simple.UpdatePipeline(proxy=source)
+        source.SMProxy.UpdatePropertyInformation()
+        state, reason = bm_ream_state(source)
+        history = bm_ream_history(source)
     if state != 1:
         bm_ream_fail("the state is %d (paused: %s), not running (1); %s" %
                      (state, reason, bm_ream_timing(history)))
