@@ -45,6 +45,7 @@
 #endif
 #include "bmsimArgs.h"
 #include "bmsimCommand.h"
+#include "bmsimSessionAccuracy.h"
 #ifdef BM_WITH_IO
 #include "bmCTVoxmap.h"
 #endif
@@ -534,6 +535,10 @@ int SessionBench(const bm::cli::ParsedArgs& p) {
   // Without --voxmaps (or --threads): the resolutions and threads a session chooses (on the CPU
   // backend: the session table measures it).
   const bool choose = !p.Has("voxmaps") && !p.Has("threads");
+  if (p.Has("accuracy") && bm::ResolveScene(sceneName).tool.value("type", "") != "reamer")
+    throw bm::cli::UsageError("--accuracy: scene '" + sceneName + "' cuts with a " +
+                              bm::ResolveScene(sceneName).tool.value("type", "?") +
+                              "; the accuracy is measured on a reaming's outcome (a reamer scene)");
   for (const auto& backend : backends) {
     bm::SceneOverrides overrides;
     if (auto t = p.GetInt("threads", 1, 64))
@@ -554,6 +559,7 @@ int SessionBench(const bm::cli::ParsedArgs& p) {
   const std::time_t now = std::time(nullptr);
   std::strftime(date, sizeof date, "%Y-%m-%d", std::gmtime(&now));
   std::string csv = bm::SessionBenchCsvHeader() + "\n";
+  std::vector<bm::SessionBenchRow> rows;
   std::cout << std::fixed << std::setprecision(3);
   auto figures = [](const std::vector<double>& v) {
     std::ostringstream s;
@@ -619,12 +625,16 @@ int SessionBench(const bm::cli::ParsedArgs& p) {
           row.date = date;
           row.backend = scene.backend;
           csv += bm::SessionBenchCsvRecord(row) + "\n";
+          rows.push_back(row);
           // The rows so far, after each run: a bench stopped part-way keeps what it measured.
           bm::WriteFileAtomic(out + "/session.csv", csv);
         }
   }
   bm::WriteFileAtomic(out + "/session.csv", csv);
   std::cout << "wrote " << out << "/session.csv\n";
+  if (const auto reference = p.GetInt("accuracy", 8, 4096))
+    bm::cli::WriteSessionAccuracy(scenes.front(), rows, views.back(), int(*reference), SceneBone,
+                                  out, machine, date);
   return 0;
 }
 
@@ -678,6 +688,10 @@ void BenchOptions(bm::cli::ParsedArgs& p) {
       .Int("serial", 0, 1000000,
            "--view: one thread, no contention: K haptic frames, then a refresh, in turn (default "
            "0: the haptic thread and the view run side by side)")
+      .Int("accuracy", 8, 4096,
+           "--session: also the offline reaming trial at each voxmap measured and at this voxmap "
+           "(the converged reference), its outcome against the reference's: "
+           "session_accuracy.csv and session_speed_vs_accuracy.png (a reaming scene)")
       .Value("session", "NAME|FILE",
              "instead: the haptic session's frame time on a scene in a hand-like trial (below)")
       .Real("seconds", 0.01, 3600, "S", "--session: seconds of session time (default 20)")

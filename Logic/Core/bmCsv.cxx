@@ -55,4 +55,11 @@ std::vector<double> ParseCsvNumbers(const std::string& line, const std::string& 
   return out;
 }
 
+std::string CsvQuoted(const std::string& s) {
+  std::string q = "\"";
+  for (char c : s)
+    q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
 } // namespace bm

@@ -1,5 +1,5 @@
 // bmCsv.h - reading CSV records, the one helper every CSV reader uses (calibration data, bench
-// tables, trajectories, session recordings).
+// tables, trajectories, session recordings), and quoting a text field for the writers.
 #pragma once
 
 #include <string>
@@ -15,5 +15,8 @@ std::vector<std::string> SplitCsvRecord(const std::string& line, const std::stri
 /// The record's fields as numbers (each field wholly a number: "1.5", "-2e-3", "nan"; "1x" and ""
 /// are not). Throws std::runtime_error "WHERE: not a number: 'FIELD'".
 std::vector<double> ParseCsvNumbers(const std::string& line, const std::string& where);
+
+/// `s` as a quoted CSV field ("a, b"; a quote inside doubled), as SplitCsvRecord reads it back.
+std::string CsvQuoted(const std::string& s);
 
 } // namespace bm

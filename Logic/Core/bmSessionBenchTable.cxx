@@ -23,13 +23,6 @@ const char* const kColumns[] = {
     "scene",  "voxmap", "shell",  "threads", "path",           "view",    "run",     "frames",
     "p50_ms", "p99_ms", "max_ms", "over",    "overrun_pauses", "seconds", "machine", "date"};
 
-std::string Quoted(const std::string& s) {
-  std::string q = "\"";
-  for (char c : s)
-    q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
-}
-
 } // namespace
 
 std::string SessionBenchCsvHeader() {
@@ -46,10 +39,10 @@ std::string SessionBenchCsvHeader() {
 std::string SessionBenchCsvRecord(const SessionBenchRow& r) {
   std::ostringstream os;
   os.precision(6);
-  os << Quoted(r.scene) << "," << r.voxmap << "," << r.shell << "," << r.threads << "," << r.path
+  os << CsvQuoted(r.scene) << "," << r.voxmap << "," << r.shell << "," << r.threads << "," << r.path
      << "," << (r.view ? 1 : 0) << "," << r.run << "," << r.frames << "," << r.p50Ms << ","
      << r.p99Ms << "," << r.maxMs << "," << r.over << "," << r.overrunPauses << "," << r.seconds
-     << "," << Quoted(r.machine) << "," << r.date << "," << r.backend;
+     << "," << CsvQuoted(r.machine) << "," << r.date << "," << r.backend;
   return os.str();
 }
 

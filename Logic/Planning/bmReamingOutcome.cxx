@@ -180,6 +180,10 @@ ReamingOutcome MeasureReamingOutcome(const Voxmap& before, const Voxmap& after, 
       nrm = -nrm;
     out.faceNormal = {nrm(0), nrm(1), nrm(2)};
     out.faceAngleDeg = AngleDeg(out.faceNormal, f.axis);
+    // Where the axis crosses the fitted plane, below the entry.
+    const Eigen::Vector3d e(f.entry[0], f.entry[1], f.entry[2]);
+    const Eigen::Vector3d ax(f.axis[0], f.axis[1], f.axis[2]);
+    out.faceDepthMm = -(c - e).dot(nrm) / ax.dot(nrm);
   } else {
     out.warnings.push_back("the reamer cut too little of the face to fit its plane (" +
                            std::to_string(cut.size()) + " points)");
@@ -245,6 +249,7 @@ nlohmann::json ReamingOutcome::ToJson() const {
           {"reamed_face_normal", faceNormal},
           {"reamed_face_angle_to_axis_deg", faceAngleDeg},
           {"reamed_face_points", facePoints},
+          {"face_depth_mm", faceDepthMm},
           {"medialisation_mm", medialisationMm},
           {"seating_fraction", seating},
           {"bone_beyond_pin_mm", boneBeyondPinMm},

@@ -5,7 +5,7 @@
 //  - the reamed face: surface points found along rays parallel to the planned axis (the first
 //    voxel at least half full), a least-squares plane through those the reamer cut whose mirror
 //    point across the axis was cut too (a face of revolution reamed off-centre stays untilted),
-//    and its normal's angle to the planned axis;
+//    its normal's angle to the planned axis, and where the axis crosses it (the face's depth);
 //  - medialisation of the joint line: the face height at the centre before minus after, each
 //    from a least-squares quadratic over the surface heights within 8 mm of the axis (the guide-pin
 //    hole left out);
@@ -49,7 +49,9 @@ struct ReamingOutcome {
   double removedMm3 = 0, removedCorticalMm3 = 0, removedCancellousMm3 = 0;
   Vec3 faceNormal{0, 0, 0}; ///< fitted reamed-face normal (out of the bone)
   double faceAngleDeg = 0;  ///< between faceNormal and the planned axis, deg
-  int facePoints = 0;       ///< surface points the plane was fitted to
+  /// Where the axis crosses the fitted reamed-face plane, below the entry, mm (0 when no plane)
+  double faceDepthMm = 0;
+  int facePoints = 0; ///< surface points the plane was fitted to
   double medialisationMm = 0;
   double seating = 0;         ///< fraction 0..1 of the back's area supported within gapMm
   double boneBeyondPinMm = 0; ///< bone along the axis beyond the pin's tip, mm (< 0: perforated)

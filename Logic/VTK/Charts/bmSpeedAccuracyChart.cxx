@@ -63,7 +63,7 @@ namespace bm {
 
 void WriteSpeedAccuracyChart(const std::string& pngPath, const std::string& title,
                              const std::vector<ChartSeries>& series, double budgetMs, int width,
-                             int height) {
+                             int height, const std::string& yTitle) {
   double xLo = budgetMs, xHi = budgetMs, yLo = 1e300, yHi = 0;
   for (const auto& s : series)
     for (const auto& p : s.points) {
@@ -94,7 +94,7 @@ void WriteSpeedAccuracyChart(const std::string& pngPath, const std::string& titl
   vtkAxis* ax = chart->GetAxis(vtkAxis::BOTTOM);
   vtkAxis* ay = chart->GetAxis(vtkAxis::LEFT);
   ax->SetTitle("frame time, ms (log)");
-  ay->SetTitle("force error, max of |thrust| and |torque| relative error (log)");
+  ay->SetTitle(yTitle);
   ax->SetLogScale(true);
   ay->SetLogScale(true);
   ax->SetBehavior(vtkAxis::FIXED);

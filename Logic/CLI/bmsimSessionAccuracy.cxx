@@ -1,0 +1,92 @@
+// bmsimSessionAccuracy.cxx - see bmsimSessionAccuracy.h.
+#include "bmsimSessionAccuracy.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+#include "bmAtomicFile.h"
+#include "bmCsv.h"
+#include "bmReamingAccuracy.h"
+#ifdef BM_WITH_CHARTS
+#include "bmSpeedAccuracyChart.h"
+#endif
+
+namespace bm::cli {
+
+void WriteSessionAccuracy(const Scene& scene, const std::vector<SessionBenchRow>& rows, bool view,
+                          int referenceVoxmap, const std::function<Voxmap(const Scene&)>& bone,
+                          const std::string& out, const std::string& machine,
+                          const std::string& date) {
+  // Each voxmap's worst p99 on the incremental path, as the session table judges a cell.
+  std::map<int, double> p99;
+  for (const SessionBenchRow& r : rows)
+    if (r.scene == scene.name && r.path == "incremental" && r.view == view)
+      p99[r.voxmap] = std::max(p99[r.voxmap], r.p99Ms);
+  if (p99.empty())
+    throw std::runtime_error("--accuracy: no incremental-path cell of scene '" + scene.name +
+                             "' was measured");
+  // The glenoid phantom's bone has its guide-pin hole: the face's fit leaves it out.
+  const ReamingOutcomeOptions options =
+      scene.bone.type == "ct" && scene.bone.ct.value("phantom", "") == "glenoid"
+          ? GlenoidPhantomOutcomeOptions()
+          : ReamingOutcomeOptions();
+  auto trial = [&](int v) {
+    const Scene s = scene.WithVoxmapResolution(v);
+    std::cout << "accuracy: the offline trial at voxmap " << v << ", shell " << s.shellResolution
+              << "..." << std::flush;
+    ReamingTrialOutcome t = RunReamingTrial(s, bone(s), options);
+    std::cout << " " << std::fixed << std::setprecision(1) << t.seconds << " s\n";
+    return t;
+  };
+  const ReamingTrialOutcome reference = trial(referenceVoxmap);
+  std::ostringstream csv;
+  csv << "scene,voxmap,shell,voxel_mm,view,p99_ms,removed_mm3,face_depth_mm,face_angle_deg,"
+         "seating,removed_error_pct,face_depth_error_mm,face_error_deg,seating_error_pct,"
+         "reference_voxmap,reference_shell,trial_s,machine,date\n";
+  std::vector<std::pair<double, std::pair<double, std::string>>> points;
+  auto row = [&](const ReamingTrialOutcome& t, double p99Ms) {
+    const ReamingAccuracy a = CompareReamingOutcomes(t.outcome, reference.outcome);
+    csv << std::setprecision(9) << CsvQuoted(scene.name) << "," << t.voxmap << "," << t.shell << ","
+        << t.voxelMm << "," << int(view) << "," << p99Ms << "," << t.outcome.removedMm3 << ","
+        << t.outcome.faceDepthMm << "," << t.outcome.faceAngleDeg << "," << t.outcome.seating << ","
+        << a.removedErrorPct << "," << a.depthErrorMm << "," << a.faceErrorDeg << ","
+        << a.seatingErrorPct << "," << referenceVoxmap << "," << reference.shell << "," << t.seconds
+        << "," << CsvQuoted(machine) << "," << date << "\n";
+    std::ostringstream line;
+    line << std::fixed << std::setprecision(2) << t.voxmap << "/" << t.shell << " (" << t.voxelMm
+         << " mm): removed " << std::showpos << a.removedErrorPct << " %, depth " << a.depthErrorMm
+         << " mm, seating " << a.seatingErrorPct << " pp" << std::noshowpos << ", face "
+         << a.faceErrorDeg << " deg";
+    std::cout << "accuracy " << line.str() << (p99Ms > 0 ? "; frame p99 " : "");
+    if (p99Ms > 0)
+      std::cout << std::setprecision(3) << p99Ms << " ms";
+    std::cout << "\n";
+    if (p99Ms > 0)
+      points.push_back({p99Ms, {std::abs(a.removedErrorPct) / 100.0, line.str()}});
+  };
+  for (const auto& [v, ms] : p99)
+    row(v == referenceVoxmap ? reference : trial(v), ms);
+  if (p99.count(referenceVoxmap) == 0)
+    row(reference, 0.0);
+  WriteFileAtomic(out + "/session_accuracy.csv", csv.str());
+  std::cout << "wrote " << out << "/session_accuracy.csv\n";
+#ifdef BM_WITH_CHARTS
+  ChartSeries series;
+  series.name = scene.name + " session" + (view ? ", view on" : "");
+  for (const auto& [x, yl] : points)
+    series.points.push_back({x, yl.first, yl.second});
+  WriteSpeedAccuracyChart(
+      out + "/session_speed_vs_accuracy.png",
+      "Session frame time (p99) against the result's accuracy; reference: voxmap " +
+          std::to_string(referenceVoxmap) + "; labels: voxmap/shell (voxel): errors",
+      {series}, 1000.0 * scene.trial.frameS, 1400, 900,
+      "removed-volume error against the converged reference, relative (log)");
+  std::cout << "wrote " << out << "/session_speed_vs_accuracy.png\n";
+#endif
+}
+
+} // namespace bm::cli
