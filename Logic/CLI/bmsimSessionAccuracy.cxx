@@ -9,13 +9,21 @@
 #include <sstream>
 
 #include "bmAtomicFile.h"
-#include "bmCsv.h"
+#include "bmSessionAccuracyTable.h"
 #include "bmReamingAccuracy.h"
 #ifdef BM_WITH_CHARTS
 #include "bmSpeedAccuracyChart.h"
 #endif
 
 namespace bm::cli {
+
+namespace {
+/// A chart point: frame p99 (ms), relative removed-volume error, label.
+struct ChartPointText {
+  double x = 0, y = 0;
+  std::string label;
+};
+} // namespace
 
 void WriteSessionAccuracy(const Scene& scene, const std::vector<SessionBenchRow>& rows, bool view,
                           int referenceVoxmap, const std::function<Voxmap(const Scene&)>& bone,
@@ -43,42 +51,54 @@ void WriteSessionAccuracy(const Scene& scene, const std::vector<SessionBenchRow>
     return t;
   };
   const ReamingTrialOutcome reference = trial(referenceVoxmap);
-  std::ostringstream csv;
-  csv << "scene,voxmap,shell,voxel_mm,view,p99_ms,removed_mm3,face_depth_mm,face_angle_deg,"
-         "seating,removed_error_pct,face_depth_error_mm,face_error_deg,seating_error_pct,"
-         "reference_voxmap,reference_shell,trial_s,machine,date\n";
-  std::vector<std::pair<double, std::pair<double, std::string>>> points;
+  std::string csv = SessionAccuracyCsvHeader() + "\n";
+  std::vector<ChartPointText> points;
   auto row = [&](const ReamingTrialOutcome& t, double p99Ms) {
     const ReamingAccuracy a = CompareReamingOutcomes(t.outcome, reference.outcome);
-    csv << std::setprecision(9) << CsvQuoted(scene.name) << "," << t.voxmap << "," << t.shell << ","
-        << t.voxelMm << "," << int(view) << "," << p99Ms << "," << t.outcome.removedMm3 << ","
-        << t.outcome.faceDepthMm << "," << t.outcome.faceAngleDeg << "," << t.outcome.seating << ","
-        << a.removedErrorPct << "," << a.depthErrorMm << "," << a.faceErrorDeg << ","
-        << a.seatingErrorPct << "," << referenceVoxmap << "," << reference.shell << "," << t.seconds
-        << "," << CsvQuoted(machine) << "," << date << "\n";
+    SessionAccuracyRow r;
+    r.scene = scene.name;
+    r.voxmap = t.voxmap;
+    r.shell = t.shell;
+    r.voxelMm = t.voxelMm;
+    r.view = view;
+    r.p99Ms = p99Ms;
+    r.removedMm3 = t.outcome.removedMm3;
+    r.faceDepthMm = t.outcome.faceDepthMm;
+    r.faceAngleDeg = t.outcome.faceAngleDeg;
+    r.seating = t.outcome.seating;
+    r.removedErrorPct = a.removedErrorPct;
+    r.faceDepthErrorMm = a.depthErrorMm;
+    r.faceErrorDeg = a.faceErrorDeg;
+    r.seatingErrorPct = a.seatingErrorPct;
+    r.referenceVoxmap = referenceVoxmap;
+    r.referenceShell = reference.shell;
+    r.trialS = t.seconds;
+    r.machine = machine;
+    r.date = date;
+    csv += SessionAccuracyCsvRecord(r) + "\n";
     std::ostringstream line;
     line << std::fixed << std::setprecision(2) << t.voxmap << "/" << t.shell << " (" << t.voxelMm
          << " mm): removed " << std::showpos << a.removedErrorPct << " %, depth " << a.depthErrorMm
          << " mm, seating " << a.seatingErrorPct << " pp" << std::noshowpos << ", face "
          << a.faceErrorDeg << " deg";
-    std::cout << "accuracy " << line.str() << (p99Ms > 0 ? "; frame p99 " : "");
+    std::cout << "accuracy " << line.str();
     if (p99Ms > 0)
-      std::cout << std::setprecision(3) << p99Ms << " ms";
+      std::cout << "; frame p99 " << std::setprecision(3) << p99Ms << " ms";
     std::cout << "\n";
     if (p99Ms > 0)
-      points.push_back({p99Ms, {std::abs(a.removedErrorPct) / 100.0, line.str()}});
+      points.push_back({p99Ms, std::abs(a.removedErrorPct) / 100.0, line.str()});
   };
   for (const auto& [v, ms] : p99)
     row(v == referenceVoxmap ? reference : trial(v), ms);
   if (p99.count(referenceVoxmap) == 0)
     row(reference, 0.0);
-  WriteFileAtomic(out + "/session_accuracy.csv", csv.str());
+  WriteFileAtomic(out + "/session_accuracy.csv", csv);
   std::cout << "wrote " << out << "/session_accuracy.csv\n";
 #ifdef BM_WITH_CHARTS
   ChartSeries series;
   series.name = scene.name + " session" + (view ? ", view on" : "");
-  for (const auto& [x, yl] : points)
-    series.points.push_back({x, yl.first, yl.second});
+  for (const ChartPointText& p : points)
+    series.points.push_back({p.x, p.y, p.label});
   WriteSpeedAccuracyChart(
       out + "/session_speed_vs_accuracy.png",
       "Session frame time (p99) against the result's accuracy; reference: voxmap " +

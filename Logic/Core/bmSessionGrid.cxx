@@ -71,7 +71,8 @@ std::vector<SessionBenchRow> LoadDefaultSessionTable(std::string* error) {
 }
 
 SessionGridPlan PlanSessionGrid(const Scene& scene, const std::vector<SessionBenchRow>& table,
-                                bool view, double rateHz) {
+                                bool view, double rateHz,
+                                const std::vector<SessionAccuracyRow>& accuracy) {
   SessionGridPlan p;
   p.scene = scene;
   const double periodMs = 1000.0 / rateHz;
@@ -94,6 +95,9 @@ SessionGridPlan PlanSessionGrid(const Scene& scene, const std::vector<SessionBen
       << (l.holds ? ", within " : ", over ") << periodMs << " ms";
   if (!l.holds)
     why << " (no measured voxmap holds the rate: expect overrun pauses)";
+  if (const std::string bought = AccuracyBought(accuracy, scene.name, p.scene.voxmapResolution);
+      !bought.empty())
+    why << "; " << bought;
   p.reason = why.str();
   return p;
 }

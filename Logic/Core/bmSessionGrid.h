@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "bmScene.h"
+#include "bmSessionAccuracyTable.h"
 #include "bmSessionBenchTable.h"
 
 namespace bm {
@@ -49,9 +50,12 @@ struct SessionGridPlan {
   std::optional<SessionLimit> limit;
   std::string reason;
 };
-/// Plans the grid of a session on `scene` at rateHz (Hz, > 0) with or without the live view.
+/// Plans the grid of a session on `scene` at rateHz (Hz, > 0) with or without the live view. The
+/// reason ends with what the chosen voxmap buys in accuracy when `accuracy` (the session accuracy
+/// table, bmSessionAccuracyTable.h) has its row.
 SessionGridPlan PlanSessionGrid(const Scene& scene, const std::vector<SessionBenchRow>& table,
-                                bool view, double rateHz);
+                                bool view, double rateHz,
+                                const std::vector<SessionAccuracyRow>& accuracy = {});
 
 /// Voxels a session keeps across the tool's diameter even on a coarse CT: the engine samples
 /// removal and force per voxel, so a tool a few voxels wide cuts a jagged hole with aliased forces.

@@ -155,8 +155,9 @@ BuiltSession BuildSession(const Scene& scene, const SessionRequest& r,
     return BuildSession(scene, MakeSceneBone(scene, progress), r);
   // The measured limit first (it caps the import's resolution), then the CT's spacing where the
   // CT is read; the shell follows the voxmap the import made.
+  const std::vector<SessionAccuracyRow> accuracy = LoadDefaultSessionAccuracy();
   const SessionGridPlan plan =
-      PlanSessionGrid(scene, LoadDefaultSessionTable(), r.liveView, r.rateHz);
+      PlanSessionGrid(scene, LoadDefaultSessionTable(), r.liveView, r.rateHz, accuracy);
   const double toolVoxel = ToolVoxelMm(MakeTool(scene.tool)->OuterRadius());
   Voxmap bone = MakeSceneBone(plan.scene, progress, true, toolVoxel);
   Scene chosen = plan.scene;
@@ -170,6 +171,10 @@ BuiltSession BuildSession(const Scene& scene, const SessionRequest& r,
     std::ostringstream why;
     why << "; the bone as imported has " << cells << " cells of " << bone.Spacing()
         << " mm (no finer than the CT's spacing, unless the tool needs " << toolVoxel << " mm)";
+    const std::string bought = AccuracyBought(accuracy, scene.name, cells);
+    why << "; "
+        << (bought.empty() ? "no accuracy measured at voxmap " + std::to_string(cells)
+                           : "at voxmap " + std::to_string(cells) + ", " + bought);
     reason += why.str();
   }
   BuiltSession b = BuildSession(chosen, std::move(bone), r);

@@ -176,14 +176,17 @@ ExpectedCost::ExpectedCost() {
       this->Table_.reset();
     }
   }
+  // Without the accuracy table (missing or damaged) the line leaves the accuracy out.
+  this->Accuracy_ = LoadDefaultSessionAccuracy();
 }
 
 ExpectedCost::~ExpectedCost() = default;
 ExpectedCost::ExpectedCost(ExpectedCost&&) noexcept = default;
 ExpectedCost& ExpectedCost::operator=(ExpectedCost&&) noexcept = default;
 
-ExpectedCost::ExpectedCost(BenchmarkTable table, std::vector<SessionBenchRow> sessions)
-    : Table_(std::move(table)), Sessions_(std::move(sessions)) {}
+ExpectedCost::ExpectedCost(BenchmarkTable table, std::vector<SessionBenchRow> sessions,
+                           std::vector<SessionAccuracyRow> accuracy)
+    : Table_(std::move(table)), Sessions_(std::move(sessions)), Accuracy_(std::move(accuracy)) {}
 
 std::string ExpectedCost::Line(const std::string& sceneName, int voxmap, int shell, int method,
                                double periodMs) const {
@@ -208,7 +211,8 @@ std::string ExpectedCost::Line(const std::string& sceneName, int voxmap, int she
   std::string chosen;
   if (voxmap <= 0 && shell <= 0)
     for (bool view : {true, false}) {
-      const SessionGridPlan plan = PlanSessionGrid(scene, this->Sessions_, view, 1000.0 / periodMs);
+      const SessionGridPlan plan =
+          PlanSessionGrid(scene, this->Sessions_, view, 1000.0 / periodMs, this->Accuracy_);
       if (plan.limit) {
         scene = plan.scene;
         threads = plan.scene.threads;
@@ -237,6 +241,8 @@ std::string ExpectedCost::Line(const std::string& sceneName, int voxmap, int she
                                  threads);
   }
   if (session) {
+    // What the voxmap buys: the offline reaming trial at it against the converged reference.
+    const std::string bought = AccuracyBought(this->Accuracy_, scene.name, v);
     const bool overruns = session->p99Ms > periodMs || session->overrunPauses > 0;
     return "Expected (" + scene.name + " session, shell " + std::to_string(s) + " / voxmap " +
            std::to_string(v) + chosen + ", nearest measured: " + std::to_string(session->shell) +
@@ -246,7 +252,7 @@ std::string ExpectedCost::Line(const std::string& sceneName, int voxmap, int she
            Format("%.3g", session->p99Ms) + " ms p99, " + Format("%.3g", session->maxMs) +
            " ms max; " + std::to_string(session->overrunPauses) + " overrun pauses in " +
            Format("%g", session->seconds) + " s; force error " +
-           Format("%.2g", cell->forceError * 100.0) + " %" +
+           Format("%.2g", cell->forceError * 100.0) + " %" + (bought.empty() ? "" : "; " + bought) +
            (overruns ? "; over the " + Format("%g", periodMs) +
                            " ms period: expect overrun pauses, choose coarser resolutions"
                      : "");

@@ -16,8 +16,9 @@
 
 namespace bm {
 
-enum class SessionState; // bmHapticSession.h: Idle, Running, Paused, Stopped
-struct SessionBenchRow;  // bmSessionBenchTable.h: a measured session cell
+enum class SessionState;   // bmHapticSession.h: Idle, Running, Paused, Stopped
+struct SessionBenchRow;    // bmSessionBenchTable.h: a measured session cell
+struct SessionAccuracyRow; // bmSessionAccuracyTable.h: what a session voxmap buys
 
 namespace PanelLogic {
 
@@ -76,15 +77,18 @@ public:
   /// cannot be read is remembered and named by Line(); without a session table every scene uses
   /// the bench.
   ExpectedCost();
-  /// Uses `table` and `sessions` (tests).
-  explicit ExpectedCost(BenchmarkTable table, std::vector<SessionBenchRow> sessions = {});
+  /// Uses `table`, `sessions` and `accuracy` (tests).
+  explicit ExpectedCost(BenchmarkTable table, std::vector<SessionBenchRow> sessions = {},
+                        std::vector<SessionAccuracyRow> accuracy = {});
   /// One line for the panel. For a scene with its own session measurements near the asked
   /// resolution (a hand-like trial of `bmsim bench --session`, on the scene's own method, voxmap
   /// within 1.5 x; bm::NearestSessionCell): "Expected (<scene> session, shell S /
   /// voxmap V, nearest measured: s / v, hand-like trial with the live view on <machine>, <date>)
   /// (measurements with the view first, else "without the view"): frame <p50> ms
-  /// median, <p99> ms p99, <max> ms max; <N> overrun pauses in <T> s; force error <e> %" (the
-  /// force error from the bench's cell). Otherwise: "Expected (<method>, shell S / voxmap V,
+  /// median, <p99> ms p99, <max> ms max; <N> overrun pauses in <T> s; force error <e> %[; its
+  /// result against the converged reference ...]" (the force error from the bench's cell; the
+  /// accuracy from the session accuracy table at bm::DefaultSessionAccuracyPath() when it has the
+  /// voxmap, bm::AccuracyBought). Otherwise: "Expected (<method>, shell S / voxmap V,
   /// nearest measured: s / v): frame <median> ms median, <p99> ms p99; force error <e> %" from
   /// the drilling bench, or why it is unknown (an unreadable table, an unknown scene, no cell of
   /// that method and backend).
@@ -101,6 +105,7 @@ private:
   std::optional<BenchmarkTable> Table_;
   std::string Error_;
   std::vector<SessionBenchRow> Sessions_;
+  std::vector<SessionAccuracyRow> Accuracy_;
 };
 
 } // namespace PanelLogic

@@ -100,6 +100,56 @@ TEST(SessionGrid, ThePlanCapsTheSceneAndScalesItsShell) {
   EXPECT_NE(plan.reason.find("no session measurements"), std::string::npos) << plan.reason;
 }
 
+// The session accuracy table (bmsim bench --session --accuracy): written and read back the same;
+// the choice's reason says what the chosen voxmap buys; a damaged table names line and column.
+TEST(SessionGrid, TheChoiceSaysWhatAccuracyItBuys) {
+  bm::SessionAccuracyRow a;
+  a.scene = "glenoid";
+  a.voxmap = 96;
+  a.shell = 170;
+  a.voxelMm = 0.4296875;
+  a.p99Ms = 0.9;
+  a.removedMm3 = 2140.5;
+  a.removedErrorPct = -2.57;
+  a.faceDepthErrorMm = -0.031;
+  a.faceErrorDeg = 0.37;
+  a.seatingErrorPct = 0.25;
+  a.referenceVoxmap = 384;
+  a.referenceShell = 680;
+  a.machine = "CPU, 2 cores";
+  a.date = "2026-11-29";
+  const std::vector<bm::SessionAccuracyRow> read = bm::ParseSessionAccuracyCsv(
+      bm::SessionAccuracyCsvHeader() + "\n" + bm::SessionAccuracyCsvRecord(a) + "\n", "t.csv");
+  ASSERT_EQ(read.size(), 1u);
+  EXPECT_EQ(bm::SessionAccuracyCsvRecord(read[0]), bm::SessionAccuracyCsvRecord(a));
+  EXPECT_EQ(read[0].machine, "CPU, 2 cores");
+  EXPECT_EQ(read[0].referenceVoxmap, 384);
+
+  const std::vector<bm::SessionBenchRow> rows = {Row(96, 1, 0.9), Row(192, 2, 2.0)};
+  const bm::SessionGridPlan plan =
+      bm::PlanSessionGrid(bm::Scene::Builtin("glenoid"), rows, false, 1000.0, read);
+  EXPECT_EQ(plan.scene.voxmapResolution, 96);
+  EXPECT_NE(plan.reason.find("; its result against the converged reference (voxmap 384): "
+                             "removed volume -2.6 %, the face's depth -0.03 mm and orientation "
+                             "0.37 deg, seating +0.2 points (0.430 mm voxels"),
+            std::string::npos)
+      << plan.reason;
+  // Another scene's, or another voxmap's, row says nothing.
+  EXPECT_EQ(bm::AccuracyBought(read, "skull", 96), "");
+  EXPECT_EQ(bm::AccuracyBought(read, "glenoid", 64), "");
+  try {
+    bm::ParseSessionAccuracyCsv(bm::SessionAccuracyCsvHeader() +
+                                    "\nglenoid,96,170,x,0,0,0,0,0,0,0,0,0,0,384,680,1,m,d\n",
+                                "t.csv");
+    ADD_FAILURE() << "a voxel size that is not a number was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("t.csv:2, column voxel_mm"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(bm::ParseSessionAccuracyCsv("scene,voxmap\nglenoid,96\n", "t.csv"),
+               std::runtime_error);
+}
+
 TEST(SessionGrid, TheNearestCellForOneThreadCount) {
   const std::vector<bm::SessionBenchRow> rows = {Row(96, 1, 0.9), Row(96, 2, 1.3)};
   auto any = bm::NearestSessionCell(rows, "glenoid", 96, 170, false);

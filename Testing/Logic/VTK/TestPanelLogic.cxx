@@ -3,12 +3,14 @@
 #include "bmPanelLogic.h"
 
 #include "bmHapticSession.h"
+#include "bmSessionAccuracyTable.h"
 #include "bmSessionBenchTable.h"
 #include "vtkBMSessionSource.h"
 
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -118,6 +120,8 @@ TEST(PanelLogic, ExpectedCostOfASceneWithSessionMeasurements) {
           "\nglenoid,192,340,1,incremental,0,1,10000,2.3,10.9,20,3000,40,10,\"CPU, 2 cores\","
           "2026-11-26,cpu\n",
       "sessions");
+  const std::string path2 = path + ".copy";
+  std::filesystem::copy_file(path, path2, std::filesystem::copy_options::overwrite_existing);
   const PL::ExpectedCost cost(bm::BenchmarkTable::Load(path), sessions);
   std::remove(path.c_str());
   // voxmap 100 alone: the shell scales alike (177); nearest cell 96 / 170 with the view (the
@@ -150,6 +154,24 @@ TEST(PanelLogic, ExpectedCostOfASceneWithSessionMeasurements) {
   const std::string fast = cost.Line("glenoid", 0, 0, 0, 0.5);
   EXPECT_NE(fast.find("voxmap 96, chosen for the session"), std::string::npos) << fast;
   EXPECT_NE(fast.find("expect overrun pauses"), std::string::npos) << fast;
+  // With the session accuracy table, the line says what the voxmap buys (its row at 96).
+  const std::vector<bm::SessionAccuracyRow> accuracy = bm::ParseSessionAccuracyCsv(
+      bm::SessionAccuracyCsvHeader() +
+          "\nglenoid,96,170,0.4296875,1,0.9,2140,0.86,0.4,0.94,-2.57,-0.031,0.37,-0.06,384,680,"
+          "1.5,\"CPU, 2 cores\",2026-11-29\n",
+      "accuracy");
+  const PL::ExpectedCost withAccuracy(bm::BenchmarkTable::Load(path2), sessions, accuracy);
+  std::remove(path2.c_str());
+  const std::string bought = withAccuracy.Line("glenoid", 0, 0, 0);
+  EXPECT_NE(bought.find("force error 0.4 %; its result against the converged reference (voxmap "
+                        "384): removed volume -2.6 %, the face's depth -0.03 mm and orientation "
+                        "0.37 deg, seating -0.1 points (0.430 mm voxels; CPU, 2 cores, "
+                        "2026-11-29)"),
+            std::string::npos)
+      << bought;
+  // No row at 192: nothing said about its accuracy.
+  EXPECT_EQ(withAccuracy.Line("glenoid", 192, 340, 0).find("converged reference"),
+            std::string::npos);
   // A damaged table names the line and column.
   try {
     bm::ParseSessionBenchCsv(bm::SessionBenchCsvHeader() +
