@@ -138,6 +138,9 @@ ReamingOutcome MeasureReamingOutcome(const Voxmap& before, const Voxmap& after, 
   const int side = 2 * nGrid + 1;
   std::vector<std::optional<Eigen::Vector3d>> cutAt(size_t(side) * size_t(side));
   std::vector<std::array<double, 3>> preCentre, postCentre;
+  // The reamed surface brought to the centre along the reamer's own face (arc reamers): a cut
+  // point at rho, height ha, puts the reamed face's centre at ha - (F(rho) - F(0)).
+  std::vector<double> reamedCentre;
   for (int iu = -nGrid; iu <= nGrid; ++iu)
     for (int iv = -nGrid; iv <= nGrid; ++iv) {
       const double u = iu * h, v = iv * h;
@@ -152,6 +155,8 @@ ReamingOutcome MeasureReamingOutcome(const Voxmap& before, const Voxmap& after, 
         if (ha)
           postCentre.push_back({u, v, *ha});
       }
+      if (hb && ha && *hb - *ha > h && arc && rho <= 8.0)
+        reamedCentre.push_back(*ha - (arc->FaceHeight(rho) - arc->FaceHeight(0)));
       if (hb && ha && *hb - *ha > h) {
         const Vec3 p = f.At(u, v, *ha);
         cutAt[size_t(iu + nGrid) * side + size_t(iv + nGrid)] = Eigen::Vector3d(p[0], p[1], p[2]);
@@ -188,8 +193,18 @@ ReamingOutcome MeasureReamingOutcome(const Voxmap& before, const Voxmap& after, 
     out.warnings.push_back("the reamer cut too little of the face to fit its plane (" +
                            std::to_string(cut.size()) + " points)");
   }
-  if (preCentre.size() >= 12 && postCentre.size() >= 12)
+  // Medialisation: the pre-operative face (a smooth concave surface) by its quadratic; the reamed
+  // face by the reamer's profile when the reamer cut within 8 mm of the axis (a quadratic over the
+  // annulus outside the pin's hole extrapolates the reamer's ring-shaped face badly: 2.2 mm at
+  // 0.87 mm voxels, 0.8 mm at 0.22 mm on the same cut), else by its quadratic too.
+  if (preCentre.size() >= 12 && reamedCentre.size() >= 12) {
+    double sum = 0;
+    for (double c : reamedCentre)
+      sum += c;
+    out.medialisationMm = QuadraticCentre(preCentre) - sum / double(reamedCentre.size());
+  } else if (preCentre.size() >= 12 && postCentre.size() >= 12) {
     out.medialisationMm = QuadraticCentre(preCentre) - QuadraticCentre(postCentre);
+  }
 
   // Backside seating.
   const double zf = ForemostCuttingZ(reamer);

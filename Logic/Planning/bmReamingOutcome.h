@@ -6,9 +6,11 @@
 //    voxel at least half full), a least-squares plane through those the reamer cut whose mirror
 //    point across the axis was cut too (a face of revolution reamed off-centre stays untilted),
 //    its normal's angle to the planned axis, and where the axis crosses it (the face's depth);
-//  - medialisation of the joint line: the face height at the centre before minus after, each
+//  - medialisation of the joint line: the face height at the centre before minus after: before
 //    from a least-squares quadratic over the surface heights within 8 mm of the axis (the guide-pin
-//    hole left out);
+//    hole left out), after from the cut points there, each brought to the centre along the
+//    reamer's own face profile (their mean; a reamer that cut none there, or a tool that is not an
+//    arc reamer: a quadratic too);
 //  - backside seating: the fraction of the baseplate's back (a disc of the given diameter less
 //    the central peg hole, shaped as the reamer's face or as a sphere of the given back radius,
 //    seated at the reached depth) that has bone within `gapMm` of it;

@@ -78,9 +78,11 @@ if(leftovers)
   message(FATAL_ERROR "the plan run left its staging folder: ${leftovers}")
 endif()
 # The reamed face within 2 deg of the planned axis at this coarse voxmap (0.52 mm voxels), the
-# joint line medialised by about the 2 mm ream depth, a 25 mm baseplate seated on bone, both
-# tissues removed, and the pin's hole (radius 3.2 mm, 10 mm deep: ~280 mm^3 of bone).
-if(angle GREATER 2.0 OR seating LESS 0.9 OR medial LESS 1.0 OR medial GREATER 3.0 OR
+# joint line at the centre medialised by the 2 mm ream depth less the default reamer's face's rise
+# at its centre above its foremost ring (1.33 mm): 0.67 mm, within 0.4 mm (most of a voxel), a
+# 25 mm baseplate seated on bone, both tissues removed, and the pin's hole (radius 3.2 mm, 10 mm
+# deep: ~280 mm^3 of bone).
+if(angle GREATER 2.0 OR seating LESS 0.9 OR medial LESS 0.27 OR medial GREATER 1.07 OR
    cortical LESS 100 OR cancellous LESS 10 OR pinRemoved LESS 200 OR pinRemoved GREATER 360)
   message(FATAL_ERROR "plan outcome out of range: face ${angle} deg, seating ${seating}, "
                       "medialisation ${medial} mm, cortical ${cortical}, cancellous ${cancellous}, "

@@ -124,7 +124,9 @@ TEST_P(ReamingOutcome, MatchesTheAnalyticGeometry) {
       ++total;
       supported += Glenoid::InEllipse(u, v) && Glenoid::Face(rho) >= g.Back(rho) - o.gapMm;
     }
-  const double medialisation = FitCentre(pre) - FitCentre(post);
+  // The joint line before (the concave face's quadratic at the centre) less the reamed face's
+  // height at the centre: the reamer's face seated at the reached depth.
+  const double medialisation = FitCentre(pre) - g.Back(0.0);
   const double seating = double(supported) / total;
 
   EXPECT_LT(r.faceAngleDeg, 2.0) << r.facePoints << " face points";
