@@ -37,8 +37,8 @@ export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1"
 sanitizer_config() { # <build dir> <sanitizers>
   cmake -S . -B "$1" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBM_SANITIZE="$2" \
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -DNDEBUG" \
-    -DBM_WITH_PARAVIEW=OFF -DBM_WITH_ITK=OFF -DBM_WITH_OPENCL=OFF -DBM_BUILD_BENCHMARKS=OFF \
-    -DBM_NATIVE=OFF
+    -DBM_WITH_PARAVIEW=OFF -DBM_WITH_ITK=OFF -DBM_WITH_OPENCL=OFF -DBM_WITH_DCMTK=OFF \
+    -DBM_BUILD_BENCHMARKS=OFF -DBM_NATIVE=OFF
 }
 
 stage "AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/, Logic only)"

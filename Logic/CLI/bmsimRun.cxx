@@ -38,7 +38,11 @@ void RunOptions(bm::cli::ParsedArgs& p) {
              "devices)")
       .Choice("lips", {"averaged", "instantaneous"}, "lip model (default averaged)")
       .Flag("no-report", "skip the report (report.md/.html, cut surface .vtp/.stl, PNG charts and "
-                         "picture; rendering starts a private Xvfb when DISPLAY is unset)");
+                         "picture; rendering starts a private Xvfb when DISPLAY is unset)")
+      .Flag("dicom", "a plan whose CT is a DICOM series: also DIR/dicom/reamed-bone.seg.dcm (the "
+                     "bone removed and remaining, a Segmentation) and DIR/dicom/plan.sr.dcm (the "
+                     "measurements and outcome, a Structured Report), in the series' patient, "
+                     "study and frame of reference");
   bm::cli::SessionRunOptions(p);
   p.Footer("Without --device the scene runs as an offline feed trial (forces.csv, summary.json, "
            "report). With --device scripted|touch (or --mode) it runs through a haptic session "
@@ -68,6 +72,9 @@ int RunCommand(const bm::cli::ParsedArgs& p) {
     throw UsageError(e.what());
   }
   const std::string out = p.Get("out", "out/" + scene.name);
+  if (p.Has("dicom") && scene.steps.empty())
+    throw UsageError("--dicom: scene '" + scene.name +
+                     "' is not a plan; DICOM results are written for a plan's steps");
   if (!scene.steps.empty()) { // a plan: its steps in order on one bone (bmsimRunSteps.h)
     if (bm::cli::WantsSession(p))
       throw UsageError("scene '" + scene.name +

@@ -11,6 +11,10 @@
 #include "bmFeedTrial.h"
 #include "bmMachiningSetup.h"
 #include "bmPlanResult.h"
+#ifdef BM_WITH_DCMTK
+#include "bmDicomSource.h"
+#include "bmPlanDicomResults.h"
+#endif
 #ifdef BM_WITH_REPORT
 #include "bmGlenoidPictures.h"
 #include "bmTrialReport.h"
@@ -43,6 +47,26 @@ std::string StepFolder(size_t i, const std::string& name) {
 int RunSceneSteps(const bm::Scene& scene, const ParsedArgs& args, const std::string& outDir) {
   [[maybe_unused]] const bool report = !args.Has("no-report");
   CheckWritableOutput("output folder", outDir, true);
+  // DICOM results need the series the CT came from: checked before any step runs.
+  std::string dicomFolder, dicomSeries;
+  if (args.Has("dicom")) {
+#ifdef BM_WITH_DCMTK
+    const nlohmann::json& ct = scene.bone.ct;
+    const std::string path = scene.bone.type == "ct" ? ct.value("ct", std::string()) : "";
+    const fs::path folder = path.empty() || fs::path(path).is_absolute()
+                                ? fs::path(path)
+                                : fs::path(scene.baseDir) / path;
+    if (path.empty() || !fs::is_directory(folder))
+      throw UsageError("--dicom: the plan's CT" + (path.empty() ? "" : " '" + path + "'") +
+                       " is not a DICOM series (a folder); DICOM results belong to the series "
+                       "they came from");
+    dicomFolder = folder.string();
+    dicomSeries = ct.value("series", std::string());
+    bm::ReadDicomSource(dicomFolder, dicomSeries); // refuses a folder without that series now
+#else
+    throw UsageError("--dicom: this build has no DCMTK (BM_WITH_DCMTK)");
+#endif
+  }
   StagedOutput staged(outDir); // a failed step leaves nothing behind (bmsimStagedOutput.h)
   const fs::path stagePath(staged.Path());
 
@@ -137,6 +161,16 @@ int RunSceneSteps(const bm::Scene& scene, const ParsedArgs& args, const std::str
     for (const auto& w : o.value("warnings", nlohmann::json::array()))
       std::cout << "  warning: " << w.get<std::string>() << "\n";
   }
+#ifdef BM_WITH_DCMTK
+  if (!dicomFolder.empty()) {
+    const bm::PlanDicomFiles files =
+        bm::WritePlanDicomResults((stagePath / "dicom").string(), dicomFolder, dicomSeries, before,
+                                  bone, summary, BM_VERSION);
+    std::cout << "  DICOM: dicom/" << fs::path(files.segmentation).filename().string()
+              << " and dicom/" << fs::path(files.report).filename().string() << " for series "
+              << (dicomSeries.empty() ? "(the folder's only one)" : dicomSeries) << "\n";
+  }
+#endif
   staged.Commit("summary.json");
   std::cout << "wrote " << outDir << "/summary.json, plan_result.md/.html and " << folders.size()
             << " step folders\n";

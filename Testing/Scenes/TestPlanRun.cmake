@@ -38,7 +38,7 @@ if(leftovers)
 endif()
 
 execute_process(COMMAND ${BMSIM} run ${WORK_DIR}/plan/plan.json --voxmap-resolution 96 --no-report
-                        --out ${WORK_DIR}/run
+                        --dicom --out ${WORK_DIR}/run
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "bmsim run plan.json failed (${rc}):\n${out}\n${err}")
@@ -61,6 +61,37 @@ foreach(f 1-guide-pin/summary.json 1-guide-pin/forces.csv 2-ream/summary.json 2-
     message(FATAL_ERROR "the plan run wrote no ${f}")
   endif()
 endforeach()
+# The results as DICOM beside the phantom's series (--dicom): a Segmentation and a Structured
+# Report in its study, valid by dciodvfy (dicom3tools) where it is installed.
+find_program(DCIODVFY dciodvfy)
+foreach(f reamed-bone.seg.dcm plan.sr.dcm)
+  if(NOT EXISTS ${WORK_DIR}/run/dicom/${f})
+    message(FATAL_ERROR "bmsim run --dicom wrote no dicom/${f}")
+  endif()
+  if(DCIODVFY)
+    execute_process(COMMAND ${DCIODVFY} ${WORK_DIR}/run/dicom/${f}
+                    OUTPUT_VARIABLE vout ERROR_VARIABLE verr)
+    if("${vout}${verr}" MATCHES "(^|\n)Error")
+      message(FATAL_ERROR "dciodvfy finds errors in dicom/${f}:\n${vout}${verr}")
+    endif()
+  endif()
+endforeach()
+# --dicom on a scene that is not a plan, or on a plan whose CT is not a DICOM series: refused.
+execute_process(COMMAND ${BMSIM} run drilling --dicom --out ${WORK_DIR}/not-a-plan
+                RESULT_VARIABLE rc ERROR_VARIABLE err OUTPUT_QUIET)
+if(NOT rc EQUAL 2 OR NOT err MATCHES "--dicom: scene 'drilling' is not a plan")
+  message(FATAL_ERROR "--dicom on a scene that is not a plan: exit ${rc}: ${err}")
+endif()
+file(READ ${WORK_DIR}/plan/plan.json plan)
+string(JSON plan SET "${plan}" bone ct ct "\"${WORK_DIR}/plan/ct.nrrd\"")
+file(WRITE ${WORK_DIR}/plan-nrrd.json "${plan}")
+execute_process(COMMAND ${BMSIM} run ${WORK_DIR}/plan-nrrd.json --dicom --out ${WORK_DIR}/nrrd-run
+                RESULT_VARIABLE rc ERROR_VARIABLE err OUTPUT_QUIET)
+if(NOT rc EQUAL 2 OR NOT err MATCHES "--dicom: the plan's CT '.*ct.nrrd' is not a DICOM series"
+   OR EXISTS ${WORK_DIR}/nrrd-run/summary.json)
+  message(FATAL_ERROR "--dicom on a plan whose CT is not a DICOM series: exit ${rc}: ${err}")
+endif()
+
 # Each step's summary and the plan's result name the coefficient set and whether it is calibrated
 # (the reamer's default is the assumed, uncalibrated set).
 string(JSON pinSet GET "${summary}" steps 0 summary coefficients name)
