@@ -120,20 +120,9 @@ std::string DefaultSessionAccuracyPath() {
 }
 
 std::vector<SessionAccuracyRow> LoadDefaultSessionAccuracy(std::string* error) {
-  const std::string path = DefaultSessionAccuracyPath();
-  if (NotARegularFile(path) == "missing or unreadable") {
-    if (error)
-      *error = "no session accuracy table at " + path;
-    return {};
-  }
-  try {
-    return ParseSessionAccuracyCsv(ReadRegularFile(path, kMaxBytes, "the session accuracy table"),
-                                   path);
-  } catch (const std::exception& e) {
-    if (error)
-      *error = e.what();
-    return {};
-  }
+  return LoadOptionalTable<std::vector<SessionAccuracyRow>>(DefaultSessionAccuracyPath(), kMaxBytes,
+                                                            "session accuracy table",
+                                                            ParseSessionAccuracyCsv, error);
 }
 
 std::string AccuracyBought(const std::vector<SessionAccuracyRow>& rows, const std::string& scene,

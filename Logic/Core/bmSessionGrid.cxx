@@ -53,21 +53,10 @@ std::optional<SessionLimit> MeasuredSessionLimit(const std::vector<SessionBenchR
 constexpr uint64_t kMaxSessionTableBytes = uint64_t(64) << 20;
 
 std::vector<SessionBenchRow> LoadDefaultSessionTable(std::string* error) {
-  const std::string path = DefaultSessionBenchPath();
-  if (NotARegularFile(path) == "missing or unreadable") {
-    if (error)
-      *error = "no session table at " + path;
-    return {};
-  }
-  try {
-    // A FIFO, a device or /proc file as the table would block or never end: refused, named.
-    return ParseSessionBenchCsv(ReadRegularFile(path, kMaxSessionTableBytes, "the session table"),
-                                path);
-  } catch (const std::exception& e) {
-    if (error)
-      *error = e.what();
-    return {};
-  }
+  // A FIFO, a device or /proc file as the table would block or never end: refused, named.
+  return LoadOptionalTable<std::vector<SessionBenchRow>>(DefaultSessionBenchPath(),
+                                                         kMaxSessionTableBytes, "session table",
+                                                         ParseSessionBenchCsv, error);
 }
 
 SessionGridPlan PlanSessionGrid(const Scene& scene, const std::vector<SessionBenchRow>& table,

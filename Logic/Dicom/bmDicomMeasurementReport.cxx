@@ -2,7 +2,6 @@
 #include "bmDicomMeasurementReport.h"
 
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
 
 #include <dcmtk/dcmdata/dcdeftag.h>
@@ -12,21 +11,14 @@
 #include <dcmtk/dcmsr/dsrimgvl.h>
 #include <dcmtk/dcmsr/dsrnumvl.h>
 
-#include "bmDicomFileSave.h"
+#include "bmDicomWriting.h"
 
 namespace bm {
 
 namespace {
 
 void Check(const OFCondition& c, const std::string& what) {
-  if (c.bad())
-    throw std::runtime_error("DICOM measurement report: " + what + ": " + c.text());
-}
-
-std::string Num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
+  CheckDicom(c, "DICOM measurement report", what);
 }
 
 const char* const kScheme = "99BMSIM";
@@ -116,11 +108,12 @@ std::string WriteMeasurementReport(const std::string& path, const DicomSource& s
   for (const DicomMeasurement& m : measurements) {
     add(DSRTypes::RT_contains, DSRTypes::VT_Num,
         DSRCodedEntryValue(m.code.c_str(), kScheme, m.name.c_str()), false);
-    Check(tree.getCurrentContentItem().setNumericValue(
-              DSRNumericMeasurementValue(
-                  Num(m.value).c_str(), DSRCodedEntryValue(m.unit.c_str(), "UCUM", m.unit.c_str())),
-              false),
-          m.name);
+    Check(
+        tree.getCurrentContentItem().setNumericValue(
+            DSRNumericMeasurementValue(DicomDecimal(m.value).c_str(),
+                                       DSRCodedEntryValue(m.unit.c_str(), "UCUM", m.unit.c_str())),
+            false),
+        m.name);
     const size_t num = tree.getNodeID();
     if (!m.method.empty()) {
       add(DSRTypes::RT_hasConceptMod, DSRTypes::VT_Text,

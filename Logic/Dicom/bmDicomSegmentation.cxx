@@ -1,7 +1,6 @@
 // bmDicomSegmentation.cxx - see bmDicomSegmentation.h.
 #include "bmDicomSegmentation.h"
 
-#include <cstdio>
 #include <memory>
 #include <set>
 #include <stdexcept>
@@ -19,21 +18,14 @@
 #include <dcmtk/dcmseg/segdoc.h>
 #include <dcmtk/dcmseg/segment.h>
 
-#include "bmDicomFileSave.h"
+#include "bmDicomWriting.h"
 
 namespace bm {
 
 namespace {
 
 void Check(const OFCondition& c, const std::string& what) {
-  if (c.bad())
-    throw std::runtime_error("DICOM segmentation: " + what + ": " + c.text());
-}
-
-std::string Num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
+  CheckDicom(c, "DICOM segmentation", what);
 }
 
 } // namespace
@@ -89,12 +81,12 @@ DicomSegmentationResult WriteReamingSegmentation(const std::string& path, const 
   FGPlaneOrientationPatient* orient =
       FGPlaneOrientationPatient::createMinimal("1", "0", "0", "0", "1", "0");
   FGPixelMeasures pixels;
-  std::string spacing = Num(h);
+  std::string spacing = DicomDecimal(h);
   spacing += '\\';
-  spacing += Num(h);
+  spacing += DicomDecimal(h);
   pixels.setPixelSpacing(spacing.c_str());
-  pixels.setSliceThickness(Num(h).c_str());
-  pixels.setSpacingBetweenSlices(Num(h).c_str());
+  pixels.setSliceThickness(DicomDecimal(h).c_str());
+  pixels.setSpacingBetweenSlices(DicomDecimal(h).c_str());
   Check(seg->addForAllFrames(*orient), "plane orientation");
   delete orient;
   Check(seg->addForAllFrames(pixels), "pixel measures");
@@ -129,8 +121,8 @@ DicomSegmentationResult WriteReamingSegmentation(const std::string& path, const 
         }
       if (!any)
         continue;
-      FGPlanePosPatient* pos =
-          FGPlanePosPatient::createMinimal(Num(o[0]).c_str(), Num(o[1]).c_str(), Num(o[2]).c_str());
+      FGPlanePosPatient* pos = FGPlanePosPatient::createMinimal(
+          DicomDecimal(o[0]).c_str(), DicomDecimal(o[1]).c_str(), DicomDecimal(o[2]).c_str());
       const DicomSourceImage& near = source.NearestImage(o[2]);
       referenced.insert(&near);
       ImageSOPInstanceReferenceMacro ref;

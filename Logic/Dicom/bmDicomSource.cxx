@@ -10,7 +10,7 @@
 #include <dcmtk/dcmdata/dcdeftag.h>
 #include <dcmtk/dcmdata/dcfilefo.h>
 
-#include "bmDicomFileSave.h"
+#include "bmDicomWriting.h"
 
 namespace bm {
 

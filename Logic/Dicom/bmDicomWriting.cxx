@@ -1,6 +1,7 @@
-// bmDicomFileSave.cxx - see bmDicomFileSave.h.
-#include "bmDicomFileSave.h"
+// bmDicomWriting.cxx - see bmDicomWriting.h.
+#include "bmDicomWriting.h"
 
+#include <cstdio>
 #include <filesystem>
 #include <stdexcept>
 
@@ -26,6 +27,17 @@ void SaveDicomAtomically(const std::string& path, const std::string& what,
     fs::remove(tmp, ignored);
     throw std::runtime_error(what + ": cannot write " + path + ": " + ec.message());
   }
+}
+
+void CheckDicom(const OFCondition& c, const std::string& writer, const std::string& what) {
+  if (c.bad())
+    throw std::runtime_error(writer + ": " + what + ": " + c.text());
+}
+
+std::string DicomDecimal(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
 }
 
 void QuietDicomLog() {
