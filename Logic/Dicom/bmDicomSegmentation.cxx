@@ -78,8 +78,10 @@ DicomSegmentationResult WriteReamingSegmentation(const std::string& path, const 
 
   // Shared: the slices' orientation (x columns, y rows) and pixel measures.
   const double h = before.Spacing();
-  FGPlaneOrientationPatient* orient =
-      FGPlaneOrientationPatient::createMinimal("1", "0", "0", "0", "1", "0");
+  const std::unique_ptr<FGPlaneOrientationPatient> orient(
+      FGPlaneOrientationPatient::createMinimal("1", "0", "0", "0", "1", "0"));
+  if (!orient)
+    throw std::runtime_error("DICOM segmentation: cannot make the plane orientation");
   FGPixelMeasures pixels;
   std::string spacing = DicomDecimal(h);
   spacing += '\\';
@@ -88,7 +90,6 @@ DicomSegmentationResult WriteReamingSegmentation(const std::string& path, const 
   pixels.setSliceThickness(DicomDecimal(h).c_str());
   pixels.setSpacingBetweenSlices(DicomDecimal(h).c_str());
   Check(seg->addForAllFrames(*orient), "plane orientation");
-  delete orient;
   Check(seg->addForAllFrames(pixels), "pixel measures");
 
   // Frames are indexed by segment, then by their slice's position.
@@ -121,8 +122,8 @@ DicomSegmentationResult WriteReamingSegmentation(const std::string& path, const 
         }
       if (!any)
         continue;
-      FGPlanePosPatient* pos = FGPlanePosPatient::createMinimal(
-          DicomDecimal(o[0]).c_str(), DicomDecimal(o[1]).c_str(), DicomDecimal(o[2]).c_str());
+      const std::unique_ptr<FGPlanePosPatient> pos(FGPlanePosPatient::createMinimal(
+          DicomDecimal(o[0]).c_str(), DicomDecimal(o[1]).c_str(), DicomDecimal(o[2]).c_str()));
       const DicomSourceImage& near = source.NearestImage(o[2]);
       referenced.insert(&near);
       ImageSOPInstanceReferenceMacro ref;
@@ -130,20 +131,20 @@ DicomSegmentationResult WriteReamingSegmentation(const std::string& path, const 
       ref.setReferencedSOPInstanceUID(near.sopInstanceUID.c_str());
       OFVector<ImageSOPInstanceReferenceMacro> refs;
       refs.push_back(ref);
-      FGDerivationImage* der = FGDerivationImage::createMinimal(
+      const std::unique_ptr<FGDerivationImage> der(FGDerivationImage::createMinimal(
           refs, "Bone voxmap resampled from the CT and cut by the plan's steps", derivation,
-          purpose);
+          purpose));
+      if (!pos || !der)
+        throw std::runtime_error("DICOM segmentation: cannot make frame " + std::to_string(k) +
+                                 "'s position or derivation");
       FGFrameContent content;
       content.setDimensionIndexValues(numbers[s], 0);
       content.setDimensionIndexValues(Uint32(k + 1), 1);
       OFVector<FGBase*> perFrame;
-      perFrame.push_back(pos);
-      perFrame.push_back(der);
+      perFrame.push_back(pos.get());
+      perFrame.push_back(der.get());
       perFrame.push_back(&content);
-      const OFCondition c = seg->addFrame(frame.data(), numbers[s], perFrame);
-      delete pos;
-      delete der;
-      Check(c, "frame " + std::to_string(k));
+      Check(seg->addFrame(frame.data(), numbers[s], perFrame), "frame " + std::to_string(k));
       (s == 0 ? result.removedFrames : result.remainingFrames)++;
     }
   }
