@@ -59,6 +59,7 @@ public:
   QPushButton* ClearPlaced = nullptr;
   QLabel* Placed = nullptr;
   QLineEdit* ReportFolder = nullptr;
+  QCheckBox* ResultAsDicom = nullptr;
   QLabel* ReportStatus = nullptr;
   int Mode = 0;
   bool HaveFacePoint = false;
@@ -292,10 +293,17 @@ void qBMPlanWidgetPrivate::init() {
           "against the plan, seating), the glenoid before and after, plan_result.md/.html, as "
           "bmsim run writes a plan's result"));
   QObject::connect(result, &QPushButton::clicked, q, &qBMPlanWidget::writeResultRequested);
+  this->ResultAsDicom = new QCheckBox(qBMPlanWidget::tr("DICOM"), q);
+  this->ResultAsDicom->setObjectName("ResultAsDicomCheckBox");
+  this->ResultAsDicom->setToolTip(qBMPlanWidget::tr(
+      "Write result also writes dicom/reamed-bone.seg.dcm (the bone removed and remaining, a "
+      "Segmentation) and dicom/plan.sr.dcm (the measurements, a Structured Report) in the CT's "
+      "study, for a CT read from a DICOM series"));
   report->addWidget(this->ReportFolder, 1);
   report->addWidget(browse);
   report->addWidget(write);
   report->addWidget(result);
+  report->addWidget(this->ResultAsDicom);
   layout->addLayout(report);
   this->ReportStatus = label("ReportStatusLabel");
   this->ReportStatus->setText(QString());
@@ -457,6 +465,11 @@ QVector<double> qBMPlanWidget::rimPoints() const {
 QString qBMPlanWidget::reportFolder() const {
   Q_D(const qBMPlanWidget);
   return d->ReportFolder->text();
+}
+
+bool qBMPlanWidget::resultAsDicom() const {
+  Q_D(const qBMPlanWidget);
+  return d->ResultAsDicom->isChecked();
 }
 
 void qBMPlanWidget::setPlacementMode(int mode) {

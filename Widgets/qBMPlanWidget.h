@@ -70,6 +70,9 @@ public:
   QVector<double> rimPoints() const;
   /// The folder "Write report" writes into (default empty: none chosen).
   QString reportFolder() const;
+  /// Whether "Write result" also writes the result as DICOM beside the plan's CT (a DICOM
+  /// series; the filter's ResultAsDicom). Default off.
+  bool resultAsDicom() const;
 
 public Q_SLOTS:
   /// Sets landmark `i` (world mm) and uses it (the 3D view's handle was dragged); emits

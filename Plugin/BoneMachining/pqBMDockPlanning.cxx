@@ -574,5 +574,6 @@ void pqBMDockWindow::writePlanResult() {
     vtkSMPropertyHelper(proxy, "ResultBeforeBone").Set(this->PlanBeforeBone.toUtf8().constData());
     vtkSMPropertyHelper(proxy, "ResultAfterBone").Set(after.toUtf8().constData());
     vtkSMPropertyHelper(proxy, "ResultSteps").Set(steps.toUtf8().constData());
+    vtkSMPropertyHelper(proxy, "ResultAsDicom").Set(w->resultAsDicom() ? 1 : 0);
   });
 }

@@ -84,6 +84,43 @@ def main():
     check(plan.GetDataInformation().GetNumberOfPoints() > 70,
           "the output draws landmarks, rim, axis and normal")
 
+    # The plan's result as DICOM beside its CT (ResultAsDicom, as bmsim run --dicom). The bone as
+    # imported stands for both sessions' bones: nothing removed, the bone all remaining.
+    result = os.path.join(work, "result")
+    plan.ReportDirectory = result
+    plan.ResultBeforeBone = voxmap
+    plan.ResultAfterBone = voxmap
+    plan.ResultSteps = json.dumps([{"step": 2, "name": "ream", "tool": "reamer",
+                                    "summary": {"reached_depth_mm": 0.0}}])
+    plan.ResultAsDicom = 1
+    plan.SMProxy.InvokeCommand("WriteResult")
+    check(info(plan, "ReportErrorInfo") == "", "the result as DICOM: no error (%r)"
+          % info(plan, "ReportErrorInfo"))
+    files = info(plan, "ReportFilesInfo").split("\n")
+    for name in ("summary.json", "dicom/reamed-bone.seg.dcm", "dicom/plan.sr.dcm"):
+        check(name in files and os.path.getsize(os.path.join(result, name)) > 1000,
+              "the result holds %s (%r)" % (name, files))
+    with open(os.path.join(result, "dicom", "reamed-bone.seg.dcm"), "rb") as f:
+        seg = f.read()
+    check(seg[128:132] == b"DICM" and b"1.2.840.10008.5.1.4.1.1.66.4" in seg,
+          "dicom/reamed-bone.seg.dcm is a DICOM Segmentation")
+    with open(os.path.join(ct, sorted(n for n in os.listdir(ct) if n.endswith(".dcm"))[0]),
+              "rb") as f:
+        source = f.read()
+    study = source.split(b"\x20\x00\x0d\x00", 1)[1][4:70].split(b"\x00")[0].strip()
+    check(study in seg, "the Segmentation is in the CT's study")
+    # A CT that is not a DICOM series has no series to write beside: refused, nothing written.
+    plan.CTFileName = voxmap
+    plan.UpdatePipeline()
+    plan.ReportDirectory = os.path.join(work, "result-mha")
+    plan.SMProxy.InvokeCommand("WriteResult")
+    check("is not a DICOM series" in info(plan, "ReportErrorInfo") and
+          not os.path.exists(os.path.join(work, "result-mha", "summary.json")),
+          "a CT file that is not DICOM: %r" % info(plan, "ReportErrorInfo"))
+    plan.CTFileName = ct
+    plan.ResultAsDicom = 0
+    plan.UpdatePipeline()
+
     # The CT read as BM CT Bone reads it (its bone specification: raw values, a series, exclude
     # points): the step scenes carry those settings, with the plan's region and seed.
     spec = {"ct": os.path.abspath(ct), "rawThreshold": 150, "series": "1.2.3",

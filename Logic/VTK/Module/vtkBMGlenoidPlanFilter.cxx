@@ -12,6 +12,10 @@
 #ifdef BM_WITH_IO
 #include "bmVoxmapFile.h"
 #endif
+#ifdef BM_WITH_DCMTK
+#include "bmDicomSource.h"
+#include "bmPlanDicomResults.h"
+#endif
 #include "bmJson.h"
 #include "bmSegmentedBone.h"
 #include "bmVoxmap.h"
@@ -270,6 +274,23 @@ bool vtkBMGlenoidPlanFilter::WriteResult() {
       }
     }
     const nlohmann::json& scene = in.LastScenes->plan;
+    // The CT's DICOM series, checked before anything is written.
+    std::string dicomFolder, dicomSeries;
+    if (this->ResultAsDicom) {
+      const nlohmann::json ct =
+          scene.value("bone", nlohmann::json::object()).value("ct", nlohmann::json::object());
+      dicomFolder = ct.value("ct", std::string());
+      dicomSeries = ct.value("series", std::string());
+      if (dicomFolder.empty() || !std::filesystem::is_directory(dicomFolder))
+        throw std::runtime_error("the plan's CT" +
+                                 (dicomFolder.empty() ? std::string() : " '" + dicomFolder + "'") +
+                                 " is not a DICOM series: results as DICOM belong beside it");
+#ifdef BM_WITH_DCMTK
+      bm::ReadDicomSource(dicomFolder, dicomSeries);
+#else
+      throw std::runtime_error("results as DICOM need DCMTK, which this build leaves out");
+#endif
+    }
     bm::PlanResultInput result;
     result.planName = scene.value("name", "glenoid plan");
     result.planning = scene.value("planning", nlohmann::json());
@@ -295,6 +316,14 @@ bool vtkBMGlenoidPlanFilter::WriteResult() {
     in.ReportFiles = "summary.json\nplan_result.md\nplan_result.html";
     if (summary.contains("pictures"))
       in.ReportFiles += "\nglenoid_before.png\nglenoid_after.png";
+#ifdef BM_WITH_DCMTK
+    if (this->ResultAsDicom) {
+      bm::WritePlanDicomResults((std::filesystem::path(this->ReportDirectory) / "dicom").string(),
+                                dicomFolder, dicomSeries, before, after, summary,
+                                "BoneMachining plugin");
+      in.ReportFiles += "\ndicom/reamed-bone.seg.dcm\ndicom/plan.sr.dcm";
+    }
+#endif
     return true;
   } catch (const std::exception& e) {
     in.ReportError = e.what();

@@ -205,6 +205,12 @@ public:
   /// plan with steps, no folder, a bone file is missing or unreadable, the two bones are not on
   /// one grid, or a file cannot be written.
   bool WriteResult();
+  /// With WriteResult(), also the result as DICOM beside the plan's CT (bmPlanDicomResults.h:
+  /// dicom/reamed-bone.seg.dcm and dicom/plan.sr.dcm in ReportDirectory), as bmsim run --dicom
+  /// writes it; the CT must be a DICOM series, checked before anything is written (default off).
+  vtkSetMacro(ResultAsDicom, bool);
+  vtkGetMacro(ResultAsDicom, bool);
+  vtkBooleanMacro(ResultAsDicom, bool);
   ///@}
 
 protected:
@@ -233,6 +239,7 @@ protected:
   char* CTFileName = nullptr;
   char* CTBoneSpecification = nullptr;
   char* ReportDirectory = nullptr;
+  bool ResultAsDicom = false;
   char* ResultBeforeBone = nullptr;
   char* ResultAfterBone = nullptr;
   char* ResultSteps = nullptr;
