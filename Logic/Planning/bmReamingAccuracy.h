@@ -30,9 +30,9 @@ struct ReamingTrialOutcome {
 ReamingTrialOutcome RunReamingTrial(const Scene& scene, Voxmap bone,
                                     const ReamingOutcomeOptions& options);
 
-/// The outcome options for a scene's bone: the glenoid phantom's guide-pin hole (radius and depth,
-/// bmAnalyticGlenoid.h) when the scene's bone is that phantom or its analytic twin (`pilotHole`),
-/// else the defaults (no pin step).
+/// The outcome options for the glenoid phantom's bone (the CT phantom or its analytic twin): the
+/// default baseplate with the phantom's guide-pin hole (radius and depth, bmAnalyticGlenoid.h),
+/// so that the face's fit leaves the hole out.
 ReamingOutcomeOptions GlenoidPhantomOutcomeOptions();
 
 /// A resolution's outcome against the converged reference's.
