@@ -164,6 +164,9 @@ def bm_ream_running(depth_at_least_mm, removed_more_than_mm3):
                      "resuming\n" % bm_ream_timing(history)).encode())
         source.SMProxy.InvokeCommand("Resume")
         time.sleep(BM_RESUME_CATCH_UP_S)
+        # The GUI's live poll, which marks the source modified every 33 ms, waited with this
+        # thread: mark it here, or the update keeps the paused state and History it had.
+        source.SMProxy.GetClientSideObject().Modified()
         simple.UpdatePipeline(proxy=source)
         source.SMProxy.UpdatePropertyInformation()
         state, reason = bm_ream_state(source)
