@@ -17,14 +17,6 @@
 
 namespace bm::cli {
 
-namespace {
-/// A chart point: frame p99 (ms), relative removed-volume error, label.
-struct ChartPointText {
-  double x = 0, y = 0;
-  std::string label;
-};
-} // namespace
-
 void WriteSessionAccuracy(const Scene& scene, const std::vector<SessionBenchRow>& rows, bool view,
                           int referenceVoxmap, const std::function<Voxmap(const Scene&)>& bone,
                           const std::string& out, const std::string& machine,
@@ -52,7 +44,11 @@ void WriteSessionAccuracy(const Scene& scene, const std::vector<SessionBenchRow>
   };
   const ReamingTrialOutcome reference = trial(referenceVoxmap);
   std::string csv = SessionAccuracyCsvHeader() + "\n";
-  std::vector<ChartPointText> points;
+#ifdef BM_WITH_CHARTS
+  // x: the frame p99 (ms), y: the relative removed-volume error, labelled with every error.
+  ChartSeries series;
+  series.name = scene.name + " session" + (view ? ", view on" : "");
+#endif
   auto row = [&](const ReamingTrialOutcome& t, double p99Ms) {
     const ReamingAccuracy a = CompareReamingOutcomes(t.outcome, reference.outcome);
     SessionAccuracyRow r;
@@ -85,8 +81,10 @@ void WriteSessionAccuracy(const Scene& scene, const std::vector<SessionBenchRow>
     if (p99Ms > 0)
       std::cout << "; frame p99 " << std::setprecision(3) << p99Ms << " ms";
     std::cout << "\n";
+#ifdef BM_WITH_CHARTS
     if (p99Ms > 0)
-      points.push_back({p99Ms, std::abs(a.removedErrorPct) / 100.0, line.str()});
+      series.points.push_back({p99Ms, std::abs(a.removedErrorPct) / 100.0, line.str()});
+#endif
   };
   for (const auto& [v, ms] : p99)
     row(v == referenceVoxmap ? reference : trial(v), ms);
@@ -95,10 +93,6 @@ void WriteSessionAccuracy(const Scene& scene, const std::vector<SessionBenchRow>
   WriteFileAtomic(out + "/session_accuracy.csv", csv);
   std::cout << "wrote " << out << "/session_accuracy.csv\n";
 #ifdef BM_WITH_CHARTS
-  ChartSeries series;
-  series.name = scene.name + " session" + (view ? ", view on" : "");
-  for (const ChartPointText& p : points)
-    series.points.push_back({p.x, p.y, p.label});
   WriteSpeedAccuracyChart(
       out + "/session_speed_vs_accuracy.png",
       "Session frame time (p99) against the result's accuracy; reference: voxmap " +

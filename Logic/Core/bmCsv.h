@@ -16,6 +16,17 @@ std::vector<std::string> SplitCsvRecord(const std::string& line, const std::stri
 /// are not). Throws std::runtime_error "WHERE: not a number: 'FIELD'".
 std::vector<double> ParseCsvNumbers(const std::string& line, const std::string& where);
 
+/// A header record: the column names joined by commas.
+template <class Names> std::string CsvHeader(const Names& names) {
+  std::string h;
+  for (const char* name : names) {
+    if (!h.empty())
+      h += ',';
+    h += name;
+  }
+  return h;
+}
+
 /// `s` as a quoted CSV field ("a, b"; a quote inside doubled), as SplitCsvRecord reads it back.
 std::string CsvQuoted(const std::string& s);
 

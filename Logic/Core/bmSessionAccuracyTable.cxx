@@ -41,13 +41,7 @@ constexpr uint64_t kMaxBytes = uint64_t(16) << 20;
 } // namespace
 
 std::string SessionAccuracyCsvHeader() {
-  std::string h;
-  for (const char* c : kColumns) {
-    if (!h.empty())
-      h += ',';
-    h += c;
-  }
-  return h;
+  return CsvHeader(kColumns);
 }
 
 std::string SessionAccuracyCsvRecord(const SessionAccuracyRow& r) {

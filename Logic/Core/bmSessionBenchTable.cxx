@@ -26,14 +26,7 @@ const char* const kColumns[] = {
 } // namespace
 
 std::string SessionBenchCsvHeader() {
-  std::string h;
-  for (const char* c : kColumns) {
-    if (!h.empty())
-      h += ',';
-    h += c;
-  }
-  h += ",backend";
-  return h;
+  return CsvHeader(kColumns) + ",backend";
 }
 
 std::string SessionBenchCsvRecord(const SessionBenchRow& r) {
