@@ -59,6 +59,14 @@ bool ParseHexTriple(const std::string& s, double out[3]) {
   return std::sscanf(s.c_str(), "%la %la %la", &out[0], &out[1], &out[2]) == 3;
 }
 
+std::string HexTriple(const std::array<double, 3>& v) {
+  return Hex(v[0]) + " " + Hex(v[1]) + " " + Hex(v[2]);
+}
+
+constexpr const char* kTrialEntryField = "bm_trial_entry_mm";
+constexpr const char* kTrialAxisField = "bm_trial_axis";
+constexpr const char* kTrialToolField = "bm_tool";
+
 } // namespace
 
 void SaveVoxmap(const Voxmap& vm, const std::string& path, const Progress& progress,
@@ -124,7 +132,11 @@ void SaveVoxmap(const Voxmap& vm, const std::string& path, const Progress& progr
   }
 }
 
-Voxmap LoadVoxmap(const std::string& path, const Progress& progress) {
+namespace {
+
+// A reader of the voxmap file with its header checked and read (not its voxels). Throws
+// std::runtime_error naming the file, as LoadVoxmap documents.
+itk::ImageFileReader<FileImage>::Pointer OpenVoxmapFile(const std::string& path) {
   if (!fs::exists(path))
     throw std::runtime_error("voxmap file '" + path + "' does not exist");
   auto reader = itk::ImageFileReader<FileImage>::New();
@@ -158,6 +170,13 @@ Voxmap LoadVoxmap(const std::string& path, const Progress& progress) {
     CheckMemoryBudget(bytes > 1e18L ? uint64_t(1e18) : uint64_t(bytes), limits.maxMemoryBytes,
                       "the voxmap file '" + path + "'");
   }
+  return reader;
+}
+
+} // namespace
+
+Voxmap LoadVoxmap(const std::string& path, const Progress& progress) {
+  auto reader = OpenVoxmapFile(path);
   RunFilter(reader, progress.Range(0, 0.8), "loading the voxmap");
   FileImage::Pointer img = reader->GetOutput();
   const unsigned nc = img->GetNumberOfComponentsPerPixel();
@@ -217,6 +236,37 @@ Voxmap LoadVoxmap(const std::string& path, const Progress& progress) {
   vm.RebuildOccupancy();
   progress(1.0, "loading the voxmap");
   return vm;
+}
+
+std::vector<std::pair<std::string, std::string>> VoxmapTrialFields(const VoxmapTrial& trial) {
+  std::vector<std::pair<std::string, std::string>> fields = {
+      {kTrialEntryField, HexTriple(trial.entryMm)}, {kTrialAxisField, HexTriple(trial.axis)}};
+  if (trial.toolJson.find_first_of("\r\n") != std::string::npos)
+    throw std::invalid_argument("a voxmap file's tool must be one line of JSON");
+  if (!trial.toolJson.empty())
+    fields.emplace_back(kTrialToolField, trial.toolJson);
+  return fields;
+}
+
+std::optional<VoxmapTrial> LoadVoxmapTrial(const std::string& path) {
+  auto reader = OpenVoxmapFile(path);
+  const auto& dict = reader->GetOutput()->GetMetaDataDictionary();
+  std::string entry, axis;
+  const bool hasEntry = itk::ExposeMetaData<std::string>(dict, kTrialEntryField, entry);
+  const bool hasAxis = itk::ExposeMetaData<std::string>(dict, kTrialAxisField, axis);
+  if (!hasEntry && !hasAxis)
+    return std::nullopt;
+  double e[3], a[3];
+  if (!hasEntry || !hasAxis || !ParseHexTriple(entry, e) || !ParseHexTriple(axis, a))
+    throw std::runtime_error("voxmap file '" + path + "': its saved trial (" + kTrialEntryField +
+                             ", " + kTrialAxisField + ") is incomplete or not three numbers each");
+  const double length = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+  if (!std::isfinite(e[0] + e[1] + e[2]) || !std::isfinite(length) || length < 1e-9)
+    throw std::runtime_error("voxmap file '" + path +
+                             "': its saved trial has a non-finite entry or a zero axis");
+  std::string tool;
+  itk::ExposeMetaData<std::string>(dict, kTrialToolField, tool);
+  return VoxmapTrial{{e[0], e[1], e[2]}, {a[0] / length, a[1] / length, a[2] / length}, tool};
 }
 
 } // namespace bm

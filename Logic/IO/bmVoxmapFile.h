@@ -19,6 +19,8 @@
 #include "bmProgress.h"
 #include "bmVoxmap.h"
 
+#include <array>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -37,5 +39,25 @@ void SaveVoxmap(const Voxmap& voxmap, const std::string& path, const Progress& p
 /// components, a non-finite bone fraction, or a material scale outside [0, 10] (NaN, infinite,
 /// negative) naming the voxel.
 Voxmap LoadVoxmap(const std::string& path, const Progress& progress = {});
+
+/// The trial a session's bone was cut on: its entry point (world mm, where the axis enters the
+/// bone), axis (world, unit, from the bone out toward the shank) and the tool that cut it (a
+/// scene's "tool" object as JSON text; empty: not saved). Saved in the voxmap file's header (fields
+/// bm_trial_entry_mm and bm_trial_axis, hexadecimal floating point, so exact; bm_tool), so that a
+/// session started again from the file goes on at the same place with the same tool.
+struct VoxmapTrial {
+  std::array<double, 3> entryMm{0, 0, 0};
+  std::array<double, 3> axis{0, 0, 1};
+  std::string toolJson;
+};
+
+/// The header fields that save `trial` (pass them to SaveVoxmap's `fields`).
+std::vector<std::pair<std::string, std::string>> VoxmapTrialFields(const VoxmapTrial& trial);
+
+/// The trial saved in a voxmap file's header, reading only the header (checked as LoadVoxmap
+/// checks it); the axis is normalised. nullopt when the file carries none (a voxmap from bmsim
+/// import, or saved before trials were). Throws std::runtime_error naming the file as LoadVoxmap
+/// does, and when the trial's fields are incomplete, not numbers, non-finite or a zero axis.
+std::optional<VoxmapTrial> LoadVoxmapTrial(const std::string& path);
 
 } // namespace bm

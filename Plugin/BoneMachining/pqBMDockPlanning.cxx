@@ -529,7 +529,9 @@ void pqBMDockWindow::runPlanStep(int step) {
                        view->getViewProxy());
     }
   this->KeepInitialBoneNext = step == 0; // the plan's result needs the bone before the pin
+  this->StepSceneNext = true;
   this->startSession(path, 0, 0, session->deviceType());
+  this->StepSceneNext = false;
   this->PinStepSession = step == 0 ? this->Session : nullptr;
   this->ReamStepSession = step == 1 ? this->Session : nullptr;
 }

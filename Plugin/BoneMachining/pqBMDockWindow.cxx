@@ -310,17 +310,15 @@ void pqBMDockWindow::startSession(const QString& scene, int voxmapResolution, in
       .Set(panel->startFromBoneFile() ? panel->boneFile().toUtf8().constData() : "");
   vtkSMPropertyHelper(proxy, "VolumeOutput").Set(panel->volumeRendering() ? 1 : 0);
   vtkSMPropertyHelper(proxy, "BoneCT").Set(boneCT.c_str());
-  // The trial: the saved bone's own session's, when starting again from it; else the CT's entry
-  // and axis when machining the CT bone; else the scene's.
-  if (fromFile && panel->boneFile() == this->SavedBone && this->SavedEntry.size() == 3) {
-    vtkSMPropertyHelper(proxy, "OverrideTrial").Set(1);
-    vtkSMPropertyHelper(proxy, "Entry").Set(this->SavedEntry.constData(), 3);
-    vtkSMPropertyHelper(proxy, "Axis").Set(this->SavedAxis.constData(), 3);
-  } else {
-    vtkSMPropertyHelper(proxy, "OverrideTrial").Set(ct->useCTBone() ? 1 : 0);
-    vtkSMPropertyHelper(proxy, "Entry").Set(ct->entry().constData(), 3);
-    vtkSMPropertyHelper(proxy, "Axis").Set(ct->axis().constData(), 3);
-  }
+  // The trial: a plan step's scene carries its own; a saved bone goes on where it was cut (the
+  // trial saved in the file, BoneFileTrial); the CT bone takes the CT section's entry and axis;
+  // else the scene's.
+  const bool stepScene = this->StepSceneNext;
+  vtkSMPropertyHelper(proxy, "BoneFileTrial").Set(stepScene ? 0 : 1);
+  vtkSMPropertyHelper(proxy, "OverrideTrial")
+      .Set(!stepScene && !fromFile && ct->useCTBone() ? 1 : 0);
+  vtkSMPropertyHelper(proxy, "Entry").Set(ct->entry().constData(), 3);
+  vtkSMPropertyHelper(proxy, "Axis").Set(ct->axis().constData(), 3);
   // The panel's force scale is a Touch's (0, "per tool": the tool's); other devices keep theirs.
   vtkSMPropertyHelper(proxy, "ForceScale")
       .Set(deviceType == vtkBMSessionSource::TOUCH ? panel->forceScale() : 0.0);
@@ -392,7 +390,17 @@ void pqBMDockWindow::startSession(const QString& scene, int voxmapResolution, in
   this->ChartedFrame = -1;
   this->ChartClock.start();
   this->Poll->start();
-  panel->setSessionStatus(tr("Started %1.").arg(source->getSMName()), true);
+  // Where the trial came from, when a saved bone was started (a plan step's scene has its own).
+  const std::string trialSource =
+      vtkSMPropertyHelper(proxy, "SessionTrialSourceInfo").GetAsString();
+  QString started = tr("Started %1.").arg(source->getSMName());
+  if (fromFile && !stepScene)
+    started = trialSource == "the bone file's"
+                  ? tr("Started %1 on the saved bone, where it was cut.").arg(source->getSMName())
+                  : tr("Started %1 on the saved bone, at the scene's entry and axis (none was "
+                       "saved with it).")
+                        .arg(source->getSMName());
+  panel->setSessionStatus(started, true);
 }
 
 void pqBMDockWindow::pauseSession(bool paused) {
@@ -446,18 +454,8 @@ void pqBMDockWindow::saveBone(const QString& path) {
   const std::string error = vtkSMPropertyHelper(proxy, "LastErrorInfo").GetAsString();
   vtkSMPropertyHelper(proxy, "SaveBone").Set(""); // so that the same path can be saved again
   proxy->UpdateVTKObjects();
-  if (error.empty()) {
+  if (error.empty())
     this->SavedBone = path;
-    this->SavedEntry.clear();
-    this->SavedAxis.clear();
-    if (auto* logic = vtkBMSessionSource::SafeDownCast(proxy->GetClientSideObject())) {
-      double entry[3], axis[3];
-      if (logic->GetSessionTrial(entry, axis)) {
-        this->SavedEntry = {entry[0], entry[1], entry[2]};
-        this->SavedAxis = {axis[0], axis[1], axis[2]};
-      }
-    }
-  }
   panel->setSessionStatus(
       error.empty() ? tr("Saved the bone of %1 to %2.").arg(this->Session->getSMName(), path)
                     : tr("Could not save the bone: %1").arg(QString::fromStdString(error)),

@@ -143,6 +143,7 @@ private:
   QPointer<pqPipelineSource> PlanSlice;       ///< the slice through the plan (showPlanSlice)
   QPointer<pqPipelineSource> ReamStepSession; ///< the session running the plan's reaming step
   bool KeepInitialBoneNext = false; ///< the next session keeps its starting bone (pin step)
+  bool StepSceneNext = false;       ///< the next session is a plan step's: its scene's own trial
   QString PlanBeforeBone;           ///< the pin step's starting bone, saved when reaming starts
   QString PinStepFigures;           ///< the pin step's figures (JSON), taken then
   QPointer<QWidget> PlaceView;      ///< the view widget clicks place the glenoid in
@@ -154,11 +155,9 @@ private:
   QTimer* HandleSync = nullptr;   ///< debounces handle drags into one plan
   bool PlanViewSet = false;       ///< the camera was put on the first plan
   QTimer* Poll;
-  /// The bone last saved (Save bone, or the plan's pin step) and the trial of the session that cut
-  /// it: a session started from that file keeps the entry and axis (world mm; the bone file keeps
-  /// its place in the world).
+  /// The bone last saved (Save bone, or the plan's pin step); the file keeps the trial it was cut
+  /// on (vtkBMSessionSource::BoneFileTrial).
   QString SavedBone;
-  QVector<double> SavedEntry, SavedAxis;
   /// Session frame the charts show, and the time since they were drawn.
   vtkIdType ChartedFrame = -1;
   QElapsedTimer ChartClock;

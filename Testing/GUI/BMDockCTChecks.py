@@ -31,7 +31,8 @@ def bm_ct_open():
 def bm_ct_previewed(keep_all):
     """The dock's BM CT Bone reads the selected reader's image (not a file); its bone is the
     block and, with keep_all, the sphere too (volumes within 10 %); the bone shows as a surface
-    (a Contour of the bone fraction, the image itself hidden) and the camera frames it."""
+    (a Contour of the bone fraction, the image itself hidden), the camera frames it, and the view
+    matches its baseline picture."""
     reader = bm_ct.get("reader")
     bone = simple.FindSource("BMCTBone1")
     if reader is None or bone is None:
@@ -70,3 +71,5 @@ def bm_ct_previewed(keep_all):
     if not 0 < distance <= 2.0 * radius / math.sin(math.radians(view.CameraViewAngle / 2.0)):
         bm_ct_fail("the camera is %.1f mm from the bone: it does not frame it" % distance)
     os.write(2, ("BMDockCT: previewed %.0f mm^3 (keep all %s)\n" % (volume, keep_all)).encode())
+    # What the user sees: the surface, framed (its baseline picture).
+    bm_compare_screenshot(bm_ct_fail, view, "BMDockCTReader-all" if keep_all else "BMDockCTReader")

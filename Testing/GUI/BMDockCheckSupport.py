@@ -28,3 +28,27 @@ def bm_check_support(prefix):
         return checked
 
     return fail, check
+
+
+def bm_compare_screenshot(fail, view, name, size=(400, 300), threshold=0.15):
+    """Saves the view at `size` pixels as `name`.png in the test's folder and compares it with the
+    baseline of that name in $BM_BASELINE_DIR by VTK's regression test (vtkTesting, as ParaView's
+    own image tests; `threshold` is its error measure). A missing baseline is written there and
+    fails (look at it, then commit it); a differing one fails and leaves the difference image in
+    the test's folder."""
+    from paraview import simple
+    from vtkmodules.vtkTestingRendering import vtkTesting
+
+    shot = os.path.abspath(name + ".png")
+    simple.SaveScreenshot(shot, view, ImageResolution=list(size))
+    baseline = os.path.join(os.environ["BM_BASELINE_DIR"], name + ".png")
+    if not os.path.exists(baseline):
+        import shutil
+
+        shutil.copyfile(shot, baseline)
+        fail("no baseline: wrote %s (look at it and commit it)" % baseline)
+    testing = vtkTesting()
+    for arg in ("-V", baseline, "-T", os.path.dirname(shot)):
+        testing.AddArgument(arg)
+    if testing.RegressionTest(shot, threshold) != vtkTesting.PASSED:
+        fail("the view differs from %s (see %s and its difference image)" % (baseline, shot))

@@ -16,6 +16,10 @@ bm_place = {}
 exec(open(os.path.join(os.path.dirname(os.environ["BM_DOCK_PLACE_CHECKS"]), "BMDockCheckSupport.py")).read())
 bm_place_fail, bm_place_check = bm_check_support("BMDockPlace")
 
+# The cut bone Save bone writes after the plan's steps, and a fresh paraview starts again from
+# (BMDockRestart.xml).
+BM_PLACE_SAVED = "place-saved.nrrd"
+
 
 def _plan():
     """The dock's BM Glenoid Plan filter."""
@@ -187,3 +191,111 @@ def bm_place_result(folder):
     for name in ("plan_result.md", "plan_result.html", "glenoid_before.png", "glenoid_after.png"):
         if not os.path.isfile(os.path.join(folder, name)):
             bm_place_fail("the result folder has no " + name)
+
+
+@bm_place_check
+def bm_place_pictured():
+    """The 3D view as the surgeon sees the plan (the CT bone, the plan's glyphs, the camera down
+    the planned axis) matches its baseline picture."""
+    bm_compare_screenshot(bm_place_fail, simple.GetActiveView(), "BMDockPlacePlan")
+
+
+def _session():
+    """The dock's session (a new one replaces the last)."""
+    sessions = [s for s in simple.GetSources().values()
+                if s.SMProxy.GetXMLName() == "BMSessionSource"]
+    if len(sessions) != 1:
+        bm_place_fail("expected one BM Session source, found %d" % len(sessions))
+    return sessions[0]
+
+
+def _trial(source):
+    """The session's trial (entry world mm, unit axis) as lists, from its information
+    properties."""
+    source.SMProxy.UpdatePropertyInformation()
+    entry = [source.GetProperty("SessionEntryInfo").GetElement(k) for k in range(3)]
+    axis = [source.GetProperty("SessionAxisInfo").GetElement(k) for k in range(3)]
+    if axis == [0.0, 0.0, 0.0]:
+        bm_place_fail("the session has no trial")
+    return entry, axis
+
+
+def _tool_pose(source, entry, axis):
+    """The shown tool against a trial: the angle (deg) between the tool's axis (its mesh is rings
+    about it: the principal axis of its points) and `axis`, and its centre's distance from the
+    line along `axis` through `entry` and along it (mm)."""
+    source.UpdatePipeline()
+    points = source.GetClientSideObject().GetOutputDataObject(1).GetPoints()
+    n = points.GetNumberOfPoints() if points else 0
+    if n == 0:
+        bm_place_fail("the session shows no tool")
+    import numpy
+    p = numpy.array([points.GetPoint(i) for i in range(n)])
+    mean = p.mean(axis=0)
+    values, vectors = numpy.linalg.eigh(numpy.cov((p - mean).T))
+    # The distinct eigenvalue's vector (the other two are equal, the rings' plane).
+    gaps = [abs(values[k] - values[(k + 1) % 3]) + abs(values[k] - values[(k + 2) % 3])
+            for k in range(3)]
+    tool_axis = vectors[:, int(numpy.argmax(gaps))]
+    angle = math.degrees(math.acos(min(1.0, abs(float(numpy.dot(tool_axis, axis))))))
+    rel = mean - numpy.array(entry)
+    along = float(numpy.dot(rel, axis))
+    off = math.sqrt(max(0.0, float(numpy.dot(rel, rel)) - along * along))
+    os.write(2, ("BMDockPlace: %s's tool %.3f deg off the axis, centre %.2f mm off it, %.2f mm "
+                 "along\n" % (source.GetXMLLabel(), angle, off, along)).encode())
+    return angle, off, along
+
+
+def _saved_trial(path):
+    """The trial saved in a voxmap file's NRRD header (bm_trial_entry_mm, bm_trial_axis:
+    hexadecimal floats), as (entry, axis), or None."""
+    fields = {}
+    with open(path, "rb") as f:
+        for raw in f:
+            line = raw.decode("latin-1").rstrip("\n")
+            if not line:
+                break  # the header ends at the first blank line
+            if ":=" in line:
+                key, value = line.split(":=", 1)
+                fields[key] = value
+    if "bm_trial_entry_mm" not in fields:
+        return None
+    return ([float.fromhex(v) for v in fields["bm_trial_entry_mm"].split()],
+            [float.fromhex(v) for v in fields["bm_trial_axis"].split()])
+
+
+@bm_place_check
+def bm_place_saved():
+    """Save bone wrote the reaming session's bone with the trial it was cut on: its entry and
+    axis, exactly."""
+    if not os.path.isfile(BM_PLACE_SAVED):
+        bm_place_fail("Save bone wrote no " + BM_PLACE_SAVED)
+    trial = _saved_trial(BM_PLACE_SAVED)
+    if trial is None:
+        bm_place_fail(BM_PLACE_SAVED + " carries no trial")
+    entry, axis = _trial(_session())
+    _tool_pose(_session(), entry, axis)
+    if trial != (entry, axis):
+        bm_place_fail("the saved trial %s is not the session's %s" % (trial, (entry, axis)))
+
+
+@bm_place_check
+def bm_place_restarted():
+    """A fresh paraview started a session from the saved bone, at the entry and axis saved with
+    it (bit for bit), the reamer along that axis above the cut."""
+    source = _session()
+    source.SMProxy.UpdatePropertyInformation()
+    if source.GetProperty("SessionTrialSourceInfo").GetElement(0) != "the bone file's":
+        bm_place_fail("the trial came from %s, not the saved bone"
+                      % source.GetProperty("SessionTrialSourceInfo").GetElement(0))
+    entry, axis = _trial(source)
+    saved = _saved_trial(BM_PLACE_SAVED)
+    if saved is None or [entry, axis] != list(saved):
+        bm_place_fail("the restarted trial %s is not the saved %s" % ((entry, axis), saved))
+    # The reamer shown lies along the saved axis, outside the bone (its centre along the axis
+    # from the entry). Where across the axis it stands is the contact's doing: the plan's start
+    # touches this bone's rim (2.5 mm slices), so it is printed, not checked.
+    angle, off, along = _tool_pose(source, entry, axis)
+    if angle > 0.5 or along <= 0:
+        bm_place_fail("the reamer is %.2f deg off the saved axis, %.2f mm along it"
+                      % (angle, along))

@@ -59,7 +59,8 @@ public:
   std::unique_ptr<bm::Voxmap> InitialBone; ///< the bone at Start (KeepInitialBone)
   std::shared_ptr<bm::ProgrammableDevice> Mouse;
   std::unique_ptr<bm::HapticSession> Session;
-  std::string GridReason; ///< BuiltSession::gridReason of the session last started
+  std::string GridReason;  ///< BuiltSession::gridReason of the session last started
+  std::string TrialSource; ///< where the trial of the session last started came from
   /// The cut bone's surface, in BoneSurface's default bricks of 8 voxels (one per voxmap
   /// generation brick: a cut re-extracts only the thin layer it changed).
   bm::BoneSurface Surface;
@@ -98,6 +99,17 @@ public:
       this->Builder.join();
     this->Building = false;
   }
+
+#ifdef BM_WITH_IO
+  /// The header fields that save the session's trial with its bone (bm::VoxmapTrialFields).
+  std::vector<std::pair<std::string, std::string>> TrialFields() const {
+    const bm::Scene& scene = this->Setup->GetScene();
+    const bm::TrialSpec& t = scene.trial;
+    const Eigen::Vector3d a = t.axis.normalized();
+    return bm::VoxmapTrialFields(bm::VoxmapTrial{
+        {t.entry(0), t.entry(1), t.entry(2)}, {a(0), a(1), a(2)}, scene.ToJson()["tool"].dump()});
+  }
+#endif
 
   /// Depth (mm) of the foremost cutting point of a tool at (pos, rot) below the entry point.
   double Depth(const Eigen::Vector3d& pos, const Eigen::Matrix3d& rot) const {
@@ -249,6 +261,20 @@ const char* vtkBMSessionSource::GetSessionGridReason() {
   return this->Internals->GridReason.c_str();
 }
 
+double* vtkBMSessionSource::GetSessionEntry() {
+  this->GetSessionTrial(this->SessionEntry, this->SessionAxis);
+  return this->SessionEntry;
+}
+
+double* vtkBMSessionSource::GetSessionAxis() {
+  this->GetSessionTrial(this->SessionEntry, this->SessionAxis);
+  return this->SessionAxis;
+}
+
+const char* vtkBMSessionSource::GetSessionTrialSource() {
+  return this->Internals->TrialSource.c_str();
+}
+
 bool vtkBMSessionSource::Start() {
   vtkInternals& in = *this->Internals;
   this->Stop();
@@ -269,9 +295,22 @@ bool vtkBMSessionSource::Start() {
       o.method = this->Method == ZHENG ? "zheng" : "lazar";
     o.boneFile = this->BoneFile ? this->BoneFile : "";
     o.boneCTJson = this->BoneCT ? this->BoneCT : "";
+    in.TrialSource = "the scene's";
     if (this->OverrideTrial) {
       o.entryMm = Eigen::Vector3d(this->Entry[0], this->Entry[1], this->Entry[2]);
       o.axis = Eigen::Vector3d(this->Axis[0], this->Axis[1], this->Axis[2]);
+      in.TrialSource = "set";
+    } else if (!o.boneFile.empty() && this->BoneFileTrial) {
+#ifdef BM_WITH_IO
+      // A bone saved from a session goes on where it was cut (SaveBone saves the trial with it).
+      if (const auto saved = bm::LoadVoxmapTrial(o.boneFile)) {
+        o.entryMm = Eigen::Vector3d(saved->entryMm.data());
+        o.axis = Eigen::Vector3d(saved->axis.data());
+        if (o.toolJson.empty()) // the tool that cut it, unless another is asked for
+          o.toolJson = saved->toolJson;
+        in.TrialSource = "the bone file's";
+      }
+#endif
     }
     in.PendingScene =
         bm::ApplyOverrides(bm::ResolveScene(this->Scene ? this->Scene : "glenoid"), o);
@@ -460,7 +499,7 @@ bool vtkBMSessionSource::SaveBone(const char* path) {
     }
     in.Setup->GetEngine().SyncBone();
 #ifdef BM_WITH_IO
-    bm::SaveVoxmap(in.Setup->Bone(), path);
+    bm::SaveVoxmap(in.Setup->Bone(), path, {}, in.TrialFields());
 #else
     throw std::runtime_error("saving voxmaps needs the IO library, which this build leaves out");
 #endif
@@ -483,7 +522,7 @@ bool vtkBMSessionSource::SaveInitialBone(const char* path) {
     if (!in.InitialBone)
       throw std::runtime_error("no initial bone was kept: turn KeepInitialBone on before Start");
 #ifdef BM_WITH_IO
-    bm::SaveVoxmap(*in.InitialBone, path);
+    bm::SaveVoxmap(*in.InitialBone, path, {}, in.TrialFields());
 #else
     throw std::runtime_error("saving voxmaps needs the IO library, which this build leaves out");
 #endif

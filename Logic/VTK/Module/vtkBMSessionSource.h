@@ -98,6 +98,16 @@ public:
   vtkGetStringMacro(BoneFile);
   ///@}
   ///@{
+  /// With a BoneFile that carries the trial it was cut on (SaveBone saves the session's entry,
+  /// axis and tool with the bone) and OverrideTrial off, that trial replaces the scene's (and its
+  /// tool the scene's, unless Tool is set), so that a session started again from a saved bone
+  /// goes on where it was cut, with the tool that cut it (default on). Off: the scene's trial and
+  /// tool (a plan's step scene carries its own). Takes effect at the next Start().
+  vtkSetMacro(BoneFileTrial, bool);
+  vtkGetMacro(BoneFileTrial, bool);
+  vtkBooleanMacro(BoneFileTrial, bool);
+  ///@}
+  ///@{
   /// A CT bone to machine instead of the scene's: the "ct" description of a scene's bone as JSON
   /// ({"ct": folder-or-file, "threshold": HU, "roi": [x0, y0, z0, x1, y1, z1] mm}, as
   /// vtkBMCTBoneSource::GetBoneSpecification() gives it), imported at VoxmapResolution (or the
@@ -177,6 +187,13 @@ public:
   /// bone out), what a restart from its saved bone must keep. False (nothing written) before
   /// Start().
   bool GetSessionTrial(double entryMm[3], double axis[3]);
+  /// The same entry point (world mm) and axis (unit), for information properties; zeros before
+  /// Start().
+  double* GetSessionEntry() VTK_SIZEHINT(3);
+  double* GetSessionAxis() VTK_SIZEHINT(3);
+  /// Where that trial came from: "the scene's", "set" (OverrideTrial) or "the bone file's" (the
+  /// trial saved with BoneFile); "" before Start().
+  const char* GetSessionTrialSource();
   /// World bounds (x0, x1, y0, y1, z0, z1 mm) of the session's bone voxmap, what a view frames
   /// before the first surface is extracted; all 0 before Start().
   vtkGetVector6Macro(BoneBounds, double);
@@ -208,10 +225,11 @@ public:
   /// building is cancelled (its worker joined) and FinishStart() then reports it.
   void Stop();
   /// Saves the cut bone as a voxmap file (.nrrd or .mha; atomic: a temporary file renamed over
-  /// the target when complete, so a failure leaves no partial file). A running session is paused
-  /// while the bone is written and resumed after. Returns false (GetLastError()) on error: no
-  /// session bone, a refused extension or folder, a write failure. An empty path does nothing
-  /// (returns true), so the server-manager property can be cleared.
+  /// the target when complete, so a failure leaves no partial file), with the session's trial
+  /// (bm::VoxmapTrial: a start from the file goes on there, see BoneFileTrial). A running session
+  /// is paused while the bone is written and resumed after. Returns false (GetLastError()) on
+  /// error: no session bone, a refused extension or folder, a write failure. An empty path does
+  /// nothing (returns true), so the server-manager property can be cleared.
   bool SaveBone(const char* path);
   /// Whether the session keeps a copy of its bone as it was at Start (default off: it costs a
   /// voxmap's memory), for SaveInitialBone: a plan's result compares the bone before its steps
@@ -282,6 +300,7 @@ protected:
   char* Scene = nullptr;
   char* Tool = nullptr;
   char* BoneFile = nullptr;
+  bool BoneFileTrial = true;
   bool KeepInitialBone = false;
   char* BoneCT = nullptr;
   bool OverrideTrial = false;
@@ -297,6 +316,7 @@ protected:
   bool RealTime = true;
   bool StartInBackground = false;
   double BoneBounds[6] = {0, 0, 0, 0, 0, 0};
+  double SessionEntry[3] = {0, 0, 0}, SessionAxis[3] = {0, 0, 0}; ///< GetSessionEntry/Axis
   vtkIdType MaxFrames = -1;
   double ToolDepth = -2.0;
   double ForceScale = 0, ForceScaleInUse = 0;

@@ -6,7 +6,12 @@
 
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <random>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <itkImageFileReader.h>
 #include <itkNrrdImageIO.h>
@@ -52,6 +57,48 @@ TEST(VoxmapFile, RoundTripIsExact) {
       ASSERT_EQ(back.BrickCount(b), vm.BrickCount(b));
   }
   EXPECT_EQ(d.Entries().size(), 2u); // no temporary left behind
+}
+
+TEST(VoxmapFile, TheTrialSavedWithTheBoneComesBackExactly) {
+  ScratchDir d("vmtrial");
+  const bm::Voxmap vm = CutVoxmap();
+  const bm::VoxmapTrial trial{{-60.1, 20.000000000000004, 1.0 / 3.0},
+                              {0.6, 0.0, 0.8},
+                              R"({"type": "reamer", "radius_mm": 12.5, "name": "a = b := c"})"};
+  for (const char* name : {"t.nrrd", "t.mha"}) {
+    const std::string path = (d / name).string();
+    bm::SaveVoxmap(vm, path, {}, bm::VoxmapTrialFields(trial));
+    const std::optional<bm::VoxmapTrial> back = bm::LoadVoxmapTrial(path);
+    ASSERT_TRUE(back.has_value()) << name;
+    EXPECT_EQ(back->entryMm, trial.entryMm) << name;
+    EXPECT_EQ(back->toolJson, trial.toolJson) << name;
+    for (int i = 0; i < 3; ++i)
+      EXPECT_NEAR(back->axis[i], trial.axis[i], 1e-15) << name;
+    EXPECT_TRUE(bm::LoadVoxmap(path) == vm) << name; // the voxels are unchanged
+  }
+  // A tool over several lines would break the header: refused before anything is written.
+  EXPECT_THROW(bm::VoxmapTrialFields({{0, 0, 0}, {0, 0, 1}, "{\n}"}), std::invalid_argument);
+  // None saved: none read.
+  bm::SaveVoxmap(vm, (d / "plain.nrrd").string());
+  EXPECT_FALSE(bm::LoadVoxmapTrial((d / "plain.nrrd").string()).has_value());
+  // Half a trial, text, or a zero axis: refused, naming the file.
+  const std::vector<std::vector<std::pair<std::string, std::string>>> bad = {
+      {{"bm_trial_entry_mm", "0x1p+0 0x1p+0 0x1p+0"}},
+      {{"bm_trial_entry_mm", "1 2"}, {"bm_trial_axis", "0 0 1"}},
+      {{"bm_trial_entry_mm", "0 0 0"}, {"bm_trial_axis", "0 0 0"}},
+      {{"bm_trial_entry_mm", "nan 0 0"}, {"bm_trial_axis", "0 0 1"}}};
+  for (size_t i = 0; i < bad.size(); ++i) {
+    const std::string path = (d / ("bad" + std::to_string(i) + ".nrrd")).string();
+    bm::SaveVoxmap(vm, path, {}, bad[i]);
+    try {
+      bm::LoadVoxmapTrial(path);
+      ADD_FAILURE() << "case " << i << " was accepted";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("trial"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_THROW(bm::LoadVoxmapTrial((d / "missing.nrrd").string()), std::runtime_error);
 }
 
 TEST(VoxmapFile, APaddedVoxmapIsWrittenVoxelByVoxel) {

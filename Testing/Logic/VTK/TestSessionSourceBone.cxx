@@ -18,9 +18,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -60,6 +63,28 @@ double ImageBoneVolume(vtkBMSessionSource* s) {
     sum += fraction->GetTuple1(i);
   const double h = image->GetSpacing()[0];
   return sum * h * h * h;
+}
+
+/// Largest distance (mm) of the shown tool's points from the line along `axis` through their
+/// mean: the tool's radius (its mesh is rings about its axis).
+double ToolRadius(vtkBMSessionSource* s, const double axis[3]) {
+  vtkPolyData* tool = vtkPolyData::SafeDownCast(s->GetOutputDataObject(1));
+  const vtkIdType n = tool->GetNumberOfPoints();
+  double mean[3] = {0, 0, 0};
+  for (vtkIdType i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k)
+      mean[k] += tool->GetPoint(i)[k] / double(n);
+  double radius = 0;
+  for (vtkIdType i = 0; i < n; ++i) {
+    double r[3], along = 0, r2 = 0;
+    for (int k = 0; k < 3; ++k) {
+      r[k] = tool->GetPoint(i)[k] - mean[k];
+      along += r[k] * axis[k];
+      r2 += r[k] * r[k];
+    }
+    radius = std::max(radius, std::sqrt(std::max(0.0, r2 - along * along)));
+  }
+  return radius;
 }
 
 fs::path Scratch(const std::string& name) {
@@ -135,6 +160,89 @@ TEST(SessionSource, SavedBoneRoundTripsAndSessionsGoOnFromIt) {
   ASSERT_TRUE(again->Start()) << again->GetLastError();
   ASSERT_TRUE(RunToPause(again, 60));
   EXPECT_NEAR(ImageBoneVolume(again), cut, 1e-6 * cut);
+  fs::remove_all(dir);
+}
+
+TEST(SessionSource, ASavedBoneGoesOnWhereItWasCut) {
+  // A session cut at its own entry and axis (not the scene's); a start from its saved bone goes
+  // on there, also in a new process (the trial is in the file), unless told otherwise.
+  const fs::path dir = Scratch("trial");
+  const std::string file = (dir / "cut.nrrd").string();
+  vtkNew<vtkBMSessionSource> s;
+  Configure(s, 200);
+  ASSERT_TRUE(s->Start()) << s->GetLastError();
+  double sceneEntry[3], sceneAxis[3];
+  ASSERT_TRUE(s->GetSessionTrial(sceneEntry, sceneAxis));
+  EXPECT_STREQ(s->GetSessionTrialSource(), "the scene's");
+  s->Stop();
+  const double entry[3] = {sceneEntry[0] + 3.25, sceneEntry[1] - 1.5, sceneEntry[2]};
+  const double axis[3] = {0.2, 0.1, 1.0};               // not unit: the session normalises it
+  s->SetTool(R"({"type": "drill", "radius_mm": 2.0})"); // the 4 mm drill, not the scene's 2.5 mm
+  s->OverrideTrialOn();
+  s->SetEntry(entry[0], entry[1], entry[2]);
+  s->SetAxis(axis[0], axis[1], axis[2]);
+  ASSERT_TRUE(s->Start()) << s->GetLastError();
+  EXPECT_STREQ(s->GetSessionTrialSource(), "set");
+  ASSERT_TRUE(RunToPause(s, 60));
+  double cutEntry[3], cutAxis[3];
+  ASSERT_TRUE(s->GetSessionTrial(cutEntry, cutAxis));
+  ASSERT_TRUE(s->SaveBone(file.c_str())) << s->GetLastError();
+  s->Stop();
+
+  // The file carries the trial exactly (hexadecimal fields).
+  const std::optional<bm::VoxmapTrial> saved = bm::LoadVoxmapTrial(file);
+  ASSERT_TRUE(saved.has_value());
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(saved->entryMm[i], cutEntry[i]);
+    EXPECT_EQ(saved->axis[i], cutAxis[i]);
+  }
+
+  EXPECT_NE(saved->toolJson.find("drill"), std::string::npos) << saved->toolJson;
+
+  // Started again from the file: the saved trial, bit for bit, and the tool that cut it.
+  vtkNew<vtkBMSessionSource> again;
+  Configure(again, 1);
+  again->SetBoneFile(file.c_str());
+  ASSERT_TRUE(again->Start()) << again->GetLastError();
+  EXPECT_STREQ(again->GetSessionTrialSource(), "the bone file's");
+  ASSERT_TRUE(RunToPause(again, 60));
+  EXPECT_NEAR(ToolRadius(again, cutAxis), 2.0, 1e-6); // the 4 mm drill that cut it
+  double e[3], a[3];
+  ASSERT_TRUE(again->GetSessionTrial(e, a));
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(e[i], cutEntry[i]);
+    EXPECT_NEAR(a[i], cutAxis[i], 1e-15);
+  }
+  again->Stop();
+
+  // Told to keep the scene's trial (a plan's step scene), or given one: those win.
+  again->BoneFileTrialOff();
+  ASSERT_TRUE(again->Start()) << again->GetLastError();
+  EXPECT_STREQ(again->GetSessionTrialSource(), "the scene's");
+  ASSERT_TRUE(again->GetSessionTrial(e, a));
+  for (int i = 0; i < 3; ++i)
+    EXPECT_EQ(e[i], sceneEntry[i]);
+  ASSERT_TRUE(RunToPause(again, 60));
+  EXPECT_NEAR(ToolRadius(again, sceneAxis), 1.25, 1e-6); // the scene's 2.5 mm drill
+  again->Stop();
+  again->BoneFileTrialOn();
+  again->OverrideTrialOn();
+  again->SetEntry(sceneEntry);
+  again->SetAxis(sceneAxis);
+  ASSERT_TRUE(again->Start()) << again->GetLastError();
+  EXPECT_STREQ(again->GetSessionTrialSource(), "set");
+  again->Stop();
+
+  // A voxmap saved without a trial (bmsim import's) starts at the scene's.
+  const std::string plain = (dir / "plain.nrrd").string();
+  bm::SaveVoxmap(bm::LoadVoxmap(file), plain);
+  EXPECT_FALSE(bm::LoadVoxmapTrial(plain).has_value());
+  vtkNew<vtkBMSessionSource> fromPlain;
+  Configure(fromPlain, 1);
+  fromPlain->SetBoneFile(plain.c_str());
+  ASSERT_TRUE(fromPlain->Start()) << fromPlain->GetLastError();
+  EXPECT_STREQ(fromPlain->GetSessionTrialSource(), "the scene's");
+  fromPlain->Stop();
   fs::remove_all(dir);
 }
 
