@@ -256,6 +256,8 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
             << " (tool N per device N)\n";
   if (!built.gridReason.empty())
     std::cout << "  resolutions chosen for the session: " << built.gridReason << "\n";
+  if (!built.startNote.empty())
+    std::cout << "  warning: " << built.startNote << "\n";
   while (!session.WaitUntilPaused(0.05))
     session.DrainRecords(frames);
   const SessionSnapshot last = session.Snapshot();
@@ -329,7 +331,8 @@ int RunSessionScene(const bm::Scene& scene, const ParsedArgs& args, const std::s
       {"shell_resolution", used.shellResolution},
       {"threads", used.threads},
       {"resolutions_chosen",
-       built.gridReason.empty() ? nlohmann::json(nullptr) : nlohmann::json(built.gridReason)}};
+       built.gridReason.empty() ? nlohmann::json(nullptr) : nlohmann::json(built.gridReason)},
+      {"start_lift_mm", built.startLiftMm}};
   Recording rec;
   rec.meta = {{"scene", used.ToJson()},
               {"scene_base_dir", scene.baseDir},

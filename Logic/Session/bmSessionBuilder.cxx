@@ -78,6 +78,66 @@ DevicePose ToolPoseAtDepth(const MachiningSetup& setup, double depthMm) {
   return pose;
 }
 
+double StartLiftMm(MachiningSetup& setup, double depthMm, double marginMm, double maxLiftMm) {
+  const ToolModel& tool = setup.Tool();
+  const Voxmap& bone = setup.Bone();
+  const DevicePose start = ToolPoseAtDepth(setup, depthMm);
+  const Eigen::Matrix3d& R = start.rotation;
+  const Eigen::Vector3d axis = R.col(2);
+  const double radius = tool.OuterRadius(), h = bone.Spacing();
+  const std::array<double, 2> zRange = tool.AxialRange();
+  const auto& dims = bone.Dims();
+  const auto& origin = bone.Origin(); // the centre of voxel (0, 0, 0)
+  // The tool shrunk by the margin: at radius rho, the inside interval of z that holds a ball of
+  // radius marginMm (the intervals at rho and rho + margin, each narrowed by it).
+  const auto shrunk = [&](double rho, double& lo, double& hi) {
+    double lo1, hi1, lo2, hi2;
+    if (rho + marginMm > radius || !tool.ZRange(rho, lo1, hi1) ||
+        !tool.ZRange(rho + marginMm, lo2, hi2))
+      return false;
+    lo = std::max(lo1, lo2) + marginMm;
+    hi = std::min(hi1, hi2) - marginMm;
+    return lo <= hi;
+  };
+  double lift = 0;
+  for (int pass = 0; pass < 64; ++pass) {
+    const Eigen::Vector3d p = start.positionMm + axis * lift;
+    // The voxels in the box of the tool's cylinder at this lift.
+    int lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      const double e = radius * std::sqrt(std::max(0.0, 1.0 - axis(a) * axis(a)));
+      const double c0 = p(a) + zRange[0] * axis(a), c1 = p(a) + zRange[1] * axis(a);
+      lo[a] = std::max(0, int(std::floor((std::min(c0, c1) - e - origin[size_t(a)]) / h)));
+      hi[a] = std::min(dims[size_t(a)] - 1,
+                       int(std::ceil((std::max(c0, c1) + e - origin[size_t(a)]) / h)));
+    }
+    double need = 0;
+    for (int k = lo[2]; k <= hi[2]; ++k)
+      for (int j = lo[1]; j <= hi[1]; ++j)
+        for (int i = lo[0]; i <= hi[0]; ++i) {
+          if (bone.GetFill(bone.Index(i, j, k)) <= 0)
+            continue;
+          const Eigen::Vector3d q =
+              R.transpose() *
+              (Eigen::Vector3d(origin[0] + i * h, origin[1] + j * h, origin[2] + k * h) - p);
+          double zLo, zHi;
+          if (!shrunk(std::hypot(q(0), q(1)), zLo, zHi) || q(2) < zLo || q(2) > zHi)
+            continue;
+          need = std::max(need, q(2) - zLo); // out by this much, it is below the shrunk tool
+        }
+    if (need == 0)
+      return lift;
+    lift += need + 1e-3 * h;
+    if (lift > maxLiftMm)
+      break;
+  }
+  std::ostringstream m;
+  m << "the tool cannot start clear of the bone: moved out along its axis up to " << maxLiftMm
+    << " mm from the scene's start, bone stays inside it (bone above the tool as well as below "
+       "it: check the entry point and the axis)";
+  throw std::runtime_error(m.str());
+}
+
 double SurgeonFeedMmPerRev(const ToolModel& tool, double speedRpm) {
   if (!(speedRpm > 0))
     throw std::invalid_argument("a surgeon's feed needs a positive spindle speed (rpm)");
@@ -231,7 +291,16 @@ BuiltSession BuildSession(const Scene& scene, Voxmap bone, const SessionRequest&
   case SessionDevice::Robot: {
     ScriptedDeviceOptions d;
     d.mode = r.device == SessionDevice::Robot ? ScriptMode::Feed : r.mode;
-    d.startMm = ToolPoseAtDepth(setup, -t.clearanceMm).positionMm;
+    // Never inside bone: a start the bone reaches into is moved out along the axis (the contact
+    // would push the tool out sideways in the first frame), and the feed starts from there.
+    b.startLiftMm = StartLiftMm(*b.setup, -t.clearanceMm, 0.0);
+    if (b.startLiftMm > 0) {
+      std::ostringstream note;
+      note << "the tool starts " << b.startLiftMm << " mm further out along its axis than the "
+           << "scene's clearance of " << t.clearanceMm << " mm: bone lay inside it there";
+      b.startNote = note.str();
+    }
+    d.startMm = ToolPoseAtDepth(setup, -t.clearanceMm - b.startLiftMm).positionMm;
     d.axis = axis;
     d.rotation = setup.ToolRotation();
     d.feedMmPerRev = t.feedMmPerRev;
@@ -244,7 +313,8 @@ BuiltSession BuildSession(const Scene& scene, Voxmap bone, const SessionRequest&
     if (positionSource)
       d.limits = PositionSourceLimits();
     b.device = std::make_shared<ScriptedDevice>(d);
-    duration = d.mode == ScriptMode::Feed         ? feedS
+    duration = d.mode == ScriptMode::Feed
+                   ? feedS + b.startLiftMm / (t.feedMmPerRev * t.speedRpm / 60.0)
                : d.mode == ScriptMode::Trajectory ? r.trajectory.back().timeS
                                                   : kPushDurationS;
     break;

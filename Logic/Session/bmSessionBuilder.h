@@ -106,6 +106,11 @@ struct BuiltSession {
   double durationS = -1;
   /// How the resolutions were chosen, in words (empty: the scene's, not chosen).
   std::string gridReason;
+  /// How far (mm) the scripted device's start was moved out along the axis beyond the scene's
+  /// clearance so that no bone lies inside the tool there (StartLiftMm; 0: the scene's start),
+  /// and that in words for the user ("" when 0).
+  double startLiftMm = 0;
+  std::string startNote;
 };
 
 /// Checks the request's values without building anything; throws std::invalid_argument naming
@@ -149,5 +154,14 @@ double ToolDepthMm(const MachiningSetup& setup, const Eigen::Vector3d& positionM
 /// The tool's pose (world mm, tool -> world rotation) on the trial axis with its foremost cutting
 /// point depthMm below the entry point (negative: above).
 DevicePose ToolPoseAtDepth(const MachiningSetup& setup, double depthMm);
+/// How far (mm, >= 0) the tool must move out along the trial's axis from its pose at depthMm
+/// (ToolPoseAtDepth) so that no bone voxel's centre (any fill above 0) lies inside the tool by
+/// more than marginMm; 0 when the pose is clear. BuildSession uses margin 0 for the scripted
+/// devices' start: a tool started in bone is pushed out by the contact in its first frame, across
+/// the axis as much as along it (a glenoid reamer tilted 37 deg with its rim in the face: 7.9 mm
+/// sideways), and even bone within the contact's dead band pushed a tilted drill 0.01 mm. Throws
+/// std::runtime_error when bone stays inside the tool at every lift up to maxLiftMm (bone above
+/// the tool as well as below it).
+double StartLiftMm(MachiningSetup& setup, double depthMm, double marginMm, double maxLiftMm = 50.0);
 
 } // namespace bm

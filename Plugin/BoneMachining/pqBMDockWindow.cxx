@@ -400,6 +400,9 @@ void pqBMDockWindow::startSession(const QString& scene, int voxmapResolution, in
                   : tr("Started %1 on the saved bone, at the scene's entry and axis (none was "
                        "saved with it).")
                         .arg(source->getSMName());
+  const std::string startNote = vtkSMPropertyHelper(proxy, "SessionStartNoteInfo").GetAsString();
+  if (!startNote.empty())
+    started += " " + tr("Note: %1.").arg(QString::fromStdString(startNote));
   panel->setSessionStatus(started, true);
 }
 

@@ -282,7 +282,8 @@ def bm_place_saved():
 @bm_place_check
 def bm_place_restarted():
     """A fresh paraview started a session from the saved bone, at the entry and axis saved with
-    it (bit for bit), the reamer along that axis above the cut."""
+    it (bit for bit), the reamer on that axis clear of the cut, saying why it starts further
+    out."""
     source = _session()
     source.SMProxy.UpdatePropertyInformation()
     if source.GetProperty("SessionTrialSourceInfo").GetElement(0) != "the bone file's":
@@ -292,10 +293,14 @@ def bm_place_restarted():
     saved = _saved_trial(BM_PLACE_SAVED)
     if saved is None or [entry, axis] != list(saved):
         bm_place_fail("the restarted trial %s is not the saved %s" % ((entry, axis), saved))
-    # The reamer shown lies along the saved axis, outside the bone (its centre along the axis
-    # from the entry). Where across the axis it stands is the contact's doing: the plan's start
-    # touches this bone's rim (2.5 mm slices), so it is printed, not checked.
+    # The reamer shown lies on the saved axis, outside the bone: the built-in scene's 1.5 mm
+    # clearance puts it in the reamed rim, so the session starts it further out and says so
+    # (without that, the contact pushed it 18 mm sideways in its first frames). Once it feeds
+    # into its cut, the cut's lateral forces move it by tenths of a millimetre: within 1 mm.
+    note = source.GetProperty("SessionStartNoteInfo").GetElement(0)
+    if "further out along its axis" not in note:
+        bm_place_fail("the session does not say why its start moved: '%s'" % note)
     angle, off, along = _tool_pose(source, entry, axis)
-    if angle > 0.5 or along <= 0:
-        bm_place_fail("the reamer is %.2f deg off the saved axis, %.2f mm along it"
-                      % (angle, along))
+    if angle > 0.5 or off > 1.0 or along <= 0:
+        bm_place_fail("the reamer is %.2f deg and %.3f mm off the saved axis, %.2f mm along it"
+                      % (angle, off, along))

@@ -61,6 +61,7 @@ public:
   std::unique_ptr<bm::HapticSession> Session;
   std::string GridReason;  ///< BuiltSession::gridReason of the session last started
   std::string TrialSource; ///< where the trial of the session last started came from
+  std::string StartNote;   ///< BuiltSession::startNote of the session last started
   /// The cut bone's surface, in BoneSurface's default bricks of 8 voxels (one per voxmap
   /// generation brick: a cut re-extracts only the thin layer it changed).
   bm::BoneSurface Surface;
@@ -271,6 +272,10 @@ double* vtkBMSessionSource::GetSessionAxis() {
   return this->SessionAxis;
 }
 
+const char* vtkBMSessionSource::GetSessionStartNote() {
+  return this->Internals->StartNote.c_str();
+}
+
 const char* vtkBMSessionSource::GetSessionTrialSource() {
   return this->Internals->TrialSource.c_str();
 }
@@ -413,6 +418,7 @@ bool vtkBMSessionSource::FinishStart() {
   }
   try {
     in.GridReason = built->gridReason;
+    in.StartNote = built->startNote;
     this->ForceScaleInUse = built->options.proxy.coupling.forceScale;
     in.Setup = std::move(built->setup);
     in.InitialBone.reset();

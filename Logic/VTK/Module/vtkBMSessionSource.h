@@ -191,6 +191,9 @@ public:
   /// Start().
   double* GetSessionEntry() VTK_SIZEHINT(3);
   double* GetSessionAxis() VTK_SIZEHINT(3);
+  /// Why the session's tool starts further out along its axis than the scene's clearance (bone
+  /// lay inside it there; bm::StartLiftMm), "" when it starts at the scene's.
+  const char* GetSessionStartNote();
   /// Where that trial came from: "the scene's", "set" (OverrideTrial) or "the bone file's" (the
   /// trial saved with BoneFile); "" before Start().
   const char* GetSessionTrialSource();

@@ -433,3 +433,55 @@ TEST(SessionBuilder, TheForceScaleIsTheTools) {
   EXPECT_DOUBLE_EQ(bm::SurgeonFeedMmPerRev(*tool("glenoid"), 500), 0.2 * 60 / 500);
   EXPECT_THROW(bm::SurgeonFeedMmPerRev(*tool("glenoid"), 0), std::invalid_argument);
 }
+
+TEST(SessionBuilder, AToolNeverStartsInsideBone) {
+  // The drilling scene's drill, tilted 45 deg from the block's normal with its tip 0.02 mm above
+  // the entry (the scene's clearance): the low side of its tip cone reaches into the block. The
+  // session starts it further out along the axis, says so, and its first frame has no contact:
+  // the proxy is where the device is (the contact would have pushed it out sideways).
+  bm::SceneOverrides o;
+  o.voxmapResolution = 64;
+  const bm::Scene upright = bm::ApplyOverrides(bm::ResolveScene("drilling"), o);
+  o.entryMm = upright.trial.entry;
+  o.axis = Eigen::Vector3d(std::sqrt(0.5), 0, std::sqrt(0.5));
+  const bm::Scene tilted = bm::ApplyOverrides(upright, o);
+
+  bm::SessionRequest r;
+  r.realTime = false;
+  r.maxFrames = 3;
+  // The scene as it is: clear (the tool starts where the scene says, every checksum unchanged).
+  const bm::BuiltSession clear = bm::BuildSession(upright, r);
+  EXPECT_EQ(clear.startLiftMm, 0.0);
+  EXPECT_EQ(clear.startNote, "");
+
+  bm::BuiltSession b = bm::BuildSession(tilted, r);
+  const double h = b.setup->Bone().Spacing();
+  EXPECT_GT(b.startLiftMm, h);
+  EXPECT_LT(b.startLiftMm, 1.5); // the cone's low side is under a millimetre deep
+  EXPECT_NE(b.startNote.find("further out along its axis"), std::string::npos) << b.startNote;
+  // The start is on the axis, that far out, and clear by the rule itself.
+  const bm::DevicePose start = StartPose(b);
+  EXPECT_NEAR(bm::ToolDepthMm(*b.setup, start.positionMm, start.rotation),
+              -tilted.trial.clearanceMm - b.startLiftMm, 1e-9);
+  EXPECT_EQ(bm::StartLiftMm(*b.setup, -tilted.trial.clearanceMm - b.startLiftMm, 0.0), 0.0);
+  b.options.recordCapacity = 16;
+  bm::HapticSession session(*b.setup, b.device, b.options);
+  session.Start();
+  EXPECT_TRUE(session.WaitUntilPaused(60));
+  session.Stop();
+  std::vector<bm::FrameRecord> rec;
+  session.DrainRecords(rec);
+  ASSERT_FALSE(rec.empty());
+  for (int a = 0; a < 3; ++a)
+    EXPECT_NEAR(rec[0].proxyPos[a], rec[0].devicePos[a], 1e-9) << "axis " << a;
+
+  // Without the rule (the scene's start), the same tool is in the block: the rule is what moved it.
+  EXPECT_GT(bm::StartLiftMm(*b.setup, -tilted.trial.clearanceMm, h), h);
+  // Bone it cannot leave within the allowed lift is refused, naming the reason.
+  try {
+    bm::StartLiftMm(*b.setup, -tilted.trial.clearanceMm, h, 0.01);
+    ADD_FAILURE() << "a tool held in bone was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot start clear of the bone"), std::string::npos);
+  }
+}
