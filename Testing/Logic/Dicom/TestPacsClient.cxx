@@ -1,0 +1,255 @@
+// A PACS in the loop (bmPacsClient.h) against a real Orthanc started on loopback by the test
+// (bmOrthancProcess.h): a small CT series stored (C-STORE), found by patient, study and series
+// (C-FIND), fetched back whole into a new folder (C-GET) with every instance and voxel; the bone's
+// Segmentation stored back beside it, found in the CT's study and fetched with its reference to
+// the CT's series. Failures name the server and why, and leave nothing: a server that is down,
+// one that never answers (a timeout), a wrong called AET, a calling AET the PACS does not know,
+// an unknown series, a target folder that exists, a file that is not DICOM.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <dcmtk/config/osconfig.h>
+
+#include <dcmtk/dcmdata/dcdeftag.h>
+#include <dcmtk/dcmdata/dcfilefo.h>
+#include <dcmtk/dcmdata/dcuid.h>
+
+#include "bmCTImage.h"
+#include "bmDicomSegmentation.h"
+#include "bmDicomSeriesWriter.h"
+#include "bmDicomSource.h"
+#include "bmOrthancProcess.h"
+#include "bmPacsClient.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path Scratch(const std::string& name) {
+  const fs::path d = fs::path(testing::TempDir()) / ("bm-pacs-" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+// 20 x 16 x 12 voxels of 1 mm, the voxels numbered so that a fetched series is checked voxel by
+// voxel.
+bm::CTImage SmallCT() {
+  bm::CTImage ct;
+  ct.hu = bm::HUImage::New();
+  bm::HUImage::RegionType region;
+  region.SetSize({{20, 16, 12}});
+  ct.hu->SetRegions(region);
+  bm::HUImage::SpacingType spacing;
+  spacing.Fill(1.0);
+  ct.hu->SetSpacing(spacing);
+  bm::HUImage::PointType origin;
+  origin[0] = -10;
+  origin[1] = -8;
+  origin[2] = 2;
+  ct.hu->SetOrigin(origin);
+  ct.hu->Allocate();
+  float* v = ct.hu->GetBufferPointer();
+  for (size_t i = 0; i < 20 * 16 * 12; ++i)
+    v[i] = float(int(i % 1500) - 500);
+  return ct;
+}
+
+std::string Text(DcmItem& d, const DcmTagKey& tag) {
+  OFString v;
+  d.findAndGetOFStringArray(tag, v);
+  return v.c_str();
+}
+
+std::set<std::string> SopInstances(const fs::path& folder) {
+  std::set<std::string> uids;
+  for (const auto& e : fs::directory_iterator(folder)) {
+    DcmFileFormat f;
+    if (f.loadFile(e.path().string().c_str()).good())
+      uids.insert(Text(*f.getDataset(), DCM_SOPInstanceUID));
+  }
+  return uids;
+}
+
+std::vector<std::string> Files(const fs::path& folder) {
+  std::vector<std::string> files;
+  for (const auto& e : fs::directory_iterator(folder))
+    if (e.path().extension() == ".dcm")
+      files.push_back(e.path().string());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+template <class F> std::string Failure(F&& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+} // namespace
+
+TEST(PacsClient, SeriesStoredFoundFetchedAndResultsStoredBeside) {
+  const fs::path dir = Scratch("roundtrip");
+  bmtest::OrthancProcess orthanc(dir / "orthanc");
+  bm::PacsServer server;
+  server.port = orthanc.Port;
+
+  bm::DicomWriteOptions wo;
+  wo.patientID = "BM-PACS-1";
+  wo.patientName = "Pacs^Test";
+  const bm::CTImage ct = SmallCT();
+  const std::string seriesUid = bm::WriteDicomSeries(ct, (dir / "ct").string(), wo);
+  const bm::DicomSource src = bm::ReadDicomSource((dir / "ct").string());
+  ASSERT_EQ(src.images.size(), 12u);
+  bm::StoreFiles(server, Files(dir / "ct"));
+
+  // Found by patient, by study and by series; not by another patient.
+  bm::PacsQuery byPatient;
+  byPatient.patientId = "BM-PACS-1";
+  const std::vector<bm::PacsSeries> found = bm::FindSeries(server, byPatient);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0].seriesInstanceUid, seriesUid);
+  EXPECT_EQ(found[0].studyInstanceUid, src.studyUID);
+  EXPECT_EQ(found[0].modality, "CT");
+  EXPECT_EQ(found[0].instances, 12);
+  EXPECT_EQ(found[0].patientName, "Pacs^Test");
+  bm::PacsQuery byStudy;
+  byStudy.studyInstanceUid = src.studyUID;
+  EXPECT_EQ(bm::FindSeries(server, byStudy).size(), 1u);
+  bm::PacsQuery wildcard;
+  wildcard.patientId = "BM-PACS-*";
+  EXPECT_EQ(bm::FindSeries(server, wildcard).size(), 1u);
+  bm::PacsQuery other;
+  other.patientId = "SOMEONE-ELSE";
+  EXPECT_TRUE(bm::FindSeries(server, other).empty());
+
+  // Fetched whole: every instance, every voxel (read back as the CT reader reads a folder).
+  const fs::path got = dir / "fetched";
+  EXPECT_EQ(bm::GetSeries(server, "", seriesUid, got.string()), 12);
+  std::set<std::string> sent;
+  for (const auto& image : src.images)
+    sent.insert(image.sopInstanceUID);
+  EXPECT_EQ(SopInstances(got), sent);
+  const bm::DicomSource back = bm::ReadDicomSource(got.string());
+  EXPECT_EQ(back.seriesUID, seriesUid);
+  EXPECT_EQ(back.frameOfReferenceUID, src.frameOfReferenceUID);
+  for (const auto& e : fs::directory_iterator(dir)) // nothing left beside it
+    EXPECT_NE(e.path().filename().string().rfind(".fetched", 0), 0u) << e.path();
+
+  // The bone's Segmentation (a hole in a block) stored back: in the CT's study, found by its
+  // modality, fetched with its reference to the CT's series.
+  bm::Voxmap before({20, 16, 12}, 1.0, {-9.5, -7.5, 2.0}), after(before);
+  for (int k = 2; k < 10; ++k)
+    for (int j = 2; j < 14; ++j)
+      for (int i = 2; i < 18; ++i) {
+        before.SetFill(before.Index(i, j, k), bm::Voxmap::kFull);
+        after.SetFill(after.Index(i, j, k), (i >= 8 && i < 12) ? 0 : bm::Voxmap::kFull);
+      }
+  const std::string seg = (dir / "reamed-bone.seg.dcm").string();
+  bm::WriteReamingSegmentation(seg, src, before, after);
+  bm::StoreFiles(server, {seg});
+  bm::PacsQuery segs;
+  segs.studyInstanceUid = src.studyUID;
+  segs.modality = "SEG";
+  const std::vector<bm::PacsSeries> segFound = bm::FindSeries(server, segs);
+  ASSERT_EQ(segFound.size(), 1u);
+  EXPECT_EQ(segFound[0].instances, 1);
+  const fs::path segBack = dir / "seg-fetched";
+  EXPECT_EQ(bm::GetSeries(server, src.studyUID, segFound[0].seriesInstanceUid, segBack.string()),
+            1);
+  DcmFileFormat f;
+  ASSERT_TRUE(f.loadFile(Files(segBack).at(0).c_str()).good());
+  DcmDataset& d = *f.getDataset();
+  EXPECT_EQ(Text(d, DCM_SOPClassUID), UID_SegmentationStorage);
+  EXPECT_EQ(Text(d, DCM_StudyInstanceUID), src.studyUID);
+  EXPECT_EQ(Text(d, DCM_FrameOfReferenceUID), src.frameOfReferenceUID);
+  DcmItem* reference = nullptr;
+  ASSERT_TRUE(d.findAndGetSequenceItem(DCM_ReferencedSeriesSequence, reference, 0).good());
+  EXPECT_EQ(Text(*reference, DCM_SeriesInstanceUID), seriesUid);
+  // Both series in the study now.
+  bm::PacsQuery any = byStudy;
+  any.modality.clear();
+  EXPECT_EQ(bm::FindSeries(server, any).size(), 2u);
+}
+
+TEST(PacsClient, FailuresNameTheServerAndWhyAndLeaveNothing) {
+  const fs::path dir = Scratch("failures");
+  bmtest::OrthancProcess orthanc(dir / "orthanc");
+  bm::PacsServer server;
+  server.port = orthanc.Port;
+  server.timeoutS = 2;
+  bm::WriteDicomSeries(SmallCT(), (dir / "ct").string());
+
+  // Down: nothing listens on the port.
+  bm::PacsServer down = server;
+  down.port = bmtest::FreeLoopbackPort();
+  std::string why = Failure([&] { bm::FindSeries(down, {}); });
+  EXPECT_NE(why.find("127.0.0.1:" + std::to_string(down.port)), std::string::npos) << why;
+  EXPECT_NE(why.find("no association"), std::string::npos) << why;
+  // Slow: a socket that accepts connections and never answers: the 2 s timeout ends it.
+  {
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    a.sin_port = 0;
+    socklen_t n = sizeof a;
+    ASSERT_EQ(::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
+    ASSERT_EQ(::listen(fd, 4), 0);
+    ASSERT_EQ(::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &n), 0);
+    bm::PacsServer silent = server;
+    silent.port = ntohs(a.sin_port);
+    const auto t0 = std::chrono::steady_clock::now();
+    why = Failure([&] { bm::FindSeries(silent, {}); });
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    ::close(fd);
+    EXPECT_NE(why.find("no association"), std::string::npos) << why;
+    EXPECT_LT(s, 10.0) << "the timeout did not end the wait";
+  }
+  // Another called AET: the association is rejected.
+  bm::PacsServer wrongAet = server;
+  wrongAet.calledAet = "NOT-ORTHANC";
+  why = Failure([&] { bm::FindSeries(wrongAet, {}); });
+  EXPECT_NE(why.find("NOT-ORTHANC@127.0.0.1"), std::string::npos) << why;
+  EXPECT_NE(why.find("Rejected"), std::string::npos) << why;
+  // A calling AET the PACS does not know: it refuses the query.
+  bm::PacsServer stranger = server;
+  stranger.callingAet = "STRANGER";
+  why = Failure([&] { bm::FindSeries(stranger, {}); });
+  EXPECT_NE(why.find("STRANGER"), std::string::npos) << why;
+
+  // An unknown series, and a target folder that exists: refused, nothing written.
+  why = Failure([&] { bm::GetSeries(server, "", "1.2.3.4.5", (dir / "none").string()); });
+  EXPECT_NE(why.find("no series 1.2.3.4.5"), std::string::npos) << why;
+  EXPECT_FALSE(fs::exists(dir / "none"));
+  fs::create_directories(dir / "taken");
+  why = Failure([&] { bm::GetSeries(server, "", "1.2.3.4.5", (dir / "taken").string()); });
+  EXPECT_NE(why.find("exists"), std::string::npos) << why;
+  // A file that is not DICOM: named, before anything is sent.
+  const std::string text = (dir / "notes.dcm").string();
+  std::ofstream(text) << "not DICOM\n";
+  const std::vector<std::string> files = {Files(dir / "ct").at(0), text};
+  why = Failure([&] { bm::StoreFiles(server, files); });
+  EXPECT_NE(why.find("notes.dcm"), std::string::npos) << why;
+  EXPECT_TRUE(bm::FindSeries(server, {}).empty()) << "a refused store sent files";
+  // Bad addresses are refused by the parser, naming the text.
+  EXPECT_THROW(bm::ParsePacsServer("localhost"), std::invalid_argument);
+  EXPECT_THROW(bm::ParsePacsServer("A@h:99999"), std::invalid_argument);
+  EXPECT_THROW(bm::ParsePacsServer("AN-AET-LONGER-THAN-16@h:104"), std::invalid_argument);
+  const bm::PacsServer parsed = bm::ParsePacsServer("PACS1@pacs.example:11112");
+  EXPECT_EQ(parsed.calledAet, "PACS1");
+  EXPECT_EQ(parsed.host, "pacs.example");
+  EXPECT_EQ(parsed.port, 11112);
+}

@@ -1,0 +1,128 @@
+// bmOrthancProcess.h - a real PACS for the tests: Debian's Orthanc (/usr/sbin/Orthanc, installed
+// by Utilities/setup-debian.sh) started on loopback with a configuration the test writes (its own
+// storage folder, a free DICOM port, the HTTP server off, our calling AET registered), stopped
+// (SIGTERM, then waited for) when the object goes.
+#pragma once
+
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+namespace bmtest {
+
+/// A TCP port on 127.0.0.1 nothing listens on now (the kernel's choice).
+inline int FreeLoopbackPort() {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  a.sin_port = 0;
+  socklen_t n = sizeof a;
+  if (fd < 0 || ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 ||
+      ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &n) != 0) {
+    if (fd >= 0)
+      ::close(fd);
+    throw std::runtime_error("no free loopback port");
+  }
+  ::close(fd);
+  return ntohs(a.sin_port);
+}
+
+/// Whether something accepts TCP connections on 127.0.0.1:port.
+inline bool Listening(int port) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  a.sin_port = htons(uint16_t(port));
+  const bool ok = fd >= 0 && ::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0;
+  if (fd >= 0)
+    ::close(fd);
+  return ok;
+}
+
+class OrthancProcess {
+public:
+  static constexpr const char* kExecutable = "/usr/sbin/Orthanc";
+  /// Starts Orthanc with AET `aet` in `folder` (created), knowing `callingAet` as a modality
+  /// allowed to query and retrieve. Throws std::runtime_error when Orthanc is not installed or
+  /// does not listen within 30 s (its log is in folder/orthanc.log).
+  OrthancProcess(const std::filesystem::path& folder, const std::string& aet = "ORTHANC",
+                 const std::string& callingAet = "BMSIM")
+      : Folder(folder), Aet(aet) {
+    if (::access(kExecutable, X_OK) != 0)
+      throw std::runtime_error(std::string(kExecutable) +
+                               " is not installed: Debian's orthanc package "
+                               "(Utilities/setup-debian.sh installs it)");
+    std::filesystem::remove_all(folder);
+    std::filesystem::create_directories(folder / "storage");
+    Port = FreeLoopbackPort();
+    const std::string config = (folder / "orthanc.json").string();
+    {
+      std::ofstream f(config);
+      f << "{\"Name\": \"BMTEST\", \"StorageDirectory\": \"" << (folder / "storage").string()
+        << "\", \"IndexDirectory\": \"" << (folder / "storage").string() << "\", \"DicomAet\": \""
+        << aet << "\", \"DicomPort\": " << Port
+        << ", \"HttpServerEnabled\": false, \"RemoteAccessAllowed\": false,"
+           " \"DicomCheckCalledAet\": true, \"Plugins\": [], \"ConcurrentJobs\": 1,"
+           " \"DicomModalities\": {\"bm\": [\""
+        << callingAet << "\", \"127.0.0.1\", " << FreeLoopbackPort() << "]}}\n";
+    }
+    const std::string log = (folder / "orthanc.log").string();
+    Pid = ::fork();
+    if (Pid == 0) {
+      const int out = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      if (out >= 0) {
+        ::dup2(out, 1);
+        ::dup2(out, 2);
+      }
+      ::execl(kExecutable, kExecutable, config.c_str(), static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (!Listening(Port)) {
+      int status = 0;
+      if (Pid < 0 || ::waitpid(Pid, &status, WNOHANG) == Pid) {
+        Pid = -1;
+        throw std::runtime_error("Orthanc did not start (see " + log + ")");
+      }
+      if (std::chrono::steady_clock::now() > end) {
+        Stop();
+        throw std::runtime_error("Orthanc did not listen on port " + std::to_string(Port) +
+                                 " within 30 s (see " + log + ")");
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+  }
+  ~OrthancProcess() { Stop(); }
+  OrthancProcess(const OrthancProcess&) = delete;
+  OrthancProcess& operator=(const OrthancProcess&) = delete;
+
+  void Stop() {
+    if (Pid > 0) {
+      ::kill(Pid, SIGTERM);
+      int status = 0;
+      ::waitpid(Pid, &status, 0);
+      Pid = -1;
+    }
+  }
+
+  std::filesystem::path Folder;
+  std::string Aet;
+  int Port = 0;
+
+private:
+  pid_t Pid = -1;
+};
+
+} // namespace bmtest
