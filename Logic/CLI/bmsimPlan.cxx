@@ -20,6 +20,9 @@
 #include "bmWindowedVolume.h"
 #include "bmSegmentedBone.h"
 #include "bmJson.h"
+#ifdef BM_WITH_DCMTK
+#include "bmPacsClient.h"
+#endif
 
 #include <nlohmann/json.hpp>
 
@@ -208,8 +211,10 @@ int ScapulaPhantomCommand(const ParsedArgs& p) {
 static void PlanCommandOptions(ParsedArgs& p) {
   p.Words("CT|phantom", "DICOM folder, volume file (.nrrd/.nhdr/.mha/.mhd/.nii/.nii.gz, .vti/.vtk "
                         "read by VTK and kept as DIR/ct.mha for the steps) or .inv3 project "
-                        "holding the shoulder, or 'phantom': the scapula phantom (its DICOM "
-                        "series is written to DIR/ct first)")
+                        "holding the shoulder, a series on a PACS "
+                        "(pacs://[AET@]HOST:PORT/SERIES-UID[?aet=OURS], fetched into DIR/ct "
+                        "first, bmsim pacs find lists them), or 'phantom': the scapula phantom "
+                        "(its DICOM series is written to DIR/ct first)")
       .Value("o,out", "DIR",
              "folder to create (must not exist or be empty; required); receives plan.json (both "
              "steps), step1-guide-pin.json, step2-ream.json (single-step scenes for bmsim run), "
@@ -251,6 +256,20 @@ static int PlanCommand(const ParsedArgs& p) {
     throw UsageError("name one CT (or phantom)");
   const std::string input = p.Positional()[0];
   const bool phantom = input == "phantom";
+  const bool fromPacs = input.rfind("pacs://", 0) == 0;
+#ifdef BM_WITH_DCMTK
+  const std::optional<bm::PacsSeriesUrl> pacs = fromPacs ? std::optional<bm::PacsSeriesUrl>([&] {
+    try {
+      return bm::ParsePacsUrl(input);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(e.what());
+    }
+  }())
+                                                         : std::nullopt;
+#else
+  if (fromPacs)
+    throw UsageError("this bmsim was built without DCMTK: it cannot fetch from a PACS");
+#endif
   PlanOptions po;
   po.targetVersionDeg = p.GetDouble("target-version", -44.9, 44.9).value_or(0.0);
   po.targetInclinationDeg = p.GetDouble("target-inclination", -44.9, 44.9).value_or(0.0);
@@ -303,7 +322,7 @@ static int PlanCommand(const ParsedArgs& p) {
       if (p.Has(o))
         throw UsageError(std::string("--") + o +
                          " applies to a CT read from a file, not the phantom");
-  if (!phantom && !fs::exists(input))
+  if (!phantom && !fromPacs && !fs::exists(input))
     throw std::runtime_error("CT " + input + " does not exist");
   const std::string out = p.Get("out", "");
   RequireEmptyOut(out);
@@ -346,6 +365,20 @@ static int PlanCommand(const ParsedArgs& p) {
     source = finalCT.string() + " (scapula phantom, version " + Fx(sp.versionDeg) +
              " deg, inclination " + Fx(sp.inclinationDeg) + " deg" +
              (sp.wearDepthMm > 0 ? ", B2" : "") + ")";
+  } else if (fromPacs) {
+#ifdef BM_WITH_DCMTK
+    // The series fetched whole into DIR/ct (under a temporary's name until the plan is written):
+    // the step scenes read it there.
+    stagedCT = TemporarySibling(finalCT.string());
+    cleanup.ct = stagedCT;
+    progress(0.0, "fetching the series from the PACS");
+    const int n = bm::GetSeries(pacs->server, "", pacs->seriesInstanceUid, stagedCT);
+    ctPath = stagedCT;
+    ctRef = fs::absolute(finalCT).string();
+    source = finalCT.string() + " (series " + pacs->seriesInstanceUid + ", " + std::to_string(n) +
+             " instances, from PACS " + pacs->server.calledAet + "@" + pacs->server.host + ":" +
+             std::to_string(pacs->server.port) + ")";
+#endif
   } else {
     ctPath = input;
     ctRef = fs::absolute(input).string();
@@ -359,9 +392,9 @@ static int PlanCommand(const ParsedArgs& p) {
   // Detection sees every bone: the exclude points are for the step scenes' bone.
   ImportOptions detectIo = io;
   detectIo.segmentation.excludeSeedsMm.clear();
-  ImportResult r =
-      ImportCT(ctPath, detectIo, stagedCT, vtkImage, progress.Range(phantom ? 0.3 : 0, 0.9));
-  if (phantom) {
+  ImportResult r = ImportCT(ctPath, detectIo, stagedCT, vtkImage,
+                            progress.Range(phantom || fromPacs ? 0.3 : 0, 0.9));
+  if (phantom || fromPacs) {
     r.source = finalCT.string(); // where it is once the plan is written
   } else if (vtkImage) {
     ctRef = fs::absolute(finalCT).string();

@@ -193,6 +193,37 @@ PacsServer ParsePacsServer(const std::string& text, const PacsServer& base) {
   return s;
 }
 
+PacsSeriesUrl ParsePacsUrl(const std::string& url, const PacsServer& base) {
+  const std::string scheme = "pacs://";
+  const auto bad = [&]() {
+    return std::invalid_argument(
+        "'" + url + "': a PACS series is pacs://[AET@]HOST:PORT/SERIES-UID[?aet=OURS]");
+  };
+  if (url.rfind(scheme, 0) != 0)
+    throw bad();
+  std::string rest = url.substr(scheme.size());
+  PacsServer ours = base;
+  if (const auto q = rest.find('?'); q != std::string::npos) {
+    const std::string query = rest.substr(q + 1);
+    rest = rest.substr(0, q);
+    if (query.rfind("aet=", 0) != 0 || query.size() == 4)
+      throw bad();
+    ours.callingAet = query.substr(4);
+  }
+  const auto slash = rest.find('/');
+  if (slash == std::string::npos || slash + 1 == rest.size())
+    throw bad();
+  PacsSeriesUrl u;
+  u.seriesInstanceUid = rest.substr(slash + 1);
+  if (!std::all_of(
+          u.seriesInstanceUid.begin(), u.seriesInstanceUid.end(),
+          [](char c) { return std::isdigit(static_cast<unsigned char>(c)) || c == '.'; }) ||
+      u.seriesInstanceUid.size() > 64)
+    throw bad();
+  u.server = ParsePacsServer(rest.substr(0, slash), ours);
+  return u;
+}
+
 std::vector<PacsSeries> FindSeries(const PacsServer& server, const PacsQuery& q) {
   QuietNetworkLog();
   Scu scu(server);

@@ -29,6 +29,15 @@ struct PacsServer {
 /// std::invalid_argument naming the text when it is not that shape or the port is out of range.
 PacsServer ParsePacsServer(const std::string& text, const PacsServer& base = {});
 
+/// A series on a PACS as one text: pacs://[AET@]HOST:PORT/SERIES-UID[?aet=OURS] (the called AET
+/// defaults to `base`'s, ours too unless given). Throws std::invalid_argument naming the text
+/// when it is not that shape.
+struct PacsSeriesUrl {
+  PacsServer server;
+  std::string seriesInstanceUid;
+};
+PacsSeriesUrl ParsePacsUrl(const std::string& url, const PacsServer& base = {});
+
 /// What to look for; empty fields match anything. DICOM wildcards (* and ?) are allowed in the
 /// patient's name and ID.
 struct PacsQuery {

@@ -2,7 +2,8 @@
 # BMPacsRoundTrip: the hospital's path from the command line against a real PACS, Debian's
 # Orthanc, started here on loopback with its own storage and a free port: the scapula phantom's
 # CT stored (bmsim pacs store), found by patient (pacs find), fetched into a new folder (pacs get),
-# planned from that folder (bmsim plan), the plan's steps run with the results as DICOM
+# planned straight from the PACS (bmsim plan pacs://...) and from that folder alike, the plan's
+# steps run with the results as DICOM
 # (bmsim run --dicom), the Segmentation and Structured Report stored back, found in the CT's
 # study by their modality and fetched again. A PACS that is down is an error naming it (exit 1),
 # a get without its folder bad usage (exit 2).
@@ -49,8 +50,24 @@ n=$(ls "$WORK/fetched" | wc -l)
 m=$(ls "$WORK"/phantom/*.dcm | wc -l)
 [ "$n" -eq "$m" ] || fail "pacs get wrote $n files of the $m stored"
 
-# Planned from the fetched folder, its steps run, the results written as DICOM.
-"$BMSIM" plan "$WORK/fetched" --out "$WORK/plan" --quiet > /dev/null || fail "bmsim plan on the fetched CT failed"
+# Planned straight from the PACS (bmsim plan pacs://...: the series fetched into plan/ct), the
+# same plan as from the fetched folder; its steps run, the results written as DICOM.
+"$BMSIM" plan "pacs://$SERVER/$SERIES" --out "$WORK/plan" --quiet > /dev/null ||
+  fail "bmsim plan pacs://$SERVER/$SERIES failed"
+[ "$(ls "$WORK/plan/ct" | wc -l)" -eq "$m" ] || fail "bmsim plan pacs:// did not keep the series in plan/ct"
+"$BMSIM" plan "$WORK/fetched" --out "$WORK/plan-folder" --quiet > /dev/null || fail "bmsim plan on the fetched CT failed"
+for key in version_3d_deg inclination_deg; do
+  a=$(python3 -c "import json; print(json.load(open('$WORK/plan/plan_report.json'))['measurements']['$key'])")
+  b=$(python3 -c "import json; print(json.load(open('$WORK/plan-folder/plan_report.json'))['measurements']['$key'])")
+  [ "$a" = "$b" ] || fail "the plan from the PACS gives $key $a, from the fetched folder $b"
+done
+# A series the PACS does not hold: named, and no plan folder left.
+set +e
+"$BMSIM" plan "pacs://$SERVER/1.2.3.4" --out "$WORK/plan-none" --quiet > "$WORK/none.txt" 2>&1
+rc=$?
+set -e
+[ $rc -eq 1 ] && grep -q "no series 1.2.3.4" "$WORK/none.txt" || fail "plan of an unknown PACS series: $rc, $(cat "$WORK/none.txt")"
+[ ! -e "$WORK/plan-none" ] || fail "a failed plan from the PACS left $WORK/plan-none"
 "$BMSIM" run "$WORK/plan/plan.json" --voxmap-resolution 96 --no-report --dicom --out "$WORK/run" > /dev/null ||
   fail "bmsim run --dicom on the plan failed"
 

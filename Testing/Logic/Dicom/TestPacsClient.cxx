@@ -252,4 +252,13 @@ TEST(PacsClient, FailuresNameTheServerAndWhyAndLeaveNothing) {
   EXPECT_EQ(parsed.calledAet, "PACS1");
   EXPECT_EQ(parsed.host, "pacs.example");
   EXPECT_EQ(parsed.port, 11112);
+  const bm::PacsSeriesUrl url =
+      bm::ParsePacsUrl("pacs://PACS1@pacs.example:11112/1.2.840.5?aet=WS7");
+  EXPECT_EQ(url.server.calledAet, "PACS1");
+  EXPECT_EQ(url.server.callingAet, "WS7");
+  EXPECT_EQ(url.server.port, 11112);
+  EXPECT_EQ(url.seriesInstanceUid, "1.2.840.5");
+  for (const char* bad : {"http://h:1/1.2", "pacs://h:1", "pacs://h:1/", "pacs://h:1/1.2/../x",
+                          "pacs://h:1/1.2?user=x", "pacs://h/1.2"})
+    EXPECT_THROW(bm::ParsePacsUrl(bad), std::invalid_argument) << bad;
 }
