@@ -1,9 +1,11 @@
-// bmsim pacs - a PACS over DICOM's network protocol (bmPacsClient.h): find a patient's series,
+// bmsim pacs - a PACS over DICOM's network protocol (bmPacsClient.h) or DICOMweb
+// (bmDicomWebClient.h): find a patient's series,
 // fetch one into a folder (which bmsim plan and import read), store files back (a plan's SEG and
 // SR from bmsim run --dicom).
 #include <iomanip>
 #include <iostream>
 
+#include "bmDicomWebClient.h"
 #include "bmPacsClient.h"
 #include "bmsimArgs.h"
 #include "bmsimCommand.h"
@@ -12,8 +14,9 @@ namespace {
 
 void PacsOptions(bm::cli::ParsedArgs& p) {
   p.Words("ACTION [ARGS]", "find | get | store FILE...");
-  p.Value("server", "[AET@]HOST:PORT",
-          "the PACS's DICOM address (required), e.g. ORTHANC@127.0.0.1:4242");
+  p.Value("server", "[AET@]HOST:PORT|URL",
+          "the PACS (required): its DICOM address, e.g. ORTHANC@127.0.0.1:4242 (DIMSE), or its "
+          "DICOMweb root, e.g. http://127.0.0.1:8042/dicom-web (QIDO-RS, WADO-RS, STOW-RS)");
   p.Value("aet", "AET", "our application entity title, as the PACS knows us (default BMSIM)");
   p.Int("timeout", 1, 3600, "connection and message timeout, s (default 30)");
   p.Value("patient-id", "ID", "find: the patient's ID (wildcards * ?)");
@@ -23,26 +26,47 @@ void PacsOptions(bm::cli::ParsedArgs& p) {
   p.Value("series", "UID", "find, get: the Series Instance UID (get: required)");
   p.Value("modality", "CT", "find: the series' modality (default CT; 'any' for every modality)");
   p.Value("out", "DIR", "get: a new folder for the series' files (required)");
-  p.Footer("find lists the matching series (C-FIND, Study Root, series level): patient, study "
-           "date, accession, modality, instances, Study and Series Instance UIDs. get fetches one "
-           "series (C-GET) into a new folder, written whole or not at all. store sends DICOM "
-           "files (C-STORE), e.g. the Segmentation and Structured Report of bmsim run --dicom. "
-           "Exit status 1 when the PACS cannot be reached, refuses or fails, naming why.");
+  p.Footer("find lists the matching series (C-FIND, Study Root, series level; or QIDO-RS): "
+           "patient, study date, accession, modality, instances, Study and Series Instance UIDs. "
+           "get fetches one series (C-GET; or WADO-RS) into a new folder, written whole or not "
+           "at all. store sends DICOM files (C-STORE; or STOW-RS), e.g. the Segmentation and "
+           "Structured Report of bmsim run --dicom. Exit status 1 when the PACS cannot be "
+           "reached, refuses or fails, naming why.");
 }
 
-bm::PacsServer Server(const bm::cli::ParsedArgs& p) {
+/// The PACS named by --server: DIMSE (AET@host:port) or DICOMweb (an http(s) root).
+struct Pacs {
+  bool web = false;
+  bm::PacsServer dimse;
+  bm::DicomWebServer dicomWeb;
+};
+
+Pacs Server(const bm::cli::ParsedArgs& p) {
   const auto address = p.Get("server");
   if (!address)
-    throw bm::cli::UsageError("--server [AET@]HOST:PORT is required");
+    throw bm::cli::UsageError("--server [AET@]HOST:PORT or --server URL is required");
+  Pacs pacs;
+  if (bm::IsDicomWebUrl(*address)) {
+    if (p.Has("aet"))
+      throw bm::cli::UsageError("--aet applies to a DICOM address, not a DICOMweb URL");
+    pacs.web = true;
+    pacs.dicomWeb.url = *address;
+    while (!pacs.dicomWeb.url.empty() && pacs.dicomWeb.url.back() == '/')
+      pacs.dicomWeb.url.pop_back();
+    if (const auto t = p.GetInt("timeout", 1, 3600))
+      pacs.dicomWeb.timeoutS = int(*t);
+    return pacs;
+  }
   bm::PacsServer base;
   base.callingAet = p.Get("aet", base.callingAet);
   if (const auto t = p.GetInt("timeout", 1, 3600))
     base.timeoutS = int(*t);
   try {
-    return bm::ParsePacsServer(*address, base);
+    pacs.dimse = bm::ParsePacsServer(*address, base);
   } catch (const std::invalid_argument& e) {
     throw bm::cli::UsageError(e.what());
   }
+  return pacs;
 }
 
 int PacsCommand(const bm::cli::ParsedArgs& p) {
@@ -50,7 +74,7 @@ int PacsCommand(const bm::cli::ParsedArgs& p) {
   if (words.empty())
     throw bm::cli::UsageError("pacs needs an action: find, get or store");
   const std::string action = words[0];
-  const bm::PacsServer server = Server(p);
+  const Pacs server = Server(p);
   if (action == "find") {
     if (words.size() != 1)
       throw bm::cli::UsageError("pacs find takes no file");
@@ -63,7 +87,8 @@ int PacsCommand(const bm::cli::ParsedArgs& p) {
     q.modality = p.Get("modality", "CT");
     if (q.modality == "any")
       q.modality.clear();
-    const auto found = bm::FindSeries(server, q);
+    const auto found =
+        server.web ? bm::FindSeriesWeb(server.dicomWeb, q) : bm::FindSeries(server.dimse, q);
     std::cout << found.size() << " series\n";
     for (const auto& s : found)
       std::cout << s.patientId << " | " << s.patientName << " | " << s.studyDate << " | "
@@ -82,7 +107,8 @@ int PacsCommand(const bm::cli::ParsedArgs& p) {
     const auto out = p.Get("out");
     if (!series || !out)
       throw bm::cli::UsageError("pacs get needs --series UID and --out DIR");
-    const int n = bm::GetSeries(server, p.Get("study", ""), *series, *out);
+    const int n = server.web ? bm::GetSeriesWeb(server.dicomWeb, p.Get("study", ""), *series, *out)
+                             : bm::GetSeries(server.dimse, p.Get("study", ""), *series, *out);
     std::cout << "fetched " << n << " instance" << (n == 1 ? "" : "s") << " of series " << *series
               << " into " << *out << "\n";
     return 0;
@@ -91,7 +117,10 @@ int PacsCommand(const bm::cli::ParsedArgs& p) {
     const std::vector<std::string> files(words.begin() + 1, words.end());
     if (files.empty())
       throw bm::cli::UsageError("pacs store needs one or more DICOM files");
-    bm::StoreFiles(server, files);
+    if (server.web)
+      bm::StoreFilesWeb(server.dicomWeb, files);
+    else
+      bm::StoreFiles(server.dimse, files);
     std::cout << "stored " << files.size() << " file" << (files.size() == 1 ? "" : "s") << "\n";
     return 0;
   }
@@ -100,5 +129,7 @@ int PacsCommand(const bm::cli::ParsedArgs& p) {
 
 } // namespace
 
-BM_REGISTER_COMMAND(pacs, "find, fetch and store DICOM series on a PACS (C-FIND, C-GET, C-STORE)",
+BM_REGISTER_COMMAND(pacs,
+                    "find, fetch and store DICOM series on a PACS (DIMSE C-FIND, C-GET, C-STORE, "
+                    "or DICOMweb)",
                     PacsOptions, PacsCommand);

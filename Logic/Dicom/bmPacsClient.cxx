@@ -1,5 +1,6 @@
 #include "bmPacsClient.h"
 
+#include "bmAtomicFile.h"   // TemporarySibling
 #include "bmDicomWriting.h" // QuietDicomLog
 
 #include <dcmtk/config/osconfig.h>
@@ -19,7 +20,6 @@
 #include <sstream>
 #include <stdexcept>
 #include <system_error>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -298,8 +298,8 @@ int GetSeries(const PacsServer& server, const std::string& studyInstanceUid,
     study = found.front().studyInstanceUid;
     expected = found.front().instances;
   }
-  const fs::path staging = target.parent_path() / ("." + target.filename().string() + ".part-" +
-                                                   std::to_string(::getpid()));
+  fs::create_directories(target.parent_path());
+  const fs::path staging = TemporarySibling(target.string()); // hidden, removed if stale
   std::error_code ec;
   fs::remove_all(staging, ec);
   fs::create_directories(staging);

@@ -5,7 +5,7 @@
 # planned straight from the PACS (bmsim plan pacs://...) and from that folder alike, the plan's
 # steps run with the results as DICOM
 # (bmsim run --dicom), the Segmentation and Structured Report stored back, found in the CT's
-# study by their modality and fetched again. A PACS that is down is an error naming it (exit 1),
+# study by their modality and fetched again, also over DICOMweb (QIDO-RS, WADO-RS). A PACS that is down is an error naming it (exit 1),
 # a get without its folder bad usage (exit 2).
 #   sh TestPacsRoundTrip.sh BMSIM WORK_DIR
 set -eu
@@ -17,17 +17,21 @@ fail() { echo "BMPacsRoundTrip: $*" >&2; exit 1; }
 [ -x /usr/sbin/Orthanc ] || fail "/usr/sbin/Orthanc is not installed (Utilities/setup-debian.sh)"
 port() { python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
 PORT=$(port)
+HTTP=$(port)
+PLUGIN=/usr/share/orthanc/plugins/libOrthancDicomWeb.so
+[ -r $PLUGIN ] || fail "$PLUGIN is not installed (orthanc-dicomweb, Utilities/setup-debian.sh)"
 cat > "$WORK/orthanc/orthanc.json" <<EOF
 {"Name": "BMTEST", "StorageDirectory": "$WORK/orthanc/storage", "IndexDirectory": "$WORK/orthanc/storage",
- "DicomAet": "ORTHANC", "DicomPort": $PORT, "HttpServerEnabled": false, "RemoteAccessAllowed": false,
- "DicomCheckCalledAet": true, "Plugins": [], "ConcurrentJobs": 1,
+ "DicomAet": "ORTHANC", "DicomPort": $PORT, "HttpServerEnabled": true, "HttpPort": $HTTP,
+ "RemoteAccessAllowed": false, "AuthenticationEnabled": false, "DicomCheckCalledAet": true,
+ "Plugins": ["$PLUGIN"], "DicomWeb": {"Enable": true, "Root": "/dicom-web/"}, "ConcurrentJobs": 1,
  "DicomModalities": {"bm": ["BMSIM", "127.0.0.1", $(port)]}}
 EOF
 /usr/sbin/Orthanc "$WORK/orthanc/orthanc.json" > "$WORK/orthanc/orthanc.log" 2>&1 &
 ORTHANC_PID=$!
 trap 'kill $ORTHANC_PID 2>/dev/null; wait $ORTHANC_PID 2>/dev/null || true' EXIT
 i=0
-until python3 -c "import socket; socket.create_connection(('127.0.0.1', $PORT), 1)" 2>/dev/null; do
+until python3 -c "import socket; [socket.create_connection(('127.0.0.1', p), 1) for p in ($PORT, $HTTP)]" 2>/dev/null; do
   i=$((i + 1))
   [ $i -lt 150 ] || fail "Orthanc did not listen on port $PORT (see $WORK/orthanc/orthanc.log)"
   sleep 0.2
@@ -83,6 +87,16 @@ for modality in SEG SR; do
   [ "$(ls "$WORK/back-$modality" | wc -l)" -eq 1 ] || fail "the $modality series did not come back as one file"
   cmp -s "$(ls "$WORK"/back-$modality/*)" /dev/null && fail "the $modality came back empty"
 done
+# The same PACS through DICOMweb: the SR stored over DIMSE is found (QIDO-RS) and fetched
+# (WADO-RS) through it.
+WEB="http://127.0.0.1:$HTTP/dicom-web"
+"$BMSIM" pacs find --server "$WEB" --study "$STUDY" --modality SR > "$WORK/find-web.txt" || fail "pacs find over DICOMweb failed"
+grep -q "^1 series" "$WORK/find-web.txt" || fail "no SR series over DICOMweb: $(cat "$WORK/find-web.txt")"
+uid=$(sed -n 's/.* series \([0-9.]*\)$/\1/p' "$WORK/find-web.txt")
+"$BMSIM" pacs get --server "$WEB" --series "$uid" --out "$WORK/back-web" || fail "pacs get over DICOMweb failed"
+# Both name the file by its SOP Instance UID: the same instance.
+[ "$(ls "$WORK/back-web")" = "$(ls "$WORK/back-SR")" ] ||
+  fail "over DICOMweb $(ls "$WORK/back-web"), over DIMSE $(ls "$WORK/back-SR")"
 if command -v dciodvfy > /dev/null; then
   for f in "$WORK"/back-SEG/* "$WORK"/back-SR/*; do
     if dciodvfy "$f" 2>&1 | grep -q "^Error"; then fail "dciodvfy finds errors in the fetched $f"; fi

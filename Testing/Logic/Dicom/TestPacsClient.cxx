@@ -27,6 +27,7 @@
 #include "bmDicomSegmentation.h"
 #include "bmDicomSeriesWriter.h"
 #include "bmDicomSource.h"
+#include "bmDicomWebClient.h"
 #include "bmOrthancProcess.h"
 #include "bmPacsClient.h"
 
@@ -261,4 +262,66 @@ TEST(PacsClient, FailuresNameTheServerAndWhyAndLeaveNothing) {
   for (const char* bad : {"http://h:1/1.2", "pacs://h:1", "pacs://h:1/", "pacs://h:1/1.2/../x",
                           "pacs://h:1/1.2?user=x", "pacs://h/1.2"})
     EXPECT_THROW(bm::ParsePacsUrl(bad), std::invalid_argument) << bad;
+}
+
+TEST(PacsClient, DicomWebFindsFetchesAndStoresAsDimseDoes) {
+  // The same PACS through its DICOMweb service (Orthanc's plugin): STOW-RS, QIDO-RS, WADO-RS.
+  const fs::path dir = Scratch("dicomweb");
+  bmtest::OrthancProcess orthanc(dir / "orthanc", true);
+  bm::DicomWebServer server;
+  server.url = orthanc.WebUrl;
+  server.timeoutS = 10;
+  EXPECT_TRUE(bm::IsDicomWebUrl(server.url));
+  EXPECT_FALSE(bm::IsDicomWebUrl("ORTHANC@127.0.0.1:4242"));
+
+  bm::DicomWriteOptions wo;
+  wo.patientID = "BM-WEB-1";
+  const std::string seriesUid = bm::WriteDicomSeries(SmallCT(), (dir / "ct").string(), wo);
+  const bm::DicomSource src = bm::ReadDicomSource((dir / "ct").string());
+  bm::StoreFilesWeb(server, Files(dir / "ct"));
+
+  bm::PacsQuery q;
+  q.patientId = "BM-WEB-*";
+  const std::vector<bm::PacsSeries> found = bm::FindSeriesWeb(server, q);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0].seriesInstanceUid, seriesUid);
+  EXPECT_EQ(found[0].studyInstanceUid, src.studyUID);
+  EXPECT_EQ(found[0].patientId, "BM-WEB-1");
+  EXPECT_EQ(found[0].instances, 12);
+  q.patientId = "SOMEONE-ELSE";
+  EXPECT_TRUE(bm::FindSeriesWeb(server, q).empty());
+
+  const fs::path got = dir / "fetched";
+  EXPECT_EQ(bm::GetSeriesWeb(server, "", seriesUid, got.string()), 12);
+  std::set<std::string> sent;
+  for (const auto& image : src.images)
+    sent.insert(image.sopInstanceUID);
+  EXPECT_EQ(SopInstances(got), sent);
+  EXPECT_EQ(bm::ReadDicomSource(got.string()).seriesUID, seriesUid);
+  // The same series through DIMSE: the two faces of one PACS agree.
+  bm::PacsServer dimse;
+  dimse.port = orthanc.Port;
+  bm::PacsQuery byPatient;
+  byPatient.patientId = "BM-WEB-1";
+  ASSERT_EQ(bm::FindSeries(dimse, byPatient).size(), 1u);
+  EXPECT_EQ(bm::FindSeries(dimse, byPatient)[0].seriesInstanceUid, seriesUid);
+
+  // Failures: named, nothing left.
+  std::string why =
+      Failure([&] { bm::GetSeriesWeb(server, "", "1.2.3.4.5", (dir / "x").string()); });
+  EXPECT_NE(why.find("no series 1.2.3.4.5"), std::string::npos) << why;
+  EXPECT_FALSE(fs::exists(dir / "x"));
+  bm::DicomWebServer down = server;
+  down.url = "http://127.0.0.1:" + std::to_string(bmtest::FreeLoopbackPort()) + "/dicom-web";
+  why = Failure([&] { bm::FindSeriesWeb(down, {}); });
+  EXPECT_NE(why.find(down.url), std::string::npos) << why;
+  bm::DicomWebServer wrongRoot = server;
+  wrongRoot.url = "http://127.0.0.1:" + std::to_string(orthanc.HttpPort) + "/not-dicom-web";
+  why = Failure([&] { bm::FindSeriesWeb(wrongRoot, {}); });
+  EXPECT_NE(why.find("HTTP 404"), std::string::npos) << why;
+  const std::string text = (dir / "notes.dcm").string();
+  std::ofstream(text) << "not DICOM\n";
+  why = Failure([&] { bm::StoreFilesWeb(server, {text}); });
+  EXPECT_NE(why.find("notes.dcm"), std::string::npos) << why;
+  EXPECT_THROW(bm::FindSeriesWeb(bm::DicomWebServer{"ftp://h/x", 10}, {}), std::invalid_argument);
 }

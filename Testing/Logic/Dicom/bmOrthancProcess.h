@@ -1,7 +1,8 @@
 // bmOrthancProcess.h - a real PACS for the tests: Debian's Orthanc (/usr/sbin/Orthanc, installed
 // by Utilities/setup-debian.sh) started on loopback with a configuration the test writes (its own
-// storage folder, a free DICOM port, the HTTP server off, our calling AET registered), stopped
-// (SIGTERM, then waited for) when the object goes.
+// storage folder, a free DICOM port, our calling AET registered; the HTTP server off, or on a free
+// port with the DICOMweb plugin of Debian's orthanc-dicomweb), stopped (SIGTERM, then waited for)
+// when the object goes.
 #pragma once
 
 #include <fcntl.h>
@@ -54,15 +55,22 @@ inline bool Listening(int port) {
 class OrthancProcess {
 public:
   static constexpr const char* kExecutable = "/usr/sbin/Orthanc";
+  static constexpr const char* kDicomWebPlugin = "/usr/share/orthanc/plugins/libOrthancDicomWeb.so";
   /// Starts Orthanc with AET `aet` in `folder` (created), knowing `callingAet` as a modality
-  /// allowed to query and retrieve. Throws std::runtime_error when Orthanc is not installed or
-  /// does not listen within 30 s (its log is in folder/orthanc.log).
-  OrthancProcess(const std::filesystem::path& folder, const std::string& aet = "ORTHANC",
-                 const std::string& callingAet = "BMSIM")
+  /// allowed to query and retrieve; with `dicomWeb`, also its DICOMweb service at WebUrl. Throws
+  /// std::runtime_error when Orthanc (or the plugin) is not installed or does not listen within
+  /// 30 s (its log is in folder/orthanc.log).
+  explicit OrthancProcess(const std::filesystem::path& folder, bool dicomWeb = false,
+                          const std::string& aet = "ORTHANC",
+                          const std::string& callingAet = "BMSIM")
       : Folder(folder), Aet(aet) {
     if (::access(kExecutable, X_OK) != 0)
       throw std::runtime_error(std::string(kExecutable) +
                                " is not installed: Debian's orthanc package "
+                               "(Utilities/setup-debian.sh installs it)");
+    if (dicomWeb && ::access(kDicomWebPlugin, R_OK) != 0)
+      throw std::runtime_error(std::string(kDicomWebPlugin) +
+                               " is not installed: Debian's orthanc-dicomweb package "
                                "(Utilities/setup-debian.sh installs it)");
     std::filesystem::remove_all(folder);
     std::filesystem::create_directories(folder / "storage");
@@ -73,10 +81,19 @@ public:
       f << "{\"Name\": \"BMTEST\", \"StorageDirectory\": \"" << (folder / "storage").string()
         << "\", \"IndexDirectory\": \"" << (folder / "storage").string() << "\", \"DicomAet\": \""
         << aet << "\", \"DicomPort\": " << Port
-        << ", \"HttpServerEnabled\": false, \"RemoteAccessAllowed\": false,"
-           " \"DicomCheckCalledAet\": true, \"Plugins\": [], \"ConcurrentJobs\": 1,"
+        << ", \"RemoteAccessAllowed\": false, \"AuthenticationEnabled\": false,"
+           " \"DicomCheckCalledAet\": true, \"ConcurrentJobs\": 1,"
            " \"DicomModalities\": {\"bm\": [\""
-        << callingAet << "\", \"127.0.0.1\", " << FreeLoopbackPort() << "]}}\n";
+        << callingAet << "\", \"127.0.0.1\", " << FreeLoopbackPort() << "]}, ";
+      if (dicomWeb) {
+        HttpPort = FreeLoopbackPort();
+        f << "\"HttpServerEnabled\": true, \"HttpPort\": " << HttpPort << ", \"Plugins\": [\""
+          << kDicomWebPlugin
+          << "\"], \"DicomWeb\": {\"Enable\": true, \"Root\": \"/dicom-web/\"}}\n";
+        WebUrl = "http://127.0.0.1:" + std::to_string(HttpPort) + "/dicom-web";
+      } else {
+        f << "\"HttpServerEnabled\": false, \"Plugins\": []}\n";
+      }
     }
     const std::string log = (folder / "orthanc.log").string();
     Pid = ::fork();
@@ -90,7 +107,7 @@ public:
       ::_exit(127);
     }
     const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-    while (!Listening(Port)) {
+    while (!Listening(Port) || (dicomWeb && !Listening(HttpPort))) {
       int status = 0;
       if (Pid < 0 || ::waitpid(Pid, &status, WNOHANG) == Pid) {
         Pid = -1;
@@ -119,7 +136,9 @@ public:
 
   std::filesystem::path Folder;
   std::string Aet;
-  int Port = 0;
+  int Port = 0;       ///< DICOM
+  int HttpPort = 0;   ///< with DICOMweb
+  std::string WebUrl; ///< the DICOMweb root, with DICOMweb
 
 private:
   pid_t Pid = -1;
