@@ -8,7 +8,7 @@ PKGS=(
   build-essential cmake ninja-build pkg-config git
   paraview paraview-dev python3-paraview libqt5opengl5-dev
   libinsighttoolkit5-dev libgdcm-dev libgdcm-tools libdcmtk-dev dicom3tools
-  orthanc orthanc-dicomweb libcurl4-gnutls-dev
+  orthanc orthanc-dicomweb libcurl4-gnutls-dev python3-distributed
   libeigen3-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo
