@@ -165,10 +165,13 @@ int RunSceneSteps(const bm::Scene& scene, const ParsedArgs& args, const std::str
   if (!dicomFolder.empty()) {
     const bm::PlanDicomFiles files =
         bm::WritePlanDicomResults((stagePath / "dicom").string(), dicomFolder, dicomSeries, before,
-                                  bone, summary, BM_VERSION);
+                                  bone, summary, BM_VERSION, stagePath.string());
     std::cout << "  DICOM: dicom/" << fs::path(files.segmentation).filename().string()
-              << " and dicom/" << fs::path(files.report).filename().string() << " for series "
-              << (dicomSeries.empty() ? "(the folder's only one)" : dicomSeries) << "\n";
+              << " and dicom/" << fs::path(files.report).filename().string();
+    for (const std::string& sc : files.pictures)
+      std::cout << ", dicom/" << fs::path(sc).filename().string();
+    std::cout << " for series " << (dicomSeries.empty() ? "(the folder's only one)" : dicomSeries)
+              << "\n";
   }
 #endif
   staged.Commit("summary.json");

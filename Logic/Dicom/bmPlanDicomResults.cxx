@@ -2,9 +2,15 @@
 #include "bmPlanDicomResults.h"
 
 #include <cstring>
+#include <utility>
+
+#include <dcmtk/config/osconfig.h>
+
+#include <dcmtk/dcmdata/dcuid.h>
 #include <filesystem>
 #include <stdexcept>
 
+#include "bmDicomSecondaryCapture.h"
 #include "bmDicomSegmentation.h"
 #include "bmDicomSource.h"
 
@@ -93,7 +99,8 @@ std::vector<DicomMeasurement> PlanMeasurements(const nlohmann::json& summary) {
 PlanDicomFiles WritePlanDicomResults(const std::string& dir, const std::string& dicomFolder,
                                      const std::string& seriesUID, const Voxmap& before,
                                      const Voxmap& after, const nlohmann::json& summary,
-                                     const std::string& softwareVersion) {
+                                     const std::string& softwareVersion,
+                                     const std::string& pictureDir) {
   const std::vector<DicomMeasurement> m = PlanMeasurements(summary);
   if (m.empty())
     throw std::runtime_error("DICOM results: the plan result holds no measurement");
@@ -109,6 +116,29 @@ PlanDicomFiles WritePlanDicomResults(const std::string& dir, const std::string& 
   ri.softwareVersion = softwareVersion;
   ri.title = summary.value("plan", std::string("glenoid plan"));
   WriteMeasurementReport(files.report, source, m, ri);
+  // The pictures the result shows, in a series of their own.
+  const nlohmann::json pictures = summary.value("pictures", nlohmann::json::object());
+  if (!pictureDir.empty() && pictures.is_object()) {
+    DicomPictureInfo pi;
+    pi.softwareVersion = softwareVersion;
+    char uid[100];
+    pi.seriesUID = dcmGenerateUniqueIdentifier(uid, SITE_SERIES_UID_ROOT);
+    const std::pair<const char*, const char*> kinds[] = {
+        {"before", "the glenoid before the steps, the plan drawn"},
+        {"after", "the glenoid after the steps, the plan drawn"}};
+    for (const auto& [key, text] : kinds) {
+      if (!pictures.contains(key) || !pictures[key].is_string())
+        continue;
+      const std::string png =
+          (std::filesystem::path(pictureDir) / pictures[key].get<std::string>()).string();
+      const std::string sc =
+          (std::filesystem::path(dir) / (std::string("glenoid_") + key + ".sc.dcm")).string();
+      pi.description = text;
+      WriteSecondaryCapture(sc, source, png, pi);
+      files.pictures.push_back(sc);
+      ++pi.instanceNumber;
+    }
+  }
   return files;
 }
 

@@ -97,9 +97,13 @@ def main():
     check(info(plan, "ReportErrorInfo") == "", "the result as DICOM: no error (%r)"
           % info(plan, "ReportErrorInfo"))
     files = info(plan, "ReportFilesInfo").split("\n")
-    for name in ("summary.json", "dicom/reamed-bone.seg.dcm", "dicom/plan.sr.dcm"):
+    for name in ("summary.json", "dicom/reamed-bone.seg.dcm", "dicom/plan.sr.dcm",
+                 "dicom/glenoid_before.sc.dcm", "dicom/glenoid_after.sc.dcm"):
         check(name in files and os.path.getsize(os.path.join(result, name)) > 1000,
               "the result holds %s (%r)" % (name, files))
+    with open(os.path.join(result, "dicom", "glenoid_after.sc.dcm"), "rb") as f:
+        check(b"1.2.840.10008.5.1.4.1.1.7" in f.read(),
+              "dicom/glenoid_after.sc.dcm is a Secondary Capture")
     with open(os.path.join(result, "dicom", "reamed-bone.seg.dcm"), "rb") as f:
         seg = f.read()
     check(seg[128:132] == b"DICM" and b"1.2.840.10008.5.1.4.1.1.66.4" in seg,

@@ -318,10 +318,12 @@ bool vtkBMGlenoidPlanFilter::WriteResult() {
       in.ReportFiles += "\nglenoid_before.png\nglenoid_after.png";
 #ifdef BM_WITH_DCMTK
     if (this->ResultAsDicom) {
-      bm::WritePlanDicomResults((std::filesystem::path(this->ReportDirectory) / "dicom").string(),
-                                dicomFolder, dicomSeries, before, after, summary,
-                                "BoneMachining plugin");
+      const bm::PlanDicomFiles files = bm::WritePlanDicomResults(
+          (std::filesystem::path(this->ReportDirectory) / "dicom").string(), dicomFolder,
+          dicomSeries, before, after, summary, "BoneMachining plugin", this->ReportDirectory);
       in.ReportFiles += "\ndicom/reamed-bone.seg.dcm\ndicom/plan.sr.dcm";
+      for (const std::string& sc : files.pictures)
+        in.ReportFiles += "\ndicom/" + std::filesystem::path(sc).filename().string();
     }
 #endif
     return true;

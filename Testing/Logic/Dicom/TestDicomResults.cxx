@@ -18,6 +18,7 @@
 
 #include <dcmtk/dcmdata/dcdeftag.h>
 #include <dcmtk/dcmdata/dcfilefo.h>
+#include <dcmtk/dcmdata/dcuid.h>
 #include <dcmtk/dcmfg/fgderimg.h>
 #include <dcmtk/dcmfg/fgplanpo.h>
 #include <dcmtk/dcmfg/fgseg.h>
@@ -26,6 +27,7 @@
 
 #include "bmCTImage.h"
 #include "bmDicomMeasurementReport.h"
+#include "bmDicomSecondaryCapture.h"
 #include "bmDicomSegmentation.h"
 #include "bmDicomSeriesWriter.h"
 #include "bmDicomSource.h"
@@ -241,4 +243,57 @@ TEST(DicomResults, BadInputIsRefusedByName) {
                std::invalid_argument);
   EXPECT_FALSE(fs::exists(dir / "x.dcm"));
   EXPECT_FALSE(fs::exists(dir / "y.dcm"));
+}
+
+TEST(DicomResults, APictureIsASecondaryCaptureInTheCTsStudy) {
+  // A report's picture (here a baseline PNG of 400 x 300 pixels) as a Secondary Capture: the
+  // CT's patient and study, its own series, the picture's size and pixels in RGB.
+  const fs::path dir = Scratch("picture");
+  bm::DicomWriteOptions wo;
+  wo.patientID = "BM-TEST-SC";
+  bm::WriteDicomSeries(SmallCT(), (dir / "ct").string(), wo);
+  const bm::DicomSource src = bm::ReadDicomSource((dir / "ct").string());
+  const std::string png = std::string(BM_SOURCE_DIR) + "/Testing/Data/Baseline/BMDockCTReader.png";
+  bm::DicomPictureInfo info;
+  info.description = "the preview, framed";
+  info.softwareVersion = "test";
+  const std::string path = (dir / "picture.sc.dcm").string();
+  const std::string sop = bm::WriteSecondaryCapture(path, src, png, info);
+  EXPECT_TRUE(DciodvfyErrors(path).empty()) << DciodvfyErrors(path);
+  DcmFileFormat ff;
+  ASSERT_TRUE(ff.loadFile(path.c_str()).good());
+  DcmDataset& d = *ff.getDataset();
+  EXPECT_EQ(Text(d, DCM_SOPClassUID), UID_SecondaryCaptureImageStorage);
+  EXPECT_EQ(Text(d, DCM_SOPInstanceUID), sop);
+  EXPECT_EQ(Text(d, DCM_PatientID), "BM-TEST-SC");
+  EXPECT_EQ(Text(d, DCM_StudyInstanceUID), src.studyUID);
+  EXPECT_NE(Text(d, DCM_SeriesInstanceUID), src.seriesUID);
+  EXPECT_EQ(Text(d, DCM_PhotometricInterpretation), "RGB");
+  EXPECT_NE(Text(d, DCM_DerivationDescription).find(src.seriesUID), std::string::npos);
+  Uint16 rows = 0, columns = 0;
+  d.findAndGetUint16(DCM_Rows, rows);
+  d.findAndGetUint16(DCM_Columns, columns);
+  EXPECT_EQ(rows, 300);
+  EXPECT_EQ(columns, 400);
+  const Uint8* pixels = nullptr;
+  unsigned long count = 0;
+  ASSERT_TRUE(d.findAndGetUint8Array(DCM_PixelData, pixels, &count).good());
+  EXPECT_EQ(count, 400ul * 300ul * 3ul);
+  // Not one colour: the picture's pixels, not a blank.
+  std::set<int> colours;
+  for (unsigned long i = 0; i + 2 < count; i += 3 * 97)
+    colours.insert(pixels[i] << 16 | pixels[i + 1] << 8 | pixels[i + 2]);
+  EXPECT_GT(colours.size(), 3u);
+
+  // A picture that is not a PNG: refused by name, nothing written.
+  const std::string text = (dir / "notes.png").string();
+  std::ofstream(text) << "not a picture\n";
+  const std::string bad = (dir / "bad.sc.dcm").string();
+  try {
+    bm::WriteSecondaryCapture(bad, src, text, info);
+    ADD_FAILURE() << "a text file was taken for a picture";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("notes.png"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(bad));
 }
