@@ -1,7 +1,7 @@
 #include "bmDicomWebClient.h"
 
-#include "bmAtomicFile.h"   // TemporarySibling
 #include "bmDicomWriting.h" // QuietDicomLog
+#include "bmFetchedSeries.h"
 
 #include <dcmtk/config/osconfig.h>
 
@@ -12,7 +12,6 @@
 
 #include <curl/curl.h>
 #include <nlohmann/json.hpp>
-
 
 #include <algorithm>
 #include <cctype>
@@ -181,13 +180,6 @@ std::vector<std::string_view> Parts(const std::string& body, const std::string& 
   return parts;
 }
 
-std::string SafeName(std::string uid) {
-  for (char& ch : uid) // a UID is digits and dots; anything else must not reach a path
-    if (!std::isdigit(static_cast<unsigned char>(ch)) && ch != '.')
-      ch = '_';
-  return uid;
-}
-
 } // namespace
 
 bool IsDicomWebUrl(const std::string& text) {
@@ -249,10 +241,7 @@ int GetSeriesWeb(const DicomWebServer& server, const std::string& studyInstanceU
   QuietDicomLog();
   if (seriesInstanceUid.empty())
     throw std::invalid_argument("fetching a series needs its Series Instance UID");
-  const fs::path target = fs::absolute(folder);
-  if (fs::exists(target))
-    throw std::runtime_error("'" + target.string() +
-                             "' exists: a fetched series goes into a new folder");
+  FetchedSeries fetched(folder); // refuses a folder that exists
   PacsQuery q;
   q.studyInstanceUid = studyInstanceUid;
   q.seriesInstanceUid = seriesInstanceUid;
@@ -270,48 +259,28 @@ int GetSeriesWeb(const DicomWebServer& server, const std::string& studyInstanceU
   if (r.contentType.rfind("multipart/related", 0) != 0 || boundary.empty())
     throw std::runtime_error("DICOMweb retrieval " + url + ": the answer is '" + r.contentType +
                              "', not multipart/related with a boundary");
-  fs::create_directories(target.parent_path());
-  const fs::path staging = TemporarySibling(target.string()); // hidden, removed if stale
-  std::error_code ec;
-  fs::remove_all(staging, ec);
-  fs::create_directories(staging);
-  try {
-    std::set<std::string> written;
-    for (const std::string_view part : Parts(r.body, boundary)) {
-      DcmInputBufferStream in;
-      in.setBuffer(part.data(), offile_off_t(part.size()));
-      in.setEos();
-      DcmFileFormat f;
-      f.transferInit();
-      const OFCondition c = f.read(in);
-      f.transferEnd();
-      OFString sop;
-      if (c.bad() || f.getDataset()->findAndGetOFString(DCM_SOPInstanceUID, sop).bad() ||
-          sop.empty())
-        throw std::runtime_error("DICOMweb retrieval " + url + ": a part is not a DICOM instance" +
-                                 (c.bad() ? std::string(" (") + c.text() + ")" : ""));
-      const std::string name = SafeName(sop.c_str());
-      std::ofstream out(staging / (name + ".dcm"), std::ios::binary);
-      out.write(part.data(), std::streamsize(part.size()));
-      if (!out)
-        throw std::runtime_error("cannot write instance " + name + " into " + staging.string());
-      written.insert(name);
-    }
-    const int got = int(written.size());
-    if (got == 0)
-      throw std::runtime_error("DICOMweb " + server.url + " sent no instance of series " +
-                               seriesInstanceUid);
-    if (found.front().instances >= 0 && got != found.front().instances)
-      throw std::runtime_error("DICOMweb " + server.url + " sent " + std::to_string(got) +
-                               " instance(s) of series " + seriesInstanceUid + ", of the " +
-                               std::to_string(found.front().instances) + " it lists");
-    fs::create_directories(target.parent_path());
-    fs::rename(staging, target);
-    return got;
-  } catch (...) {
-    fs::remove_all(staging, ec);
-    throw;
+  std::set<std::string> written;
+  for (const std::string_view part : Parts(r.body, boundary)) {
+    DcmInputBufferStream in;
+    in.setBuffer(part.data(), offile_off_t(part.size()));
+    in.setEos();
+    DcmFileFormat f;
+    f.transferInit();
+    const OFCondition c = f.read(in);
+    f.transferEnd();
+    OFString sop;
+    if (c.bad() || f.getDataset()->findAndGetOFString(DCM_SOPInstanceUID, sop).bad() || sop.empty())
+      throw std::runtime_error("DICOMweb retrieval " + url + ": a part is not a DICOM instance" +
+                               (c.bad() ? std::string(" (") + c.text() + ")" : ""));
+    const fs::path file = fetched.InstancePath(sop.c_str());
+    std::ofstream out(file, std::ios::binary);
+    out.write(part.data(), std::streamsize(part.size()));
+    if (!out)
+      throw std::runtime_error("cannot write instance " + file.string());
+    written.insert(sop.c_str());
   }
+  return fetched.Commit("DICOMweb " + server.url, seriesInstanceUid, int(written.size()),
+                        found.front().instances);
 }
 
 void StoreFilesWeb(const DicomWebServer& server, const std::vector<std::string>& files) {

@@ -1,7 +1,7 @@
 #include "bmPacsClient.h"
 
-#include "bmAtomicFile.h"   // TemporarySibling
 #include "bmDicomWriting.h" // QuietDicomLog
+#include "bmFetchedSeries.h"
 
 #include <dcmtk/config/osconfig.h>
 
@@ -109,7 +109,7 @@ public:
   }
 
   // C-GET's incoming instances.
-  std::string Folder;
+  const FetchedSeries* Into = nullptr;
   std::set<std::string> Received;
   std::string StoreError;
 
@@ -118,18 +118,15 @@ public:
     std::unique_ptr<DcmDataset> data(incomingObject);
     continueCGETSession = OFTrue;
     OFString sop;
-    if (!data || data->findAndGetOFString(DCM_SOPInstanceUID, sop).bad() || sop.empty()) {
+    if (!Into || !data || data->findAndGetOFString(DCM_SOPInstanceUID, sop).bad() || sop.empty()) {
       StoreError = "an instance without a SOP Instance UID";
       cStoreReturnStatus = STATUS_STORE_Error_CannotUnderstand;
       return EC_Normal;
     }
-    std::string name(sop.c_str());
-    for (char& ch : name) // a UID is digits and dots; anything else must not reach a path
-      if (!std::isdigit(static_cast<unsigned char>(ch)) && ch != '.')
-        ch = '_';
+    const std::string name(sop.c_str());
     DcmFileFormat file(data.get());
-    const OFCondition c = file.saveFile((fs::path(Folder) / (name + ".dcm")).string().c_str(),
-                                        EXS_LittleEndianExplicit);
+    const OFCondition c =
+        file.saveFile(Into->InstancePath(name).string().c_str(), EXS_LittleEndianExplicit);
     if (c.bad()) {
       StoreError = "cannot write instance " + name + ": " + c.text();
       cStoreReturnStatus = STATUS_STORE_Refused_OutOfResources;
@@ -280,10 +277,7 @@ int GetSeries(const PacsServer& server, const std::string& studyInstanceUid,
   QuietNetworkLog();
   if (seriesInstanceUid.empty())
     throw std::invalid_argument("fetching a series needs its Series Instance UID");
-  const fs::path target = fs::absolute(folder);
-  if (fs::exists(target))
-    throw std::runtime_error("'" + target.string() +
-                             "' exists: a fetched series goes into a new folder");
+  FetchedSeries fetched(folder); // refuses a folder that exists
   // The study, when not given, from a query (C-GET at series level needs it).
   std::string study = studyInstanceUid;
   int expected = -1;
@@ -298,59 +292,40 @@ int GetSeries(const PacsServer& server, const std::string& studyInstanceUid,
     study = found.front().studyInstanceUid;
     expected = found.front().instances;
   }
-  fs::create_directories(target.parent_path());
-  const fs::path staging = TemporarySibling(target.string()); // hidden, removed if stale
-  std::error_code ec;
-  fs::remove_all(staging, ec);
-  fs::create_directories(staging);
-  try {
-    Scu scu(server);
-    scu.addPresentationContext(UID_GETStudyRootQueryRetrieveInformationModel, TransferSyntaxes());
-    for (const char* sop : kStorageClasses) // the server sends the instances back on these
-      scu.addPresentationContext(sop, TransferSyntaxes(), ASC_SC_ROLE_SCP);
-    const T_ASC_PresentationContextID id =
-        scu.Open(UID_GETStudyRootQueryRetrieveInformationModel, "retrieval (C-GET, Study Root)");
-    scu.Folder = staging.string();
-    DcmDataset keys;
-    keys.putAndInsertOFStringArray(DCM_QueryRetrieveLevel, "SERIES");
-    keys.putAndInsertOFStringArray(DCM_StudyInstanceUID, study.c_str());
-    keys.putAndInsertOFStringArray(DCM_SeriesInstanceUID, seriesInstanceUid.c_str());
-    OFList<RetrieveResponse*> responses;
-    const OFCondition c = scu.sendCGETRequest(id, &keys, &responses);
-    Uint16 finalStatus = STATUS_Success;
-    int failed = 0;
-    for (RetrieveResponse* r : responses) {
-      if (r->m_status != STATUS_Pending) {
-        finalStatus = r->m_status;
-        failed = r->m_numberOfFailedSubops;
-      }
-      delete r;
+  Scu scu(server);
+  scu.addPresentationContext(UID_GETStudyRootQueryRetrieveInformationModel, TransferSyntaxes());
+  for (const char* sop : kStorageClasses) // the server sends the instances back on these
+    scu.addPresentationContext(sop, TransferSyntaxes(), ASC_SC_ROLE_SCP);
+  const T_ASC_PresentationContextID id =
+      scu.Open(UID_GETStudyRootQueryRetrieveInformationModel, "retrieval (C-GET, Study Root)");
+  scu.Into = &fetched;
+  DcmDataset keys;
+  keys.putAndInsertOFStringArray(DCM_QueryRetrieveLevel, "SERIES");
+  keys.putAndInsertOFStringArray(DCM_StudyInstanceUID, study.c_str());
+  keys.putAndInsertOFStringArray(DCM_SeriesInstanceUID, seriesInstanceUid.c_str());
+  OFList<RetrieveResponse*> responses;
+  const OFCondition c = scu.sendCGETRequest(id, &keys, &responses);
+  Uint16 finalStatus = STATUS_Success;
+  int failed = 0;
+  for (RetrieveResponse* r : responses) {
+    if (r->m_status != STATUS_Pending) {
+      finalStatus = r->m_status;
+      failed = r->m_numberOfFailedSubops;
     }
-    if (c.bad())
-      throw std::runtime_error("PACS " + Where(server) + ": the retrieval failed (" + c.text() +
-                               ")" + RefusedHint(c, server));
-    if (!scu.StoreError.empty())
-      throw std::runtime_error("PACS " + Where(server) + ": " + scu.StoreError);
-    if (finalStatus != STATUS_Success || failed > 0)
-      throw std::runtime_error("PACS " + Where(server) + ": the retrieval ended with " +
-                               StatusText(finalStatus) + ", " + std::to_string(failed) +
-                               " instance(s) failed");
-    const int got = int(scu.Received.size());
-    if (got == 0)
-      throw std::runtime_error("PACS " + Where(server) + " sent no instance of series " +
-                               seriesInstanceUid);
-    if (expected >= 0 && got != expected)
-      throw std::runtime_error("PACS " + Where(server) + " sent " + std::to_string(got) +
-                               " instance(s) of series " + seriesInstanceUid + ", of the " +
-                               std::to_string(expected) + " it lists");
-    scu.Close();
-    fs::create_directories(target.parent_path());
-    fs::rename(staging, target);
-    return got;
-  } catch (...) {
-    fs::remove_all(staging, ec);
-    throw;
+    delete r;
   }
+  if (c.bad())
+    throw std::runtime_error("PACS " + Where(server) + ": the retrieval failed (" + c.text() + ")" +
+                             RefusedHint(c, server));
+  if (!scu.StoreError.empty())
+    throw std::runtime_error("PACS " + Where(server) + ": " + scu.StoreError);
+  if (finalStatus != STATUS_Success || failed > 0)
+    throw std::runtime_error("PACS " + Where(server) + ": the retrieval ended with " +
+                             StatusText(finalStatus) + ", " + std::to_string(failed) +
+                             " instance(s) failed");
+  scu.Close();
+  return fetched.Commit("PACS " + Where(server), seriesInstanceUid, int(scu.Received.size()),
+                        expected);
 }
 
 void StoreFiles(const PacsServer& server, const std::vector<std::string>& files) {
