@@ -201,17 +201,8 @@ TEST(PacsClient, FailuresNameTheServerAndWhyAndLeaveNothing) {
   EXPECT_NE(why.find("no association"), std::string::npos) << why;
   // Slow: a socket that accepts connections and never answers: the 2 s timeout ends it.
   {
-    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    a.sin_port = 0;
-    socklen_t n = sizeof a;
-    ASSERT_EQ(::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
-    ASSERT_EQ(::listen(fd, 4), 0);
-    ASSERT_EQ(::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &n), 0);
     bm::PacsServer silent = server;
-    silent.port = ntohs(a.sin_port);
+    const int fd = bmtest::LoopbackSocket(silent.port, true);
     const auto t0 = std::chrono::steady_clock::now();
     why = Failure([&] { bm::FindSeries(silent, {}); });
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -21,8 +21,9 @@
 
 namespace bmtest {
 
-/// A TCP port on 127.0.0.1 nothing listens on now (the kernel's choice).
-inline int FreeLoopbackPort() {
+/// A TCP socket bound to a free port on 127.0.0.1 (the kernel's choice), listening when `listen`
+/// (connections complete, nothing answers: a silent server). Returns the socket; `port` is set.
+inline int LoopbackSocket(int& port, bool listen) {
   const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
   sockaddr_in a{};
   a.sin_family = AF_INET;
@@ -30,13 +31,21 @@ inline int FreeLoopbackPort() {
   a.sin_port = 0;
   socklen_t n = sizeof a;
   if (fd < 0 || ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 ||
+      (listen && ::listen(fd, 4) != 0) ||
       ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &n) != 0) {
     if (fd >= 0)
       ::close(fd);
     throw std::runtime_error("no free loopback port");
   }
-  ::close(fd);
-  return ntohs(a.sin_port);
+  port = ntohs(a.sin_port);
+  return fd;
+}
+
+/// A TCP port on 127.0.0.1 nothing listens on now.
+inline int FreeLoopbackPort() {
+  int port = 0;
+  ::close(LoopbackSocket(port, false));
+  return port;
 }
 
 /// Whether something accepts TCP connections on 127.0.0.1:port.
