@@ -54,7 +54,9 @@ if ninja -C build-tsan -t targets all | grep -q '^BMSessionTests:'; then
   if setarch "$(uname -m)" -R true 2>/dev/null; then norandom=(setarch "$(uname -m)" -R); fi
   "${norandom[@]}" cmake --build build-tsan -j "$jobs" --target BMCoreTests BMSessionTests
   # The engine's worker pool (BMCoreTests) and the haptic thread (BMSessionTests).
-  "${norandom[@]}" build-tsan/Testing/Logic/BMCoreTests
+  # FeedTrial.* left out: its engine runs the 2-thread pass that EngineDeterminism.* runs at 1
+  # and 2 threads, and it took 107 s of the stage's 4 min under TSan.
+  "${norandom[@]}" build-tsan/Testing/Logic/BMCoreTests --gtest_filter='-FeedTrial.*'
   "${norandom[@]}" build-tsan/Testing/Logic/BMSessionTests
 else
   echo "test.sh: no BMSessionTests target yet (no session unit tests); ThreadSanitizer stage skipped"
