@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 #include <stdexcept>
 
@@ -296,8 +297,9 @@ BuiltSession BuildSession(const Scene& scene, Voxmap bone, const SessionRequest&
     b.startLiftMm = StartLiftMm(*b.setup, -t.clearanceMm, 0.0);
     if (b.startLiftMm > 0) {
       std::ostringstream note;
-      note << "the tool starts " << b.startLiftMm << " mm further out along its axis than the "
-           << "scene's clearance of " << t.clearanceMm << " mm: bone lay inside it there";
+      note << std::fixed << std::setprecision(2) << "the tool starts " << b.startLiftMm
+           << " mm further out along its axis than the scene's clearance of " << t.clearanceMm
+           << " mm: bone lay inside it there";
       b.startNote = note.str();
     }
     d.startMm = ToolPoseAtDepth(setup, -t.clearanceMm - b.startLiftMm).positionMm;
