@@ -109,7 +109,7 @@ int CohortCommand(const bm::cli::ParsedArgs& p) {
   const fs::path dir = fs::absolute(*out);
   fs::create_directories(dir / "cases");
 
-  std::vector<bm::CohortCase> todo;
+  std::vector<bm::CohortCase> toRun;
   int skipped = 0;
   if (const auto only = p.Get("case")) {
     const auto it = std::find_if(cases.begin(), cases.end(),
@@ -119,20 +119,20 @@ int CohortCommand(const bm::cli::ParsedArgs& p) {
     if (bm::CohortCaseDone(dir, *it))
       skipped = 1;
     else
-      todo.push_back(*it);
+      toRun.push_back(*it);
   } else if (!p.Has("collect")) {
     for (const auto& c : cases)
       if (bm::CohortCaseDone(dir, c))
         ++skipped;
       else
-        todo.push_back(c);
+        toRun.push_back(c);
   }
   const int jobs = int(p.GetInt("jobs", 1, 64).value_or(1));
   std::map<pid_t, bm::CohortCase> running;
   size_t next = 0;
-  while (next < todo.size() || !running.empty()) {
-    while (next < todo.size() && int(running.size()) < jobs) {
-      const bm::CohortCase& c = todo[next++];
+  while (next < toRun.size() || !running.empty()) {
+    while (next < toRun.size() && int(running.size()) < jobs) {
+      const bm::CohortCase& c = toRun[next++];
       std::error_code ec;
       fs::remove_all(bm::CohortCaseFolder(dir, c), ec); // a case not done left nothing usable
       running[StartCase(dir, c)] = c;
@@ -165,7 +165,7 @@ int CohortCommand(const bm::cli::ParsedArgs& p) {
     return 0; // the case's outcome is in its folder; the task itself succeeded
   }
   std::cout << counts["planned"] << " planned, " << counts["no_glenoid"] << " no glenoid, "
-            << counts["failed"] << " failed, " << counts["pending"] << " pending; " << todo.size()
+            << counts["failed"] << " failed, " << counts["pending"] << " pending; " << toRun.size()
             << " run now, " << skipped << " done before (skipped)\n";
   return counts["failed"] > 0 ? 1 : 0;
 }
