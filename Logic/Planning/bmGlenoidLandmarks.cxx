@@ -1,6 +1,7 @@
 #include "bmGlenoidLandmarks.h"
 
 #include "bmGlenoidGeometry.h"
+#include "bmScapularSpine.h"
 
 #include <nlohmann/json.hpp>
 
@@ -566,13 +567,23 @@ GlenoidLandmarks DetectLandmarks(const SegmentedBone& bone, const LandmarkOverri
   if (ov.trigonum) {
     L.trigonum = *ov.trigonum;
     L.trigonumSource = "user";
+  } else if (const SpineRootResult spine = FindSpineRoot(bone, L.scapulaLabel, c); spine.root) {
+    // The root of the spine, found in the scapula's own frame.
+    L.trigonum = spine.root->trigonum;
+    L.trigonumSource = "detected: root of the scapular spine";
+    const std::string edge = NearScanEdge(opt.scanBounds, L.trigonum, reach, {true, true, true});
+    if (!edge.empty())
+      L.trigonumMissing = "the scapula leaves the scan at its " + edge +
+                          " edge along the scapular spine (the medial border is outside the "
+                          "field of view)";
   } else {
     const double kf = (c[2] - bone.Origin()[2]) / bone.Spacing();
     const int k0 = int(std::floor(kf));
     const double t = kf - k0;
     const auto a = FarthestEnd(bone, L.scapulaLabel, c, k0, 3.0);
     const auto b = FarthestEnd(bone, L.scapulaLabel, c, k0 + 1, 3.0);
-    L.trigonumSource = "detected";
+    L.trigonumSource =
+        "detected: medial tip on the glenoid centre's axial plane (" + spine.reason + ")";
     if (!a || !b)
       L.trigonumMissing = "the scapula does not reach the glenoid centre's axial plane";
     else

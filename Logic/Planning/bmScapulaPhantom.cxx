@@ -18,6 +18,16 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 // Blade quadrilateral in scapular (x', z'), mm, clockwise: superior angle, neck, neck, inferior
 // angle.
 constexpr double kBlade[4][2] = {{-100, 40}, {-15, 22}, {-15, -22}, {-85, -115}};
+// The spine's base line in scapular (x', z'), mm: from its root on the medial border at z' = 0
+// to its lateral end; its width across that line and its height behind the blade's posterior
+// face at the root and at the lateral end.
+constexpr double kSpineEnd[2] = {-30, 18};
+constexpr double kSpineWidthMm = 8, kSpineRootHeightMm = 5, kSpineEndHeightMm = 18;
+// The medial border's x' at height z' (the blade's edge from the inferior to the superior angle).
+constexpr double MedialBorderX(double z) {
+  return kBlade[3][0] +
+         (kBlade[0][0] - kBlade[3][0]) * (z - kBlade[3][1]) / (kBlade[0][1] - kBlade[3][1]);
+}
 
 void Require(bool ok, const std::string& what) {
   if (!ok)
@@ -125,15 +135,35 @@ bool ScapulaPhantom::InBlade(double x, double y, double z, double s) const {
   return true;
 }
 
+bool ScapulaPhantom::InSpine(double x, double y, double z, double s) const {
+  if (!P_.spine)
+    return false;
+  const double x0 = MedialBorderX(0), ex = kSpineEnd[0] - x0, ez = kSpineEnd[1];
+  const double len = std::hypot(ex, ez);
+  const double along = ((x - x0) * ex + z * ez) / len, across = ((x - x0) * ez - z * ex) / len;
+  if (along > len - s || std::abs(across) > kSpineWidthMm / 2 - s || y > 0)
+    return false;
+  const double height =
+      kSpineRootHeightMm + (kSpineEndHeightMm - kSpineRootHeightMm) * std::max(0.0, along) / len;
+  if (y < -(P_.bladeThicknessMm / 2 + height) + s)
+    return false;
+  // The medial border clips it (the blade's edge from the inferior to the superior angle).
+  const double* A = kBlade[3];
+  const double* B = kBlade[0];
+  const double bx = B[0] - A[0], bz = B[1] - A[1];
+  return ((x - A[0]) * bz - (z - A[1]) * bx) / std::hypot(bx, bz) >= s;
+}
+
 ScapulaPhantom::Tissue ScapulaPhantom::TissueAt(const Vec3& p, Part* part) const {
   const Vec3 d = Sub(p, C_);
   const double u = Dot(d, Eu_), v = Dot(d, Ev_), w = Dot(d, N_);
   const double x = Dot(d, Xs_), y = Dot(d, As_), z = Dot(d, Zs_);
   const double tc = P_.corticalMm;
-  if (InVault(u, v, w, 0) || InBlade(x, y, z, 0)) {
+  if (InVault(u, v, w, 0) || InBlade(x, y, z, 0) || InSpine(x, y, z, 0)) {
     if (part)
       *part = Part::Scapula;
-    return InVault(u, v, w, tc) || InBlade(x, y, z, tc) ? Tissue::Cancellous : Tissue::Cortical;
+    return InVault(u, v, w, tc) || InBlade(x, y, z, tc) || InSpine(x, y, z, tc) ? Tissue::Cancellous
+                                                                                : Tissue::Cortical;
   }
   const double rh = Distance(p, H_);
   if (rh <= P_.humeralHeadRadiusMm) {
@@ -173,6 +203,12 @@ void ScapulaPhantom::Bounds(Vec3& lo, Vec3& hi) const {
     const double x = (c & 1) ? -15.0 : -100.0, y = ((c & 2) ? 0.5 : -0.5) * P_.bladeThicknessMm,
                  z = (c & 4) ? 40.0 : -115.0;
     grow(AddScaled(AddScaled(AddScaled(C_, Xs_, x), As_, y), Zs_, z));
+    if (P_.spine) { // a box around the spine's plate
+      const double sx = (c & 1) ? kSpineEnd[0] + kSpineWidthMm : MedialBorderX(0) - 1,
+                   sy = (c & 2) ? 0 : -(P_.bladeThicknessMm / 2 + kSpineEndHeightMm),
+                   sz = (c & 4) ? kSpineEnd[1] + kSpineWidthMm : -kSpineWidthMm;
+      grow(AddScaled(AddScaled(AddScaled(C_, Xs_, sx), As_, sy), Zs_, sz));
+    }
   }
   for (int k = 0; k < 3; ++k) {
     Vec3 e{0, 0, 0};
@@ -222,8 +258,7 @@ void ScapulaPhantom::ComputeTruth() {
   }
   t.glenoidCentre = AddScaled(plane.centroid, t.faceNormal, 0.5 * (lo + hi));
   const double zc = Dot(Sub(t.glenoidCentre, C_), Zs_);
-  const double xT = kBlade[3][0] + (kBlade[0][0] - kBlade[3][0]) * (zc - kBlade[3][1]) /
-                                       (kBlade[0][1] - kBlade[3][1]);
+  const double xT = MedialBorderX(zc);
   t.trigonum = AddScaled(AddScaled(C_, Xs_, xT), Zs_, zc);
   t.inferiorAngle = AddScaled(AddScaled(C_, Xs_, kBlade[3][0]), Zs_, kBlade[3][1]);
   const ScapularFrame f = MakeScapularFrame(t.glenoidCentre, t.trigonum, t.inferiorAngle);
@@ -291,6 +326,7 @@ nlohmann::json ScapulaTruthJson(const ScapulaPhantom& ph) {
         {"cortical_mm", p.corticalMm},
         {"humeral_head_radius_mm", p.humeralHeadRadiusMm},
         {"joint_gap_mm", p.jointGapMm},
+        {"spine", p.spine},
         {"cortical_hu", p.corticalHU},
         {"cancellous_hu", p.cancellousHU},
         {"soft_hu", p.softHU}}},

@@ -24,7 +24,11 @@
 //  - scapular blade: |y'| <= t/2 (t = 6 mm) over the quadrilateral (x', z') = superior angle
 //    (-100, 40), neck (-15, 22), neck (-15, -22), inferior angle (-85, -115);
 //  - humeral head: a ball of radius Rh = 22 mm centred at C + (g + Rh) n, g = 4 mm (the joint
-//    space at the face centre; it widens toward the rim).
+//    space at the face centre; it widens toward the rim);
+//  - scapular spine (optional, ScapulaPhantomParams::spine): a plate 8 mm wide on the blade's
+//    posterior face (y' < 0) along the line from its root T on the medial border at z' = 0 (the
+//    trigonum) to (x', z') = (-30, 18) toward the acromion, standing 5 mm behind the blade at its
+//    root and 18 mm at its lateral end; the medial border clips it.
 // Each part has a cortical shell of thickness tc = 1.5 mm (1500 HU) over cancellous bone (300
 // HU); soft tissue (40 HU) around. The humeral head is a separate bone (its own component).
 #pragma once
@@ -51,6 +55,7 @@ struct ScapulaPhantomParams {
   double corticalMm = 1.5;            ///< tc, mm
   double humeralHeadRadiusMm = 22.0;  ///< Rh, mm
   double jointGapMm = 4.0;            ///< g, mm
+  bool spine = false;                 ///< a scapular spine (above; default none)
   /// The patient turned about the glenoid centre: angles about world x, y, z (deg, each within
   /// +-45), applied y, then x, then z (VTK's order, as BM CT Bone's box). The truth turns with it;
   /// the 3D version and inclination, measured in the scapula's own frame, do not change.
@@ -108,6 +113,7 @@ public:
 private:
   bool InVault(double u, double v, double w, double shrink) const;
   bool InBlade(double x, double y, double z, double shrink) const;
+  bool InSpine(double x, double y, double z, double shrink) const;
   void ComputeTruth();
 
   ScapulaPhantomParams P_;

@@ -1,9 +1,10 @@
 # BMPlanScanMatrix: the plan on scans made as scanners and patients make them (Docs/Planning.md,
 # "Real scans"), each from `bmsim phantom scapula` and planned by `bmsim plan` with its truth:
 #  - the patient turned 15 deg either way about the scanner's axis (8-bit window, 1.4 mm pixels,
-#    2.5 mm slices): 3D version and inclination within 2 deg, the glenoid centre within 2 mm (a
-#    tilt about the left-right or front-back axis is not yet planned within that: Docs/Planning.md,
-#    "Not yet");
+#    2.5 mm slices): 3D version and inclination within 2 deg, the glenoid centre within 2 mm;
+#  - a scapula with its spine, the patient tilted 20 deg about the left-right axis either way and
+#    about the front-back axis (the trigonum found at the spine's root, in the scapula's own
+#    frame): the same limits;
 #  - a left shoulder and a B2 (posteriorly worn) glenoid on the same scan;
 #  - both shoulders in one DICOM series: with no side the plan stops naming both; each side
 #    planned within 2 deg / 2 mm of its own truth;
@@ -42,6 +43,11 @@ foreach(r "0,0,15" "0,0,-15")
   string(REPLACE "," "_" tag "${r}")
   string(REPLACE "-" "m" tag "${tag}")
   plan_case(rotated_${tag} 2 2 PHANTOM ${coarse} --rotate=${r})
+endforeach()
+foreach(r "20,0,0" "-20,0,0" "0,-20,0")
+  string(REPLACE "," "_" tag "${r}")
+  string(REPLACE "-" "m" tag "${tag}")
+  plan_case(tilted_${tag} 2 2 PHANTOM ${coarse} --spine --rotate=${r})
 endforeach()
 plan_case(left 2 2 PHANTOM ${coarse} --left)
 plan_case(b2 2 2 PHANTOM ${coarse} --b2)
