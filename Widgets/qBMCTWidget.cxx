@@ -4,6 +4,9 @@
 #include "ui_qBMCTWidget.h"
 
 #include "bmPanelLogic.h"
+#ifdef BM_WITH_DCMTK
+#include "qBMPacsBrowser.h"
+#endif
 
 #include <QComboBox>
 #include <QFileDialog>
@@ -51,6 +54,8 @@ public:
   }
 
   qBMCTWidget* const q_ptr;
+  /// The PACS study browser (nullptr without DCMTK).
+  qBMPacsBrowser* PacsBrowser = nullptr;
   /// The last preview's suggested entry point, mm (empty: none yet).
   QVector<double> SuggestedEntry;
 };
@@ -120,6 +125,21 @@ void qBMCTWidgetPrivate::init() {
     if (!path.isEmpty())
       this->CTFileLineEdit->setText(path);
   });
+#ifdef BM_WITH_DCMTK
+  // A series fetched from a PACS is the CT exactly as a DICOM folder chosen above.
+  auto* fromPacs = new QPushButton(qBMCTWidget::tr("From PACS..."), q);
+  fromPacs->setObjectName("FromPacsButton");
+  fromPacs->setToolTip(qBMCTWidget::tr("Find a CT series on a PACS and fetch it"));
+  this->CTBrowseLayout->addWidget(fromPacs);
+  this->PacsBrowser = new qBMPacsBrowser(q);
+  QObject::connect(fromPacs, &QPushButton::clicked, q, [this]() {
+    this->PacsBrowser->show();
+    this->PacsBrowser->raise();
+    this->PacsBrowser->activateWindow();
+  });
+  QObject::connect(this->PacsBrowser, &qBMPacsBrowser::seriesFetched, q,
+                   [this](const QString& folder) { this->CTFileLineEdit->setText(folder); });
+#endif
 }
 
 qBMCTWidget::qBMCTWidget(QWidget* parent)
@@ -133,6 +153,11 @@ qBMCTWidget::~qBMCTWidget() = default;
 QString qBMCTWidget::ctFileName() const {
   Q_D(const qBMCTWidget);
   return d->CTFileLineEdit->text();
+}
+
+qBMPacsBrowser* qBMCTWidget::pacsBrowser() const {
+  Q_D(const qBMCTWidget);
+  return d->PacsBrowser;
 }
 
 double qBMCTWidget::thresholdHU() const {

@@ -6,7 +6,8 @@
 // Computes nothing: the import runs in the BM CT Bone source (vtkBMCTBoneSource) that whoever
 // listens to previewCTRequested() updates, and its result comes back through setCTPreview().
 // Object names (CTGroupBox, CTFileLineEdit, ThresholdSpinBox, PreviewCTButton, ...) address it
-// from the GUI tests.
+// from the GUI tests. In a build with DCMTK, "From PACS..." (FromPacsButton) opens the PACS
+// study browser (qBMPacsBrowser.h): a fetched series becomes the CT as a chosen folder would.
 #pragma once
 
 #include <QGroupBox>
@@ -15,6 +16,7 @@
 #include <QVector>
 
 class qBMCTWidgetPrivate;
+class qBMPacsBrowser;
 
 class qBMCTWidget : public QGroupBox {
   Q_OBJECT
@@ -26,6 +28,9 @@ public:
 
   /// The DICOM folder or CT file. Default "".
   QString ctFileName() const;
+  /// The PACS study browser that "From PACS..." opens (a dialog owned by this widget); nullptr
+  /// in a build without DCMTK (BM_WITH_DCMTK=OFF), where the button does not exist.
+  qBMPacsBrowser* pacsBrowser() const;
   /// The bone threshold: HU, or the file's own units with intensityMode() 1 (raw values).
   /// Default 200, range [-2000, 10000].
   double thresholdHU() const;

@@ -1,12 +1,11 @@
 // bmsim pacs - a PACS over DICOM's network protocol (bmPacsClient.h) or DICOMweb
-// (bmDicomWebClient.h): find a patient's series,
+// (bmDicomWebClient.h), whichever --server names (bmPacsConnection.h): find a patient's series,
 // fetch one into a folder (which bmsim plan and import read), store files back (a plan's SEG and
 // SR from bmsim run --dicom).
 #include <iomanip>
 #include <iostream>
 
-#include "bmDicomWebClient.h"
-#include "bmPacsClient.h"
+#include "bmPacsConnection.h"
 #include "bmsimArgs.h"
 #include "bmsimCommand.h"
 
@@ -34,39 +33,23 @@ void PacsOptions(bm::cli::ParsedArgs& p) {
            "reached, refuses or fails, naming why.");
 }
 
-/// The PACS named by --server: DIMSE (AET@host:port) or DICOMweb (an http(s) root).
-struct Pacs {
-  bool web = false;
-  bm::PacsServer dimse;
-  bm::DicomWebServer dicomWeb;
-};
-
-Pacs Server(const bm::cli::ParsedArgs& p) {
+/// The PACS named by --server: DIMSE (AET@host:port) or DICOMweb (an http(s) root), parsed by
+/// bm::PacsConnection.
+bm::PacsConnection Server(const bm::cli::ParsedArgs& p) {
   const auto address = p.Get("server");
   if (!address)
     throw bm::cli::UsageError("--server [AET@]HOST:PORT or --server URL is required");
-  Pacs pacs;
-  if (bm::IsDicomWebUrl(*address)) {
-    if (p.Has("aet"))
-      throw bm::cli::UsageError("--aet applies to a DICOM address, not a DICOMweb URL");
-    pacs.web = true;
-    pacs.dicomWeb.url = *address;
-    while (!pacs.dicomWeb.url.empty() && pacs.dicomWeb.url.back() == '/')
-      pacs.dicomWeb.url.pop_back();
-    if (const auto t = p.GetInt("timeout", 1, 3600))
-      pacs.dicomWeb.timeoutS = int(*t);
-    return pacs;
-  }
+  if (bm::IsDicomWebUrl(*address) && p.Has("aet"))
+    throw bm::cli::UsageError("--aet applies to a DICOM address, not a DICOMweb URL");
   bm::PacsServer base;
   base.callingAet = p.Get("aet", base.callingAet);
   if (const auto t = p.GetInt("timeout", 1, 3600))
     base.timeoutS = int(*t);
   try {
-    pacs.dimse = bm::ParsePacsServer(*address, base);
+    return bm::PacsConnection(*address, base);
   } catch (const std::invalid_argument& e) {
     throw bm::cli::UsageError(e.what());
   }
-  return pacs;
 }
 
 int PacsCommand(const bm::cli::ParsedArgs& p) {
@@ -74,7 +57,7 @@ int PacsCommand(const bm::cli::ParsedArgs& p) {
   if (words.empty())
     throw bm::cli::UsageError("pacs needs an action: find, get or store");
   const std::string action = words[0];
-  const Pacs server = Server(p);
+  const bm::PacsConnection server = Server(p);
   if (action == "find") {
     if (words.size() != 1)
       throw bm::cli::UsageError("pacs find takes no file");
@@ -87,8 +70,7 @@ int PacsCommand(const bm::cli::ParsedArgs& p) {
     q.modality = p.Get("modality", "CT");
     if (q.modality == "any")
       q.modality.clear();
-    const auto found =
-        server.web ? bm::FindSeriesWeb(server.dicomWeb, q) : bm::FindSeries(server.dimse, q);
+    const auto found = server.FindSeries(q);
     std::cout << found.size() << " series\n";
     for (const auto& s : found)
       std::cout << s.patientId << " | " << s.patientName << " | " << s.studyDate << " | "
@@ -107,8 +89,7 @@ int PacsCommand(const bm::cli::ParsedArgs& p) {
     const auto out = p.Get("out");
     if (!series || !out)
       throw bm::cli::UsageError("pacs get needs --series UID and --out DIR");
-    const int n = server.web ? bm::GetSeriesWeb(server.dicomWeb, p.Get("study", ""), *series, *out)
-                             : bm::GetSeries(server.dimse, p.Get("study", ""), *series, *out);
+    const int n = server.GetSeries(p.Get("study", ""), *series, *out);
     std::cout << "fetched " << n << " instance" << (n == 1 ? "" : "s") << " of series " << *series
               << " into " << *out << "\n";
     return 0;
@@ -117,10 +98,7 @@ int PacsCommand(const bm::cli::ParsedArgs& p) {
     const std::vector<std::string> files(words.begin() + 1, words.end());
     if (files.empty())
       throw bm::cli::UsageError("pacs store needs one or more DICOM files");
-    if (server.web)
-      bm::StoreFilesWeb(server.dicomWeb, files);
-    else
-      bm::StoreFiles(server.dimse, files);
+    server.StoreFiles(files);
     std::cout << "stored " << files.size() << " file" << (files.size() == 1 ? "" : "s") << "\n";
     return 0;
   }

@@ -30,6 +30,8 @@
 #include "bmDicomWebClient.h"
 #include "bmOrthancProcess.h"
 #include "bmPacsClient.h"
+#include "bmPacsConnection.h"
+#include "bmSeriesFolder.h"
 
 namespace fs = std::filesystem;
 
@@ -315,4 +317,58 @@ TEST(PacsClient, DicomWebFindsFetchesAndStoresAsDimseDoes) {
   why = Failure([&] { bm::StoreFilesWeb(server, {text}); });
   EXPECT_NE(why.find("notes.dcm"), std::string::npos) << why;
   EXPECT_THROW(bm::FindSeriesWeb(bm::DicomWebServer{"ftp://h/x", 10}, {}), std::invalid_argument);
+}
+
+// One text names either face (bmPacsConnection.h), and a series' folder is reused when it holds
+// the series whole, refused when it holds anything else (bmSeriesFolder.h); no PACS needed.
+TEST(PacsConnection, OneTextNamesEitherFaceAndAWholeSeriesFolderIsReused) {
+  bm::PacsServer base;
+  base.callingAet = "OURS";
+  base.timeoutS = 7;
+  const bm::PacsConnection dimse("PACS@10.0.0.2:104", base);
+  EXPECT_FALSE(dimse.IsDicomWeb());
+  EXPECT_EQ(dimse.Name(), "PACS@10.0.0.2:104");
+  EXPECT_EQ(dimse.Dimse().callingAet, "OURS");
+  EXPECT_EQ(dimse.Dimse().timeoutS, 7);
+  EXPECT_EQ(bm::PacsConnection("10.0.0.2:104").Name(), "ORTHANC@10.0.0.2:104");
+  const bm::PacsConnection web("https://pacs.example.org/dicom-web//", base);
+  EXPECT_TRUE(web.IsDicomWeb());
+  EXPECT_EQ(web.Name(), "https://pacs.example.org/dicom-web");
+  EXPECT_EQ(web.DicomWeb().timeoutS, 7);
+  for (const char* bad : {"", "pacs", "PACS@host", "PACS@host:99999", "PACS@host:x"}) {
+    const std::string why = Failure([&] { bm::PacsConnection{bad}; });
+    EXPECT_NE(why.find(std::string("'") + bad + "'"), std::string::npos) << bad << ": " << why;
+  }
+
+  const fs::path dir = Scratch("series-folder");
+  EXPECT_EQ(bm::SeriesFolder((dir / "cache").string(), "1.2.3/../4"),
+            (dir / "cache" / "1.2.3_.._4").string());
+  EXPECT_THROW(bm::SeriesFolder(dir.string(), ""), std::invalid_argument);
+  bm::DicomWriteOptions wo;
+  const std::string uid = bm::WriteDicomSeries(SmallCT(), (dir / "held").string(), wo);
+  EXPECT_EQ(bm::HeldSeriesInstances((dir / "held").string(), uid), 12);
+  EXPECT_EQ(bm::HeldSeriesInstances((dir / "held").string(), "1.2.3"), 0);
+  EXPECT_EQ(bm::HeldSeriesInstances((dir / "none").string(), uid), -1);
+
+  // Held whole: reused without asking the PACS (nothing listens on its port).
+  const bm::PacsConnection down("ORTHANC@127.0.0.1:" + std::to_string(bmtest::FreeLoopbackPort()));
+  bm::PacsSeries series;
+  series.seriesInstanceUid = uid;
+  series.instances = 12;
+  const bm::SeriesFetch reused = bm::FetchSeriesInto(down, series, (dir / "held").string());
+  EXPECT_TRUE(reused.reused);
+  EXPECT_EQ(reused.instances, 12);
+  // Not whole (the PACS lists more), or something else in it: refused, left as it was.
+  series.instances = 13;
+  std::string why = Failure([&] { bm::FetchSeriesInto(down, series, (dir / "held").string()); });
+  EXPECT_NE(why.find("12 of its 13"), std::string::npos) << why;
+  series.instances = 12;
+  std::ofstream((dir / "held" / "notes.txt").string()) << "not DICOM\n";
+  why = Failure([&] { bm::FetchSeriesInto(down, series, (dir / "held").string()); });
+  EXPECT_NE(why.find("does not hold series"), std::string::npos) << why;
+  EXPECT_EQ(Files(dir / "held").size(), 12u);
+  // Not there: fetched, and a server that is down is named, leaving no folder.
+  why = Failure([&] { bm::FetchSeriesInto(down, series, (dir / "fetched").string()); });
+  EXPECT_NE(why.find(down.Name()), std::string::npos) << why;
+  EXPECT_FALSE(fs::exists(dir / "fetched"));
 }
