@@ -9,6 +9,7 @@
 #include "bmsimCTOptions.h"
 #include "bmAtomicFile.h"
 #include "bmGlenoidLandmarks.h"
+#include "bmJoinedHeadCut.h"
 #include "bmGlenoidMeasurements.h"
 #include "bmGlenoidPlan.h"
 #include "bmImport.h"
@@ -421,15 +422,35 @@ static int PlanCommand(const ParsedArgs& p) {
   GlenoidLandmarks L;
   GlenoidMeasurements m;
   GlenoidPlan plan;
+  const bool placed = ov.glenoidCentre || ov.facePoint || !ov.rimPoints.empty();
+  auto detectOn = [&](const SegmentedBone& b) {
+    return side == ShoulderSide::Any && !placed ? DetectOneShoulder(b, ov, detect)
+                                                : DetectLandmarks(b, ov, detect);
+  };
+  // A humeral head joined to its glenoid at the threshold: cut off along its sphere, and the
+  // detection run again (bmJoinedHeadCut.h).
+  std::optional<SegmentedBone> cutBone;
   try {
-    if (side == ShoulderSide::Any && !ov.glenoidCentre && !ov.facePoint && ov.rimPoints.empty())
-      L = DetectOneShoulder(bone, ov, detect);
-    else
-      L = DetectLandmarks(bone, ov, detect);
+    std::optional<HeadCut> cut;
+    if (placed) {
+      L = detectOn(bone);
+    } else {
+      HeadCutOptions hc;
+      hc.scanSpacingMm = detect.scanSpacingMm;
+      LandmarksOnCut found = DetectCuttingAJoinedHead(r.voxmap, bone, detectOn, hc);
+      L = std::move(found.landmarks);
+      cut = std::move(found.cut);
+      cutBone = std::move(found.bone);
+    }
+    const SegmentedBone& used = cutBone ? *cutBone : bone;
+    if (cut) {
+      rep.importSummary += HeadCutSummary(*cut);
+      io.segmentation.excludeHeads.push_back(cut->head);
+    }
     m = MeasureGlenoid(L);
     plan = MakeGlenoidPlan(L, m, po);
     try {
-      CheckToolStartsOutsideBone(bone, L, plan);
+      CheckToolStartsOutsideBone(used, L, plan);
     } catch (const PlanBlocked& e) {
       if (io.segmentation.excludeSeedsMm.empty())
         throw;
@@ -439,7 +460,7 @@ static int PlanCommand(const ParsedArgs& p) {
     }
     // The user's point for the steps' bone must be on the glenoid's scapula.
     if (const auto sd = p.GetDoubles("seed", 3)) {
-      const int on = bone.LabelAt({(*sd)[0], (*sd)[1], (*sd)[2]});
+      const int on = used.LabelAt({(*sd)[0], (*sd)[1], (*sd)[2]});
       if (on != L.scapulaLabel)
         throw UsageError("--seed (" + Fx((*sd)[0]) + ", " + Fx((*sd)[1]) + ", " + Fx((*sd)[2]) +
                          ") mm is " + (on ? "on another bone than" : "not on bone of") +

@@ -141,6 +141,28 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt,
   }
   if (opt.box)
     MaskOutsideBox(mask, *opt.box);
+  // Excluded heads: their bone is not bone, and their voxels are not soft tissue to the
+  // partial-volume estimate of the bone beside them.
+  std::vector<uint8_t> inHead;
+  if (!opt.excludeHeads.empty()) {
+    inHead.assign(size_t(n), 0);
+    for (int k = 0; k < nz; ++k)
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+          itk::Index<3> at{
+              {region.GetIndex(0) + i, region.GetIndex(1) + j, region.GetIndex(2) + k}};
+          itk::Point<double, 3> p;
+          hu->TransformIndexToPhysicalPoint(at, p);
+          for (const auto& head : opt.excludeHeads)
+            if (head.Contains({p[0], p[1], p[2]})) {
+              const int64_t v = idx(i, j, k);
+              inHead[size_t(v)] = 1;
+              seg.headVoxels += M[v] ? 1 : 0;
+              M[v] = 0;
+              break;
+            }
+        }
+  }
   for (int64_t v = 0; v < n; ++v)
     seg.thresholdVoxels += M[v];
   if (seg.thresholdVoxels == 0 && opt.box)
@@ -292,7 +314,9 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt,
       for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) {
           int64_t v = idx(i, j, k);
-          if (!band[size_t(v)] || M[v] == 2 || H[v] >= metalHU)
+          // A voxel of an excluded head stays empty, however bright.
+          if (!band[size_t(v)] || M[v] == 2 || H[v] >= metalHU ||
+              (!inHead.empty() && inHead[size_t(v)]))
             continue;
           double softSum = 0, softN = 0, boneMax = -1e30, near3Bone = -1e30, near3Soft = 0,
                  near3SoftN = 0;
@@ -309,12 +333,13 @@ BoneSegmentation SegmentBone(const CTImage& ct, const SegmentationOptions& opt,
                 bool pure = !band[size_t(w)];
                 if (pure && in)
                   boneMax = std::max(boneMax, double(H[w]));
-                if (pure && !in && H[w] < metalHU)
+                const bool head = !inHead.empty() && inHead[size_t(w)];
+                if (pure && !in && H[w] < metalHU && !head)
                   softSum += H[w], softN += 1;
                 if (std::abs(di) <= 1 && std::abs(dj) <= 1 && std::abs(dk) <= 1) {
                   if (in)
                     near3Bone = std::max(near3Bone, double(H[w]));
-                  else if (H[w] < metalHU)
+                  else if (H[w] < metalHU && !head)
                     near3Soft += H[w], near3SoftN += 1;
                 }
               }

@@ -21,6 +21,8 @@
 // its own HU, at the surface the bone reference above (its own HU is diluted by the soft tissue).
 #pragma once
 
+#include "bmExcludedHead.h"
+
 #include "bmBoneSeparation.h"
 #include "bmBoxROI.h"
 #include "bmCTImage.h"
@@ -50,6 +52,10 @@ struct SegmentationOptions {
   /// World points (mm) on bones to drop: bones joined to the kept one are separated from it
   /// (bmBoneSeparation.h). A point off all bone is reported in the warnings and ignored.
   std::vector<std::array<double, 3>> excludeSeedsMm;
+  /// Humeral heads whose bone is left out after the threshold (bmExcludedHead.h): a head a plan
+  /// cut off its glenoid (bmJoinedHeadCut.h), so that a step's bone keeps none of it in front of
+  /// the face. Default none.
+  std::vector<ExcludedHead> excludeHeads;
   /// Keep every component above the threshold (ignored when a seed is given).
   bool keepAllComponents = false;
   /// Separation of touching bones (used when an exclude seed lies on the kept bone).
@@ -84,6 +90,7 @@ struct BoneSegmentation {
   int64_t keptVoxels = 0;            ///< voxels of the kept component(s), before hole filling
   int64_t filledVoxels = 0;          ///< voxels added by hole filling
   int64_t metalVoxels = 0;           ///< voxels at or above the metal threshold, left out
+  int64_t headVoxels = 0;            ///< bone voxels of the excluded heads, left out
   int numComponents = 0;             ///< components above the threshold
   int holesFilled = 0;               ///< number of cavities filled
   int borderHolesFilled = 0;         ///< of which cut open by the image border

@@ -188,6 +188,17 @@ ImportResult ImportVoxmap(CTImage ct, const ImportOptions& optIn, const Progress
   r.holesFilled = seg.holesFilled;
   r.separationDepthMm = seg.separation.depthMm;
   r.warnings.insert(r.warnings.end(), seg.warnings.begin(), seg.warnings.end());
+  if (!opt.segmentation.excludeHeads.empty()) {
+    const auto sp = seg.fraction->GetSpacing();
+    std::ostringstream note;
+    note << std::fixed << std::setprecision(1) << double(seg.headVoxels) * sp[0] * sp[1] * sp[2]
+         << " mm^3 of bone of the humeral head cut off its glenoid left out (head";
+    for (const auto& h : opt.segmentation.excludeHeads)
+      note << " (" << h.centreMm[0] << ", " << h.centreMm[1] << ", " << h.centreMm[2]
+           << ") mm, radius " << h.radiusMm << " mm";
+    note << ")";
+    r.notes.push_back(note.str());
+  }
   if (opt.roiMm) {
     r.roi = *opt.roiMm;
   } else {
@@ -397,6 +408,13 @@ ImportOptions ImportOptionsFromJson(const nlohmann::json& j) {
           {p[0].get<double>(), p[1].get<double>(), p[2].get<double>()});
     }
   }
+  if (j.contains("exclude_heads")) {
+    const auto& e = j["exclude_heads"];
+    if (!e.is_array())
+      throw std::runtime_error("bone: 'exclude_heads' must be an array of heads");
+    for (const auto& b : e)
+      o.segmentation.excludeHeads.push_back(ExcludedHeadFromJson(b, "bone: 'exclude_heads'"));
+  }
   if (j.contains("box")) {
     const auto& b = j["box"];
     if (!b.is_object() || !b.contains("centre") || !b.contains("halfSizes"))
@@ -489,6 +507,11 @@ nlohmann::json ImportOptionsToJson(const ImportOptions& o) {
     j["seed"] = *seg.seedMm;
   if (!seg.excludeSeedsMm.empty())
     j["exclude"] = seg.excludeSeedsMm;
+  if (!seg.excludeHeads.empty()) {
+    j["exclude_heads"] = nlohmann::json::array();
+    for (const auto& h : seg.excludeHeads)
+      j["exclude_heads"].push_back(ExcludedHeadToJson(h));
+  }
   if (o.roiMm)
     j["roi"] = {o.roiMm->lo[0], o.roiMm->lo[1], o.roiMm->lo[2],
                 o.roiMm->hi[0], o.roiMm->hi[1], o.roiMm->hi[2]};

@@ -96,7 +96,10 @@ OrientedBox OrientedBoxFromText(const std::string& text, const std::string& what
 
 /// Options from a scene's bone description (all keys optional):
 ///   "threshold": HU, "seed": [x, y, z] mm (the bone to keep), "exclude": [[x, y, z], ...] mm
-///   (bones to drop, separated from the kept one across joint spaces), "roi": [x0, y0, z0, x1,
+///   (bones to drop, separated from the kept one across joint spaces), "exclude_heads":
+///   [{"centre_mm": [x, y, z], "radius_mm": r, "shell_mm": s, "socket_centre_mm": [x, y, z],
+///   "socket_radius_mm": rs}, ...] (a humeral head cut off its glenoid, left out:
+///   bmExcludedHead.h; the socket optional), "roi": [x0, y0, z0, x1,
 ///   y1, z1] mm (inverted: an error), "box": {"centre": [x, y, z] mm, "halfSizes": [a, b, c]
 ///   mm, "rotation": [rx, ry, rz] deg} (an oriented box, bmBoxROI.h), "resolution": N, "series":
 ///   SeriesInstanceUID, "noFinerThanCT": bool (fewer cells where the CT's spacing
@@ -111,7 +114,8 @@ ImportOptions ImportOptionsFromJson(const nlohmann::json& bone);
 
 /// The inverse for what a user sets when choosing how a CT is read (the plan's step scenes carry
 /// the settings the plan was made with): "threshold" (or "rawThreshold"), "huMapping",
-/// "series", "seed", "exclude", "roi", "box", "keepAllComponents", "fillHoles", "resolution",
+/// "series", "seed", "exclude", "exclude_heads", "roi", "box", "keepAllComponents", "fillHoles",
+/// "resolution",
 /// "allowOutsideData", "maxMemoryMB" when set. ImportOptionsFromJson(ImportOptionsToJson(o))
 /// gives back those fields of o.
 nlohmann::json ImportOptionsToJson(const ImportOptions& options);

@@ -17,6 +17,8 @@
 #include "bmPlanDicomResults.h"
 #endif
 #include "bmJson.h"
+#include "bmExcludedHead.h"
+#include "bmJoinedHeadCut.h"
 #include "bmSegmentedBone.h"
 #include "bmVoxmap.h"
 
@@ -102,7 +104,11 @@ public:
   // Segmentation cache: one input identity and modification time.
   const void* Input = nullptr;
   vtkMTimeType InputMTime = 0;
+  std::unique_ptr<bm::Voxmap> Voxmap;
   std::unique_ptr<bm::SegmentedBone> Bone;
+  /// A humeral head joined to the glenoid, cut off (Bone is then the cut's): its steps leave it
+  /// out.
+  std::optional<bm::HeadCut> Cut;
   std::vector<bm::Vec3> RimPoints;
   // Detection cache: the landmarks for one set of glenoid overrides (centre, normal, face point,
   // rim points; none = detected), keyed by their JSON.
@@ -208,6 +214,8 @@ bool vtkBMGlenoidPlanFilter::WriteReport() {
     } else {
       rep.importSummary = "bone from the image planned on (the CT's default import settings)";
     }
+    if (in.Cut)
+      rep.importSummary += "\n" + bm::HeadCutSummary(*in.Cut);
     rep.source = ct.empty() ? std::string("an image open in the viewer (no CT file named)") : ct;
     if (in.LastLandmarks) {
       rep.landmarks = &*in.LastLandmarks;
@@ -362,10 +370,12 @@ int vtkBMGlenoidPlanFilter::RequestData(vtkInformation*, vtkInformationVector** 
     // 1. Segmentation, once per input.
     if (!in.Bone || in.Input != input || in.InputMTime != input->GetMTime()) {
       in.Bone.reset();
+      in.Cut.reset();
       in.HaveLandmarks = false;
       in.DetectedNormal.reset();
       this->UpdateProgress(0.05);
-      in.Bone = std::make_unique<bm::SegmentedBone>(VoxmapFromImage(input));
+      in.Voxmap = std::make_unique<bm::Voxmap>(VoxmapFromImage(input));
+      in.Bone = std::make_unique<bm::SegmentedBone>(*in.Voxmap);
       in.Input = input;
       in.InputMTime = input->GetMTime();
     }
@@ -416,7 +426,20 @@ int vtkBMGlenoidPlanFilter::RequestData(vtkInformation*, vtkInformationVector** 
     } else {
       this->UpdateProgress(0.3);
       try {
-        L = bm::DetectLandmarks(*in.Bone, base);
+        if (base.Empty() && !in.Cut) {
+          // The plan's detection, as bmsim plan's: a joined humeral head is cut off first.
+          bm::LandmarksOnCut found =
+              bm::DetectCuttingAJoinedHead(*in.Voxmap, *in.Bone, [&](const bm::SegmentedBone& b) {
+                return bm::DetectLandmarks(b, base);
+              });
+          L = std::move(found.landmarks);
+          if (found.cut) {
+            in.Bone = std::make_unique<bm::SegmentedBone>(std::move(*found.bone));
+            in.Cut = std::move(found.cut);
+          }
+        } else {
+          L = bm::DetectLandmarks(*in.Bone, base);
+        }
         ++this->DetectionCount;
         if (base.faceNormal && !givenNormal)
           L.normalSource = "detected";
@@ -487,10 +510,12 @@ int vtkBMGlenoidPlanFilter::RequestData(vtkInformation*, vtkInformationVector** 
       in.Warnings += (in.Warnings.empty() ? "" : "\n") + blocked + " (the steps are not offered)";
     const bool specified = this->CTBoneSpecification && *this->CTBoneSpecification;
     if (blocked.empty() && (specified || (this->CTFileName && *this->CTFileName))) {
-      const nlohmann::json settings =
+      nlohmann::json settings =
           specified
               ? bm::ParseJson(std::string(this->CTBoneSpecification), "the CT bone's specification")
               : nlohmann::json{{"ct", std::filesystem::absolute(this->CTFileName).string()}};
+      if (in.Cut) // the steps' bone leaves the cut-off head out
+        settings["exclude_heads"].push_back(bm::ExcludedHeadToJson(in.Cut->head));
       const bm::PlanScenes scenes = bm::MakePlanScenes(L, m, plan, settings);
       in.LastScenes = scenes;
       in.PlanScene = scenes.plan.dump(2);

@@ -5,12 +5,14 @@
 #include "bmGlenoidLandmarks.h"
 #include "bmGlenoidMeasurements.h"
 #include "bmImport.h"
+#include "bmJoinedHeadCut.h"
 #include "bmScapulaCT.h"
 
 #include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <iostream>
 
 #include <gtest/gtest.h>
@@ -136,6 +138,88 @@ TEST(PlanningFromCT, HeadCTHasNoGlenoid) {
     EXPECT_EQ(e.rejectedAt.size(), named);
     for (const Vec3& p : e.rejectedAt)
       EXPECT_NE(bone.LabelAt(p) + 1, 0); // finite, inside or beside the scan
+  }
+}
+// A humeral head joined to its glenoid at the threshold (1 mm joint space, 2.5 mm slices): no
+// joint is found; the head cut off along its sphere, in the middle of the joint space to its
+// socket, gives the glenoid back within 2 mm and 2 deg; a step's bone that leaves the head out
+// keeps no bone in front of the face and none of the head.
+TEST(PlanningFromCT, AJoinedHumeralHeadIsCutOffAndLeftOutOfTheStepsBone) {
+  ScapulaPhantomParams p;
+  p.jointGapMm = 1;
+  p.spine = true;
+  const ScapulaPhantom ph(p);
+  const ScapulaTruth& t = ph.Truth();
+  PhantomCTOptions o = ScapulaCTDefaults();
+  o.inPlaneSpacingMm = 1.4;
+  o.sliceSpacingMm = 2.5;
+  ImportOptions io;
+  io.segmentation.keepAllComponents = true;
+  io.resolution = 180;
+  const CTImage ct = MakeScapulaCT(ph, o);
+  const ImportResult r = ImportVoxmap(ct, io);
+  const SegmentedBone bone(r.voxmap);
+  EXPECT_THROW(DetectLandmarks(bone), NoGlenoidFound) << "the joint is resolved: no test";
+  HeadCutOptions hc;
+  hc.scanSpacingMm = 2.5;
+  const std::vector<HeadCut> cuts = CutJoinedHeads(r.voxmap, bone, hc);
+  ASSERT_FALSE(cuts.empty());
+  const HeadCut& cut = cuts.front();
+  EXPECT_LT(Distance(cut.head.centreMm, t.humeralHeadCentre), 1.5);
+  EXPECT_NEAR(cut.head.radiusMm, t.humeralHeadRadiusMm, 1.5);
+  ASSERT_TRUE(cut.head.socketCentreMm) << "the face beside the fused disc gives the socket";
+  EXPECT_NEAR(cut.head.socketRadiusMm, p.faceRadiusMm, 5.0);
+  EXPECT_GT(cut.cutVoxels, 0);
+  const GlenoidLandmarks L = DetectLandmarks(SegmentedBone(cut.voxmap));
+  const GlenoidMeasurements m = MeasureGlenoid(L);
+  EXPECT_LT(Distance(L.glenoidCentre, t.glenoidCentre), 2.0);
+  EXPECT_NEAR(m.version3DDeg, t.version3DDeg, 2.0);
+  EXPECT_NEAR(m.inclinationDeg, t.inclinationDeg, 2.0);
+
+  // The step's bone: the scapula at a seed in the vault, the head left out (its JSON round trip).
+  ImportOptions step;
+  step.segmentation.seedMm = AddScaled(t.glenoidCentre, t.faceNormal, -10.0);
+  step.segmentation.excludeHeads.push_back(cut.head);
+  step.resolution = 180;
+  const ImportOptions back = ImportOptionsFromJson(ImportOptionsToJson(step));
+  ASSERT_EQ(back.segmentation.excludeHeads.size(), 1u);
+  EXPECT_EQ(back.segmentation.excludeHeads[0].centreMm, cut.head.centreMm);
+  EXPECT_EQ(back.segmentation.excludeHeads[0].socketRadiusMm, cut.head.socketRadiusMm);
+  EXPECT_EQ(back.segmentation.excludeHeads[0].shellMm, cut.head.shellMm);
+  const ImportResult s = ImportVoxmap(ct, back);
+  const Voxmap& v = s.voxmap;
+  auto fractionAt = [&](const Vec3& q) {
+    const auto& d = v.Dims();
+    int ijk[3];
+    for (int a = 0; a < 3; ++a) {
+      ijk[a] = int(std::lround((q[size_t(a)] - v.Origin()[size_t(a)]) / v.Spacing()));
+      if (ijk[a] < 0 || ijk[a] >= d[size_t(a)])
+        return 0.0;
+    }
+    return v.Fraction(v.Index(ijk[0], ijk[1], ijk[2]));
+  };
+  // Nothing in front of the face along its normal (the joint space and the head)...
+  for (double w = 1.0; w <= 2 * t.humeralHeadRadiusMm; w += 0.5)
+    EXPECT_LT(fractionAt(AddScaled(t.glenoidCentre, t.faceNormal, w)), 0.5) << w << " mm out";
+  // ... the face and the vault behind it kept.
+  EXPECT_GT(fractionAt(AddScaled(t.glenoidCentre, t.faceNormal, -3.0)), 0.5);
+  bool notes = false;
+  for (const auto& n : s.notes)
+    notes = notes || n.find("humeral head cut off its glenoid left out") != std::string::npos;
+  EXPECT_TRUE(notes) << s.Report();
+
+  // Refusals name the key.
+  for (
+      const char* bad :
+      {R"([{"centre_mm": [0, 0, 0], "radius_mm": 0, "shell_mm": 1}])",
+       R"([{"centre_mm": [0, 0, 0], "radius_mm": 20, "shell_mm": 1, "socket_centre_mm": [1, 0, 0], "socket_radius_mm": 10}])",
+       R"([{"centre_mm": [0, 0], "radius_mm": 20, "shell_mm": 1}])", R"({"centre_mm": 1})"}) {
+    try {
+      ImportOptionsFromJson({{"exclude_heads", nlohmann::json::parse(bad)}});
+      ADD_FAILURE() << "accepted " << bad;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("exclude_heads"), std::string::npos) << e.what();
+    }
   }
 }
 #endif

@@ -2,8 +2,8 @@
 // version and inclination against the phantom's truth, a moved trigonum changing Friedman's
 // version by the angle it was turned through without a new joint detection, the plan's targets,
 // the plan scene, the glenoid placed by a click on its face or on its rim where detection fails,
-// the report written as bmsim plan writes it, and a bone without a glenoid refused with "no
-// glenoid found".
+// the report written as bmsim plan writes it, a bone without a glenoid refused with "no
+// glenoid found", and a humeral head joined to the glenoid cut off as bmsim plan cuts it.
 #include "vtkBMGlenoidPlanFilter.h"
 
 #include "bmBoneFractionImage.h"
@@ -241,4 +241,51 @@ TEST(GlenoidPlanFilter, AClickOnTheFaceOrTheRimPlacesTheGlenoidAndTheReportIsWri
   f->RemoveAllRimPoints();
   f->Update();
   EXPECT_NE(std::string(f->GetLastError()).find("no glenoid found"), std::string::npos);
+}
+
+TEST(GlenoidPlanFilter, AJoinedHumeralHeadIsCutOffAndTheStepsLeaveItOut) {
+  // The joint space bridged over a disc 24 mm across, as thick slices fuse it: one bone, no
+  // joint; the plan cuts the head off along its sphere, measures the glenoid and its steps'
+  // bone leaves the head out, as bmsim plan does.
+  PhantomInput& in = Phantom();
+  const bm::ScapulaTruth& t = in.phantom.Truth();
+  bm::Voxmap v = bm::MakeScapulaVoxmap(in.phantom, 1.0, 3);
+  for (int k = 0; k < v.Dims()[2]; ++k)
+    for (int j = 0; j < v.Dims()[1]; ++j)
+      for (int i = 0; i < v.Dims()[0]; ++i) {
+        const bm::Vec3 p{v.Origin()[0] + i * v.Spacing(), v.Origin()[1] + j * v.Spacing(),
+                         v.Origin()[2] + k * v.Spacing()};
+        const bm::Vec3 d = bm::Sub(p, t.glenoidCentre);
+        const double w = bm::Dot(d, t.faceNormal);
+        if (w > -1 && w < 6 && bm::Norm(bm::AddScaled(d, t.faceNormal, -w)) < 12 &&
+            bm::Distance(p, t.humeralHeadCentre) > t.humeralHeadRadiusMm - 1)
+          v.SetFill(v.Index(i, j, k), bm::Voxmap::kFull);
+      }
+  bm::BoneFractionImage image;
+  image.Update(v);
+  vtkNew<vtkBMGlenoidPlanFilter> f;
+  f->SetInputData(image.GetOutput());
+  f->SetCTFileName("/tmp/scapula-ct");
+  f->Update();
+  ASSERT_STREQ(f->GetLastError(), "");
+  const double* c = f->GetUsedGlenoidCentre();
+  EXPECT_LT(bm::Distance({c[0], c[1], c[2]}, t.glenoidCentre), 2.0);
+  EXPECT_NEAR(f->GetVersion3D(), t.version3DDeg, 2.0);
+  EXPECT_NEAR(f->GetInclination(), t.inclinationDeg, 2.0);
+  for (const char* scene : {f->GetPinStepScene(), f->GetReamStepScene()}) {
+    const nlohmann::json j = nlohmann::json::parse(scene);
+    ASSERT_TRUE(j["bone"]["ct"].contains("exclude_heads")) << j["bone"].dump();
+    const auto& head = j["bone"]["ct"]["exclude_heads"][0];
+    const bm::Vec3 hc{head["centre_mm"][0], head["centre_mm"][1], head["centre_mm"][2]};
+    EXPECT_LT(bm::Distance(hc, t.humeralHeadCentre), 1.5);
+  }
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(testing::TempDir()) / "bm-plan-filter-joined";
+  fs::remove_all(dir);
+  f->SetReportDirectory(dir.string().c_str());
+  ASSERT_TRUE(f->WriteReport()) << f->GetReportError();
+  std::ifstream report(dir / "plan_report.md");
+  const std::string text((std::istreambuf_iterator<char>(report)),
+                         std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("cut off along its sphere"), std::string::npos);
 }

@@ -1,0 +1,84 @@
+// bmJoinedHeadCut.h - a humeral head joined to its glenoid at the bone threshold (no joint space
+// resolved: thick slices, a narrow joint) cut off along its own sphere, so that landmark
+// detection sees two bones facing each other (Docs/Planning.md, "Landmarks").
+//
+// A humeral head is close to a sphere (radius 12-40 mm, as detection accepts) and the glenoid's
+// face is shallower than it (a larger radius of curvature), so the joint, resolved or not, lies
+// just outside the head's sphere. On each of the largest bones whose deepest voxel lies at least
+// minHeadDepthMm below its surface (the head's inscribed ball; a scapula's vault and blade are
+// thinner), deepest first:
+//  1. the head's sphere: from the deepest voxel (centre) and its depth (radius), a least-squares
+//     sphere (bmGlenoidGeometry.h FitSphere) refitted to the bone's surface points within
+//     max(2 voxels, 20 % of the radius) of it whose outward normal is within 35 deg of the
+//     sphere's (the head's free surface; the glenoid's face looks the other way);
+//  2. accepted when its radius is 12-40 mm, its RMS at most 10 % of the radius plus half the
+//     scan's spacing, and its points cover at least minCoverage of the sphere;
+//  3. the socket: a least-squares sphere on the bone's surface points between R + h and R + 12 mm
+//     from the head's centre whose outward normal is within 35 deg of the way to it (the face
+//     where the joint is resolved), kept when it is shallower than the head (radius > R + 1 mm)
+//     and holds the head's centre;
+//  4. the cut (bmExcludedHead.h): with the socket, the voxels whose f lies in (0, 2h] (h the
+//     voxel) are emptied: the middle of the joint space, the bone the partial volume bridged
+//     across it split between the two; without one, the shell (R, R + h], which takes the head's
+//     skin with it. f changes by at most the shell's thickness per 6-connected step, so no path
+//     crosses it: the head and the glenoid are separate bones.
+// Candidates are returned deepest bone first: the caller keeps the first on which the glenoid is
+// found, and leaves the ball of radius cutRadiusMm out of the step scenes' bone.
+//
+// Units: mm.
+#pragma once
+
+#include "bmExcludedHead.h"
+#include "bmGlenoidLandmarks.h"
+#include "bmSegmentedBone.h"
+#include "bmVec3.h"
+#include "bmVoxmap.h"
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace bm {
+
+struct HeadCutOptions {
+  double minHeadDepthMm = 8; ///< a bone whose deepest voxel is shallower has no head to cut
+  int maxBones = 3;          ///< the largest bones tried
+  /// The CT's coarsest spacing, mm (0: the voxmap's): the RMS allowed grows by half of it.
+  double scanSpacingMm = 0;
+  double minCoverage = 0.3; ///< of the sphere's area its surface points must cover
+};
+
+struct HeadCut {
+  Voxmap voxmap;         ///< the bone with the shell emptied
+  ExcludedHead head;     ///< the head, its socket (if found) and the shell: what a step leaves out
+  double rmsMm = 0;      ///< RMS distance of the head's surface points to its sphere, mm
+  double coverage = 0;   ///< fraction of the sphere its points cover
+  int64_t cutVoxels = 0; ///< voxels emptied
+};
+
+/// The candidate cuts of `voxmap` (segmented as `bone`), deepest bone first; empty when no bone
+/// has a head's depth and sphere.
+std::vector<HeadCut> CutJoinedHeads(const Voxmap& voxmap, const SegmentedBone& bone,
+                                    const HeadCutOptions& options = {});
+
+/// The landmarks, and the cut that let them be found, if one was needed.
+struct LandmarksOnCut {
+  GlenoidLandmarks landmarks;
+  std::optional<HeadCut> cut;        ///< set when the glenoid was found only after a cut
+  std::optional<SegmentedBone> bone; ///< the cut's bone (with `cut`)
+};
+
+/// The plan's detection, both faces: `detect` on `bone` (segmented from `voxmap`); when it finds
+/// no glenoid, on each of CutJoinedHeads' cuts in turn until one finds it. Rethrows the first
+/// NoGlenoidFound when none does, and at once when its message starts "both shoulders" (two
+/// glenoids found: no head is joined).
+LandmarksOnCut
+DetectCuttingAJoinedHead(const Voxmap& voxmap, const SegmentedBone& bone,
+                         const std::function<GlenoidLandmarks(const SegmentedBone&)>& detect,
+                         const HeadCutOptions& options = {});
+
+/// The report's line for a cut ("joined: ..."), ending in a newline.
+std::string HeadCutSummary(const HeadCut& cut);
+
+} // namespace bm
