@@ -45,6 +45,8 @@ static void PhantomOptions(ParsedArgs& p) {
             "scapula: glenoid inclination, positive = superior (default 8)")
       .Flag("b2", "scapula: posterior wear (biconcave Walch B2 face)")
       .Flag("left", "scapula: a left shoulder (default right)")
+      .Flag("humerus", "scapula: the humeral head as a proximal humerus (its articular cap on a "
+                       "neck and shaft) instead of a whole ball")
       .Flag("spine", "scapula: with a scapular spine, whose root on the medial border is the "
                      "trigonum (default: the blade alone)")
       .Real("pixel-mm", 0.3, 3, "MM", "scapula: in-plane pixel size (default 0.75)")
@@ -71,7 +73,7 @@ static int PhantomCommand(const ParsedArgs& p) {
     return ScapulaPhantomCommand(p);
 #endif
   for (const char* o : {"version", "inclination", "b2", "left", "pixel-mm", "slice-mm", "joint-gap",
-                        "window", "rotate", "both", "spine"})
+                        "window", "rotate", "both", "spine", "humerus"})
     if (p.Has(o))
       throw UsageError(std::string("--") + o + " applies to the scapula phantom only");
   bm::PhantomCTOptions ct;

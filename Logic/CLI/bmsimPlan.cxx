@@ -107,6 +107,7 @@ int ScapulaPhantomCommand(const ParsedArgs& p) {
   sp.inclinationDeg = p.GetDouble("inclination", -45, 45).value_or(sp.inclinationDeg);
   sp.jointGapMm = p.GetDouble("joint-gap", 1, 20).value_or(sp.jointGapMm);
   sp.spine = p.Has("spine");
+  sp.humerus = p.Has("humerus");
   if (const auto r = p.GetDoubles("rotate", 3)) {
     for (double a : *r)
       if (!(std::abs(a) <= 45))

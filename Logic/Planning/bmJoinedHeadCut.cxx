@@ -149,10 +149,51 @@ std::vector<HeadCut> CutJoinedHeads(const Voxmap& vm, const SegmentedBone& bone,
     if (!ok || fit.radiusMm < 12 || fit.radiusMm > 40 ||
         fit.rmsMm > 0.1 * fit.radiusMm + 0.5 * scan)
       continue;
-    // Surface points per mm^2 of a voxel-face iso-surface: 1.5 / h^2 on average over directions.
-    const double coverage = double(pts.size()) * h * h /
-                            (1.5 * 4 * 3.14159265358979323846 * fit.radiusMm * fit.radiusMm);
-    if (coverage < o.minCoverage)
+    // Coverage: the share of 1024 directions (a Fibonacci sphere) from the centre in which a
+    // surface point lies within max(half a voxel, a quarter of the scan's spacing) of the
+    // sphere: a head's articular cap and the bone around it (about half of them).
+    const double tight = std::max(0.5 * h, 0.25 * scan);
+    constexpr int kDirections = 1024;
+    std::vector<Vec3> dirs(kDirections);
+    const double golden = 3.14159265358979323846 * (3.0 - std::sqrt(5.0));
+    for (int q = 0; q < kDirections; ++q) {
+      const double z = 1 - 2 * (q + 0.5) / kDirections, rr = std::sqrt(1 - z * z);
+      dirs[size_t(q)] = {rr * std::cos(golden * q), rr * std::sin(golden * q), z};
+    }
+    std::vector<uint8_t> hit(kDirections, 0);
+    for (const Vec3& p : pts) {
+      const Vec3 d = Sub(p, fit.centre);
+      const double r = Norm(d);
+      if (std::abs(r - fit.radiusMm) > tight)
+        continue;
+      int best = 0;
+      for (int q = 1; q < kDirections; ++q)
+        if (Dot(dirs[size_t(q)], d) > Dot(dirs[size_t(best)], d))
+          best = q;
+      hit[size_t(best)] = 1;
+    }
+    double coverage = 0;
+    Vec3 mean{0, 0, 0};
+    for (int q = 0; q < kDirections; ++q)
+      if (hit[size_t(q)])
+        coverage += 1, mean = Add(mean, dirs[size_t(q)]);
+    if (coverage == 0)
+      continue;
+    mean = Scale(mean, 1.0 / coverage);
+    coverage /= kDirections;
+    // The directions hit should fill a cap around their mean: for a cap of half-angle alpha
+    // filled evenly the mean's length is (1 + cos alpha) / 2, so alpha follows from it, and the
+    // share of the cap's directions hit is its fill. A ring (a cylinder's side) or rings (a
+    // block's faces) have a short mean and fill little of the sphere they imply.
+    const double rho = Norm(mean);
+    const double cosAlpha = std::clamp(2 * rho - 1, -1.0, 1.0);
+    const Vec3 axis = rho > 1e-9 ? Scale(mean, 1 / rho) : Vec3{0, 0, 1};
+    double inside = 0, inCap = 0;
+    for (int q = 0; q < kDirections; ++q)
+      if (Dot(dirs[size_t(q)], axis) >= cosAlpha - 1e-12)
+        inside += 1, inCap += hit[size_t(q)];
+    const double fill = inside > 0 ? inCap / inside : 0;
+    if (coverage < o.minCoverage || fill < o.minFill)
       continue;
     // The shell (R, R + h]: a voxel of the head holding half its volume or more has its centre
     // within about h / 2 of the sphere, so the head's whole skin falls in it, and no bone of the
@@ -160,7 +201,6 @@ std::vector<HeadCut> CutJoinedHeads(const Voxmap& vm, const SegmentedBone& bone,
     HeadCut cut{vm, {}, fit.rmsMm, coverage, 0};
     cut.head.centreMm = fit.centre;
     cut.head.radiusMm = fit.radiusMm;
-    cut.head.shellMm = h;
     // The socket: the face where the joint is resolved, looking at the head's centre.
     std::vector<Vec3> face;
     for (const auto& sp : bone.Surface()) {
@@ -171,27 +211,42 @@ std::vector<HeadCut> CutJoinedHeads(const Voxmap& vm, const SegmentedBone& bone,
       if (r > fit.radiusMm + h && r <= fit.radiusMm + 12 && Dot(sp.normal, d) >= cosMax * r)
         face.push_back(sp.p);
     }
-    if (face.size() >= 30) {
-      try {
-        const SphereFit socket = FitSphere(face);
-        if (socket.radiusMm > fit.radiusMm + 1 && socket.radiusMm <= 1000 &&
-            Distance(socket.centre, fit.centre) < socket.radiusMm &&
-            socket.rmsMm <= 0.1 * socket.radiusMm + 0.5 * scan) {
-          cut.head.socketCentreMm = socket.centre;
-          cut.head.socketRadiusMm = socket.radiusMm;
-          cut.head.shellMm = 2 * h;
-        }
-      } catch (const std::invalid_argument&) {
-      }
+    if (face.size() < 30)
+      continue; // no socket resolved: where the joint is cannot be told
+    SphereFit socket;
+    try {
+      socket = FitSphere(face);
+    } catch (const std::invalid_argument&) {
+      continue;
     }
+    if (!(socket.radiusMm > fit.radiusMm + 1 && socket.radiusMm <= 1000 &&
+          Distance(socket.centre, fit.centre) < socket.radiusMm &&
+          socket.rmsMm <= 0.1 * socket.radiusMm + 0.5 * scan))
+      continue;
+    cut.head.socketCentreMm = socket.centre;
+    cut.head.socketRadiusMm = socket.radiusMm;
+    cut.head.shellMm = 2 * h;
+    // The cut stays in the cone of the joint (the socket's points seen from the head's centre,
+    // around their mean direction, 15 deg wider): beyond it the shell would cut the head from its
+    // own neck, whose stump would then face the head as a socket does.
+    Vec3 toJoint{0, 0, 0};
+    for (const Vec3& p : face)
+      toJoint = Add(toJoint, Normalized(Sub(p, fit.centre)));
+    toJoint = Normalized(toJoint);
+    double widest = 0;
+    for (const Vec3& p : face)
+      widest = std::max(widest, AngleDeg(Sub(p, fit.centre), toJoint));
+    const double cone = std::cos(std::min(widest + 15, 85.0) * 3.14159265358979323846 / 180);
     for (int k = 0; k < n[2]; ++k)
       for (int j = 0; j < n[1]; ++j)
         for (int i = 0; i < n[0]; ++i) {
           const int64_t v = bone.Index(i, j, k);
           if (bone.Label(v) != l)
             continue;
-          const double f = cut.head.F(bone.Centre(i, j, k));
-          if (f > 0 && f <= cut.head.shellMm) {
+          const Vec3 p = bone.Centre(i, j, k);
+          const double f = cut.head.F(p);
+          const Vec3 d = Sub(p, fit.centre);
+          if (f > 0 && f <= cut.head.shellMm && Dot(d, toJoint) >= cone * Norm(d)) {
             cut.voxmap.SetFill(vm.Index(i, j, k), 0);
             ++cut.cutVoxels;
           }
@@ -235,11 +290,9 @@ std::string HeadCutSummary(const HeadCut& cut) {
   s << "joined:      the humeral head touched the glenoid at the threshold (no joint space "
        "resolved): cut off along its sphere (centre ("
     << h.centreMm[0] << ", " << h.centreMm[1] << ", " << h.centreMm[2] << ") mm, radius "
-    << h.radiusMm << " mm, RMS " << cut.rmsMm << " mm)";
-  if (h.socketCentreMm)
-    s << ", in the middle of the joint space to its socket (radius " << h.socketRadiusMm << " mm)";
-  else
-    s << " (no socket resolved)";
+    << h.radiusMm << " mm, RMS " << cut.rmsMm << " mm, its surface in " << 100 * cut.coverage
+    << " % of the directions)";
+  s << ", in the middle of the joint space to its socket (radius " << h.socketRadiusMm << " mm)";
   s << ", " << cut.cutVoxels << " voxels emptied; the step scenes leave the head out\n";
   return s.str();
 }

@@ -12,16 +12,22 @@
 //     max(2 voxels, 20 % of the radius) of it whose outward normal is within 35 deg of the
 //     sphere's (the head's free surface; the glenoid's face looks the other way);
 //  2. accepted when its radius is 12-40 mm, its RMS at most 10 % of the radius plus half the
-//     scan's spacing, and its points cover at least minCoverage of the sphere;
+//     scan's spacing (as detection's head), and points within max(half a voxel, a quarter of the
+//     scan's spacing) of it lie in at least minCoverage of the directions from its centre and
+//     fill at least minFill of the cap those directions imply (a head is a cap of a sphere; a
+//     block's faces and a cylinder's side meet a sphere in rings);
 //  3. the socket: a least-squares sphere on the bone's surface points between R + h and R + 12 mm
 //     from the head's centre whose outward normal is within 35 deg of the way to it (the face
 //     where the joint is resolved), kept when it is shallower than the head (radius > R + 1 mm)
-//     and holds the head's centre;
-//  4. the cut (bmExcludedHead.h): with the socket, the voxels whose f lies in (0, 2h] (h the
-//     voxel) are emptied: the middle of the joint space, the bone the partial volume bridged
-//     across it split between the two; without one, the shell (R, R + h], which takes the head's
-//     skin with it. f changes by at most the shell's thickness per 6-connected step, so no path
-//     crosses it: the head and the glenoid are separate bones.
+//     and holds the head's centre; without one there is no cut (where the joint lies cannot be
+//     told);
+//  4. the cut (bmExcludedHead.h): the voxels whose f lies in (0, 2h] (h the voxel), the middle
+//     of the joint space, the bone the partial volume bridged across it split between the two,
+//     within the cone of the joint seen from the head's centre (the socket's points around
+//     their mean direction, 15 deg
+//     wider): outside it the shell would cut the head from its own neck, whose stump would face
+//     the head as a socket does. f changes by at most the shell's thickness per 6-connected step,
+//     so no path through the joint crosses it: the head and the glenoid are separate bones.
 // Candidates are returned deepest bone first: the caller keeps the first on which the glenoid is
 // found, and leaves the ball of radius cutRadiusMm out of the step scenes' bone.
 //
@@ -46,7 +52,13 @@ struct HeadCutOptions {
   int maxBones = 3;          ///< the largest bones tried
   /// The CT's coarsest spacing, mm (0: the voxmap's): the RMS allowed grows by half of it.
   double scanSpacingMm = 0;
-  double minCoverage = 0.3; ///< of the sphere's area its surface points must cover
+  /// Of 1024 directions from the sphere's centre, the share in which a surface point lies within
+  /// max(half a voxel, a quarter of the scan's spacing) of it: at least this (a cap of 60 deg
+  /// half-angle; a proximal humerus's head shows about half of its sphere)
+  double minCoverage = 0.25;
+  /// and those directions fill at least this share of the cap their mean direction implies (a
+  /// cap: 0.85-0.95; a block's faces or a cylinder's side, rings: about a third)
+  double minFill = 0.7;
 };
 
 struct HeadCut {

@@ -91,6 +91,13 @@ ScapulaPhantom::ScapulaPhantom(const ScapulaPhantomParams& p) : P_(p) {
   for (Vec3* v : {&Xs_, &As_, &Zs_, &N_, &Ev_, &Eu_})
     *v = turn(*v);
   H_ = AddScaled(C_, N_, p.jointGapMm + p.humeralHeadRadiusMm);
+  {
+    // The shaft: at 135 deg to the head's axis (-n), in the plane of that axis and down.
+    const Vec3 a = Scale(N_, -1.0);
+    const Vec3 down = Normalized(AddScaled(Scale(Zs_, -1.0), a, Dot(Zs_, a)));
+    const double t = 135.0 * kDeg;
+    Shaft_ = Normalized(Add(Scale(a, std::cos(t)), Scale(down, std::sin(t))));
+  }
   ComputeTruth();
 }
 
@@ -154,6 +161,25 @@ bool ScapulaPhantom::InSpine(double x, double y, double z, double s) const {
   return ((x - A[0]) * bz - (z - A[1]) * bx) / std::hypot(bx, bz) >= s;
 }
 
+bool ScapulaPhantom::InHumerus(const Vec3& p, double s) const {
+  const double R = P_.humeralHeadRadiusMm;
+  const Vec3 d = Sub(p, H_);
+  const double along = -Dot(d, N_); // along the head's axis, toward the glenoid
+  const double base = -0.24 * R;    // the plane behind the centre that ends the ball
+  // The ball on the glenoid's side of the plane.
+  if (Norm(d) <= R - s && along >= base + s)
+    return true;
+  // The neck: along the axis from 3 mm inside the ball's base to 10 mm behind it.
+  const double radial = Norm(AddScaled(d, N_, along));
+  if (radial <= 0.8 * R - s && along <= base + 3 && along >= base - 10 + s)
+    return true;
+  // The shaft, from the neck's end.
+  const Vec3 start = AddScaled(H_, N_, -(base - 8));
+  const Vec3 e = Sub(p, start);
+  const double t = Dot(e, Shaft_);
+  return t >= 0 && t <= 80 - s && Norm(AddScaled(e, Shaft_, -t)) <= 11 - s;
+}
+
 ScapulaPhantom::Tissue ScapulaPhantom::TissueAt(const Vec3& p, Part* part) const {
   const Vec3 d = Sub(p, C_);
   const double u = Dot(d, Eu_), v = Dot(d, Ev_), w = Dot(d, N_);
@@ -165,8 +191,13 @@ ScapulaPhantom::Tissue ScapulaPhantom::TissueAt(const Vec3& p, Part* part) const
     return InVault(u, v, w, tc) || InBlade(x, y, z, tc) || InSpine(x, y, z, tc) ? Tissue::Cancellous
                                                                                 : Tissue::Cortical;
   }
-  const double rh = Distance(p, H_);
-  if (rh <= P_.humeralHeadRadiusMm) {
+  if (P_.humerus) {
+    if (InHumerus(p, 0)) {
+      if (part)
+        *part = Part::HumeralHead;
+      return InHumerus(p, tc) ? Tissue::Cancellous : Tissue::Cortical;
+    }
+  } else if (const double rh = Distance(p, H_); rh <= P_.humeralHeadRadiusMm) {
     if (part)
       *part = Part::HumeralHead;
     return rh <= P_.humeralHeadRadiusMm - tc ? Tissue::Cancellous : Tissue::Cortical;
@@ -215,6 +246,12 @@ void ScapulaPhantom::Bounds(Vec3& lo, Vec3& hi) const {
     e[k] = P_.humeralHeadRadiusMm;
     grow(Add(H_, e));
     grow(Sub(H_, e));
+    if (P_.humerus) { // the shaft's far end
+      const Vec3 end = AddScaled(AddScaled(H_, N_, 0.24 * P_.humeralHeadRadiusMm + 8), Shaft_, 80);
+      e[k] = 11;
+      grow(Add(end, e));
+      grow(Sub(end, e));
+    }
   }
 }
 
@@ -327,6 +364,7 @@ nlohmann::json ScapulaTruthJson(const ScapulaPhantom& ph) {
         {"humeral_head_radius_mm", p.humeralHeadRadiusMm},
         {"joint_gap_mm", p.jointGapMm},
         {"spine", p.spine},
+        {"humerus", p.humerus},
         {"cortical_hu", p.corticalHU},
         {"cancellous_hu", p.cancellousHU},
         {"soft_hu", p.softHU}}},

@@ -28,7 +28,12 @@
 //  - scapular spine (optional, ScapulaPhantomParams::spine): a plate 8 mm wide on the blade's
 //    posterior face (y' < 0) along the line from its root T on the medial border at z' = 0 (the
 //    trigonum) to (x', z') = (-30, 18) toward the acromion, standing 5 mm behind the blade at its
-//    root and 18 mm at its lateral end; the medial border clips it.
+//    root and 18 mm at its lateral end; the medial border clips it;
+//  - proximal humerus (optional, ScapulaPhantomParams::humerus): instead of the whole ball, the
+//    head is the ball on the glenoid's side of a plane 0.24 Rh behind its centre (about 60 % of
+//    the sphere: the articular cap and the bone around it), on a neck (a cylinder of radius
+//    0.8 Rh along the head's axis -n, 10 mm long) and a shaft (radius 11 mm, 80 mm long) at
+//    135 deg to the head's axis, downward (the arm at the side).
 // Each part has a cortical shell of thickness tc = 1.5 mm (1500 HU) over cancellous bone (300
 // HU); soft tissue (40 HU) around. The humeral head is a separate bone (its own component).
 #pragma once
@@ -56,6 +61,7 @@ struct ScapulaPhantomParams {
   double humeralHeadRadiusMm = 22.0;  ///< Rh, mm
   double jointGapMm = 4.0;            ///< g, mm
   bool spine = false;                 ///< a scapular spine (above; default none)
+  bool humerus = false;               ///< a proximal humerus, not a ball (above; default ball)
   /// The patient turned about the glenoid centre: angles about world x, y, z (deg, each within
   /// +-45), applied y, then x, then z (VTK's order, as BM CT Bone's box). The truth turns with it;
   /// the 3D version and inclination, measured in the scapula's own frame, do not change.
@@ -114,10 +120,12 @@ private:
   bool InVault(double u, double v, double w, double shrink) const;
   bool InBlade(double x, double y, double z, double shrink) const;
   bool InSpine(double x, double y, double z, double shrink) const;
+  bool InHumerus(const Vec3& p, double shrink) const;
   void ComputeTruth();
 
   ScapulaPhantomParams P_;
   Vec3 C_{}, Xs_{}, As_{}, Zs_{}, N_{}, Eu_{}, Ev_{}, H_{};
+  Vec3 Shaft_{}; ///< the humeral shaft's direction from the neck (with humerus)
   ScapulaTruth Truth_;
 };
 

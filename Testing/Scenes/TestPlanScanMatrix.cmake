@@ -5,10 +5,11 @@
 #  - a scapula with its spine, the patient tilted 20 deg about the left-right axis either way and
 #    about the front-back axis (the trigonum found at the spine's root, in the scapula's own
 #    frame): the same limits;
-#  - the humeral head joined to the glenoid at the threshold (a 1 mm joint space; and a scapula
-#    with its spine tilted 20 deg about the front-back axis): cut off along its sphere, the same
-#    limits; the joined plan's steps run on a bone that leaves the head out (no tool starting in
-#    bone, no guide meeting bone before the face);
+#  - the humeral head joined to the glenoid at the threshold (a 1 mm joint space, a ball or a
+#    proximal humerus on a turned patient; and a scapula with its spine tilted 20 deg about the
+#    front-back axis): cut off along its sphere, the same limits; the joined humerus plan's steps
+#    run on a bone that leaves the head out (no tool starting in bone, no guide meeting bone
+#    before the face);
 #  - a left shoulder and a B2 (posteriorly worn) glenoid on the same scan;
 #  - both shoulders in one DICOM series: with no side the plan stops naming both; each side
 #    planned within 2 deg / 2 mm of its own truth;
@@ -54,17 +55,18 @@ foreach(r "20,0,0" "-20,0,0" "0,-20,0")
   plan_case(tilted_${tag} 2 2 PHANTOM ${coarse} --spine --rotate=${r})
 endforeach()
 plan_case(joined 2 2 PHANTOM ${coarse} --joint-gap 1)
+plan_case(joined_humerus 2 2 PHANTOM ${coarse} --joint-gap 1 --humerus --spine --rotate=10,0,-10)
 plan_case(tilted_0_20_0 2 2 PHANTOM ${coarse} --spine --rotate=0,20,0)
-foreach(name joined tilted_0_20_0)
+foreach(name joined joined_humerus tilted_0_20_0)
   file(READ "${dir}/${name}/plan/plan_report.md" report)
   file(READ "${dir}/${name}/plan/step2-ream.json" ream)
   if(NOT report MATCHES "cut off along its sphere" OR NOT ream MATCHES "exclude_heads")
     message(FATAL_ERROR "${name}: the joined head was not cut off, or its steps keep it")
   endif()
 endforeach()
-run("${BMSIM}" run "${dir}/joined/plan/plan.json" --out "${dir}/joined/run")
+run("${BMSIM}" run "${dir}/joined_humerus/plan/plan.json" --out "${dir}/joined_humerus/run")
 if(NOT rc EQUAL 0 OR "${out}${err}" MATCHES "starts inside bone|met solid bone")
-  message(FATAL_ERROR "joined: the plan's steps (${rc}):\n${out}\n${err}")
+  message(FATAL_ERROR "joined_humerus: the plan's steps (${rc}):\n${out}\n${err}")
 endif()
 plan_case(left 2 2 PHANTOM ${coarse} --left)
 plan_case(b2 2 2 PHANTOM ${coarse} --b2)
