@@ -1,8 +1,10 @@
 // bmsimBenchSession.cxx - bmsim bench --session: a haptic session's frame time on a scene in a
-// hand-like trial, the incremental path against the full pass (bmsimBenchSession.h).
+// hand-like trial, the incremental path against the full pass; on a drill's scene, the scripted
+// push through the plate, the proxy's fast paths against their reference (bmsimBenchSession.h).
 #include "bmsimBenchSession.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -10,6 +12,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <sstream>
 #include <thread>
@@ -21,6 +24,7 @@
 
 #include "bmAtomicFile.h"
 #include "bmBenchmark.h"
+#include "bmBreakthrough.h"
 #ifdef BM_WITH_REPORT
 #include "bmBoneSurface.h"
 #endif
@@ -48,23 +52,27 @@ struct SessionRun {
   int64_t rulePauses = 0; ///< pauses the default overrun rule (> 5 of 100 frames) would make
   double removedMm3 = 0, sumThrustN = 0, sumProxyMm = 0, sumForceN = 0;
   Eigen::Vector3d lastProxy = Eigen::Vector3d::Zero();
-  bm::Scene used;         ///< the scene at the resolutions and threads the session ran
-  std::string gridReason; ///< how they were chosen ("" when given)
-  std::string engine;     ///< the engine that ran it (bm::Engine::Name())
+  std::vector<double> byFrame; ///< every frame's time, ms, in frame order
+  double breakthroughS = -1;   ///< bm::MeasureBreakthrough's time, s (-1: none)
+  bm::Scene used;              ///< the scene at the resolutions and threads the session ran
+  std::string gridReason;      ///< how they were chosen ("" when given)
+  std::string engine;          ///< the engine that ran it (bm::Engine::Name())
 };
 
-/// The scripted hand pushes pushN (N, at the device, scaled by the tool's force scale)
-/// along -axis from the scene's clearance above its entry point; the session runs `seconds` (s)
-/// of frames; candidates: the incremental path (the proxy's contact candidates and the engine's
-/// incremental pass) or the full pass (every contact query scans the shell, the engine visits
-/// every element of the blocks not culled); choose: the resolutions and threads a session chooses
-/// (bmSessionGrid.h), else the scene's.
+/// The scripted hand (mode Hand) or push (mode Force) pushes pushN (N, at the device, scaled by
+/// the tool's force scale) along -axis from the scene's clearance above its entry point; the
+/// session runs `seconds` (s) of frames; candidates: the incremental path (the proxy's contact
+/// candidates and the engine's incremental pass) or the full pass (every contact query scans the
+/// shell, the engine visits every element of the blocks not culled); fastPaths: the proxy's exact
+/// fast paths (ProxyOptions::sweepFirstContact) or their reference; choose: the resolutions and
+/// threads a session chooses (bmSessionGrid.h), else the scene's.
 SessionRun RunHandSession(const bm::Scene& scene, bool choose, bool candidates, double pushN,
                           double tremorN, double seconds, bool realTime, double viewIntervalMs,
-                          int64_t checksumFrames, const std::string& clDevice) {
+                          int64_t checksumFrames, const std::string& clDevice,
+                          bm::ScriptMode mode = bm::ScriptMode::Hand, bool fastPaths = true) {
   // A hand on a Touch pushing through the tool's force scale, counting its overruns.
   bm::SessionRequest req;
-  req.mode = bm::ScriptMode::Hand;
+  req.mode = mode;
   req.appliedForceN = pushN;
   req.handTremorN = tremorN;
   req.realTime = realTime;
@@ -80,6 +88,7 @@ SessionRun RunHandSession(const bm::Scene& scene, bool choose, bool candidates, 
   bm::MachiningSetup& setup = *built.setup;
   bm::SessionOptions o = built.options;
   o.recordCapacity = size_t(o.maxFrames) + 16;
+  o.proxy.sweepFirstContact = fastPaths;
   if (!candidates) { // the full pass: every contact query scans the shell, the engine visits all
     o.proxy.candidateRadiusVoxels = 0;
     if (auto* cpu = dynamic_cast<bm::CpuEngine*>(&setup.GetEngine()))
@@ -126,6 +135,7 @@ SessionRun RunHandSession(const bm::Scene& scene, bool choose, bool candidates, 
   for (size_t k = 0; k < rec.size(); ++k) {
     const bm::FrameRecord& f = rec[k];
     r.frameMs.push_back(f.frameMs);
+    r.byFrame.push_back(f.frameMs);
     if (f.thrustN != 0 || f.removedVoxels > 0 || f.deviceForce[0] != 0 || f.deviceForce[1] != 0 ||
         f.deviceForce[2] != 0)
       r.contactMs.push_back(f.frameMs);
@@ -149,7 +159,108 @@ SessionRun RunHandSession(const bm::Scene& scene, bool choose, bool candidates, 
   }
   std::sort(r.frameMs.begin(), r.frameMs.end());
   std::sort(r.contactMs.begin(), r.contactMs.end());
+  const bm::Breakthrough b = bm::MeasureBreakthrough(rec, [&](const bm::FrameRecord& f) {
+    return bm::ToolDepthMm(setup, Eigen::Vector3d(f.proxyPos[0], f.proxyPos[1], f.proxyPos[2]),
+                           bm::ToolRotationFromQuaternion(f.deviceQuat));
+  });
+  if (b.found)
+    r.breakthroughS = b.timeS;
   return r;
+}
+
+/// A drill's scene: the scripted push (force mode, as `bmsim run SCENE --device scripted --mode
+/// force`) through the plate at the resolutions and threads a session chooses (or those given),
+/// the proxy's fast paths and their reference in turn, `repeats` times; prints each run's frame
+/// p50 / p99 / max and frames over the period, for the whole run and for three windows (before
+/// breakthrough less 0.1 s: the cut; 0.1 s either side of it: the point leaving the plate; after),
+/// and checks that both paths gave the same checksum. Writes DIR/session_force.csv.
+int ForceSessionBench(const bm::cli::ParsedArgs& p, const std::string& sceneName, double seconds,
+                      double push, int repeats, bool realTime, const std::string& out,
+                      const std::string& machine, const std::string& date) {
+  bm::SceneOverrides overrides;
+  if (auto t = p.GetInt("threads", 1, 64))
+    overrides.threads = int(*t);
+  const bm::Scene base = bm::ApplyOverrides(bm::ResolveScene(sceneName), overrides);
+  const bool choose = !p.Has("voxmaps") && !p.Has("threads");
+  std::vector<bm::Scene> scenes;
+  for (int v : Resolutions(p, "voxmaps", {0}))
+    scenes.push_back(v > 0 ? base.WithVoxmapResolution(v) : base);
+  std::string csv = "scene,voxmap,shell,threads,path,run,window,frames,p50_ms,p99_ms,max_ms,over,"
+                    "breakthrough_s,machine,date\n";
+  std::cout << std::fixed << std::setprecision(3);
+  for (const bm::Scene& scene : scenes) {
+    const double periodMs = 1000.0 * scene.trial.frameS;
+    const int64_t frames = std::llround(seconds / scene.trial.frameS);
+    std::cout << "session bench, scene " << scene.name << " (";
+    if (choose)
+      std::cout << "the resolutions a session chooses";
+    else
+      std::cout << "voxmap " << scene.voxmapResolution << ", shell " << scene.shellResolution
+                << ", " << scene.threads << " engine threads";
+    std::cout << "): scripted push of " << push
+              << " N at the device (force mode, the tool's force scale), " << seconds << " s at "
+              << 1.0 / scene.trial.frameS << " Hz" << (realTime ? "" : " (frames back to back)")
+              << "; the proxy's fast paths against their reference; machine: " << machine << "\n";
+    for (int run = 1; run <= repeats; ++run) {
+      std::array<double, 2> checksum{0, 0};
+      for (bool fast : {true, false}) {
+        const SessionRun r = RunHandSession(scene, choose, true, push, 0.0, seconds, realTime, 0.0,
+                                            frames, "", bm::ScriptMode::Force, fast);
+        if (!r.gridReason.empty() && fast && run == 1)
+          std::cout << "resolutions chosen: " << r.gridReason << "\n";
+        const double b = r.breakthroughS;
+        struct Window {
+          const char* name;
+          double from, to; // s
+        };
+        const double inf = std::numeric_limits<double>::infinity();
+        std::vector<Window> windows{{"all", -inf, inf}};
+        if (b >= 0) {
+          windows.push_back({"cut", -inf, b - 0.1});
+          windows.push_back({"breakthrough", b - 0.1, b + 0.1});
+          windows.push_back({"after", b + 0.1, inf});
+        }
+        std::cout << "run " << run << (fast ? " fast path" : " reference") << ": breakthrough "
+                  << (b >= 0 ? "at " + std::to_string(b).substr(0, 5) + " s" : "not found") << "\n";
+        for (const Window& w : windows) {
+          std::vector<double> v;
+          for (size_t k = 0; k < r.byFrame.size(); ++k) {
+            const double t = double(k) * scene.trial.frameS;
+            if (t >= w.from && t < w.to)
+              v.push_back(r.byFrame[k]);
+          }
+          std::sort(v.begin(), v.end());
+          const int64_t over =
+              std::count_if(v.begin(), v.end(), [&](double ms) { return ms > periodMs; });
+          const double p50 = bm::Percentile(v, 50), p99 = bm::Percentile(v, 99);
+          const double mx = v.empty() ? 0.0 : v.back();
+          std::cout << "  " << std::left << std::setw(13) << w.name << std::right << v.size()
+                    << " frames, p50 " << p50 << " ms, p99 " << p99 << " ms, max " << mx
+                    << " ms, over " << periodMs << " ms: " << over << "\n";
+          std::ostringstream row;
+          row << std::setprecision(6) << "\"" << scene.name << "\"," << r.used.voxmapResolution
+              << "," << r.used.shellResolution << "," << r.used.threads << ","
+              << (fast ? "fast" : "reference") << "," << run << "," << w.name << "," << v.size()
+              << "," << p50 << "," << p99 << "," << mx << "," << over << "," << b << ",\""
+              << machine << "\"," << date << "\n";
+          csv += row.str();
+        }
+        std::cout << std::setprecision(9) << "  checksum: removed " << r.removedMm3
+                  << " mm^3, sum thrust " << r.sumThrustN << " N, sum proxy " << r.sumProxyMm
+                  << " mm, sum device force " << r.sumForceN << " N\n"
+                  << std::setprecision(3) << std::flush;
+        const std::array<double, 2> sum{r.removedMm3 + r.sumThrustN, r.sumProxyMm + r.sumForceN};
+        if (fast)
+          checksum = sum;
+        else if (sum != checksum)
+          throw std::runtime_error("session bench: the fast paths and their reference gave "
+                                   "different frames (checksums differ)");
+        bm::WriteFileAtomic(out + "/session_force.csv", csv);
+      }
+    }
+  }
+  std::cout << "wrote " << out << "/session_force.csv\n";
+  return 0;
 }
 
 } // namespace
@@ -195,14 +306,25 @@ int SessionBench(const bm::cli::ParsedArgs& p) {
   }
   std::filesystem::create_directories(out);
   const std::string machine = MachineName();
+  char date[16] = "";
+  const std::time_t now = std::time(nullptr);
+  std::strftime(date, sizeof date, "%Y-%m-%d", std::gmtime(&now));
+  // A drill's scene: the push through the plate (force mode, 2 s unless --seconds), the proxy's
+  // fast paths against their reference.
+  if (bm::ResolveScene(sceneName).tool.value("type", "") == "drill") {
+    if (p.Has("accuracy") || p.Has("with-view") || p.Has("backends"))
+      throw bm::cli::UsageError("--session " + sceneName +
+                                ": a drill's scene runs the push through the plate on the CPU "
+                                "backend, without --accuracy, --with-view or --backends");
+    return ForceSessionBench(p, sceneName, p.GetDouble("seconds", 0.01, 3600).value_or(2.0), push,
+                             int(p.GetInt("repeats", 1, 100).value_or(1)), realTime, out, machine,
+                             date);
+  }
   const std::string clName = std::find(backends.begin(), backends.end(), "opencl") != backends.end()
                                  ? OpenCLDeviceName(clDevice)
                                  : std::string();
   if (!clName.empty())
     std::cout << "OpenCL device: " << clName << "\n";
-  char date[16] = "";
-  const std::time_t now = std::time(nullptr);
-  std::strftime(date, sizeof date, "%Y-%m-%d", std::gmtime(&now));
   std::string csv = bm::SessionBenchCsvHeader() + "\n";
   std::vector<bm::SessionBenchRow> rows;
   std::cout << std::fixed << std::setprecision(3);

@@ -252,9 +252,19 @@ int64_t BoneSurfaceShell::Sync(const Eigen::Vector3d& lo, const Eigen::Vector3d&
         if (count == SeenCounts_[size_t(b)])
           continue; // no voxel of the brick went void since its bucket was last read
         SeenCounts_[size_t(b)] = count;
-        for (int32_t s : Buckets_[size_t(b)])
-          if (Bone_.GetFill(Points_[size_t(s)].voxel) <= 0)
-            seeds.push_back(Points_[size_t(s)].voxel);
+        // The bucket's points and their voxels' fills are scattered: fetched ahead.
+        const std::vector<int32_t>& bucket = Buckets_[size_t(b)];
+        const Voxmap::Fill* fills = Bone_.FillData();
+        constexpr size_t kAhead = 8;
+        for (size_t k = 0; k < bucket.size(); ++k) {
+          if (k + 2 * kAhead < bucket.size())
+            __builtin_prefetch(&Points_[size_t(bucket[k + 2 * kAhead])]);
+          if (k + kAhead < bucket.size())
+            __builtin_prefetch(fills + Points_[size_t(bucket[k + kAhead])].voxel);
+          const int64_t v = Points_[size_t(bucket[k])].voxel;
+          if (Bone_.GetFill(v) <= 0)
+            seeds.push_back(v);
+        }
       }
   if (seeds.empty())
     return 0;

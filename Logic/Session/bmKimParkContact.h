@@ -94,6 +94,13 @@ public:
   /// for a part, at least rimBandMm (mm, default 0) inside its rim (ToolDistanceField::InPart).
   ContactResult Query(const Eigen::Matrix3d& R, const Eigen::Vector3d& p, double deadBandMm = 0,
                       ToolPart part = ToolPart::Whole, double rimBandMm = 0) const;
+  /// Whether Query(R, p, deadBandMm, part, rimBandMm).points > 0, exactly (the same per-point
+  /// test), found by scanning the bone points under the part's box (mm, as Query) and stopping at
+  /// the first point in contact. It neither reads nor gathers the candidates: a sweep sub-step only
+  /// asks whether the tool touches, and after breakthrough a drill's tip found tens of thousands of
+  /// points in contact, each summed by a full query, with a new candidate gather every two voxels.
+  bool Touches(const Eigen::Matrix3d& R, const Eigen::Vector3d& p, double deadBandMm = 0,
+               ToolPart part = ToolPart::Whole, double rimBandMm = 0) const;
   /// Candidate radius rho (mm, >= 0; 0, the default: every query scans the shell under its box).
   void SetCandidateRadius(double radiusMm);
   /// Depth cap (mm, > 0; default infinity: none) and sliver fraction (of a voxel's bone, in

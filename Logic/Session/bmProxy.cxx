@@ -77,7 +77,7 @@ Eigen::Vector3d Proxy::Sweep(const Eigen::Vector3d& from, const Eigen::Vector3d&
     return to; // no bone anywhere near the path
   // A part's rim gets the lateral dead band: bone beside it is across the axis, not in front.
   const double rim = part == ToolPart::Whole ? 0.0 : O_.deadBandVoxels * Setup_.Bone().Spacing();
-  if (part == ToolPart::NonCuttingLeading && Contact_->Query(R, from, band, part, rim).points > 0)
+  if (part == ToolPart::NonCuttingLeading && Touches(R, from, band, part, rim))
     return from; // a rigid part on bone goes no deeper
   const double step = O_.maxStepVoxels * Setup_.Bone().Spacing();
   const int n = std::max(1, int(std::ceil(L / step)));
@@ -93,11 +93,17 @@ Eigen::Vector3d Proxy::Sweep(const Eigen::Vector3d& from, const Eigen::Vector3d&
       continue;
     for (int i = first; i <= last; ++i) {
       const Eigen::Vector3d q = from + d * (double(i) / n);
-      if (Contact_->Query(R, q, band, part, rim).points > 0)
+      if (Touches(R, q, band, part, rim))
         return q; // first contact: at most one step deep
     }
   }
   return to;
+}
+
+bool Proxy::Touches(const Eigen::Matrix3d& R, const Eigen::Vector3d& p, double band, ToolPart part,
+                    double rim) const {
+  return O_.sweepFirstContact ? Contact_->Touches(R, p, band, part, rim)
+                              : Contact_->Query(R, p, band, part, rim).points > 0;
 }
 
 Eigen::Vector3d Proxy::Relax(Eigen::Vector3d p, const Eigen::Vector3d& xd,

@@ -87,6 +87,11 @@ struct ProxyOptions {
   /// candidate points, at the same orientation and with the shell unchanged, read only those
   /// candidates (KimParkContact::SetCandidateRadius; exact, only faster); 0 = scan every query.
   double candidateRadiusVoxels = 2.0;
+  /// Sweeps ask only whether a sub-step touches bone, stopping at the first point in contact
+  /// (KimParkContact::Touches; default). false: the reference, a full contact query per sub-step
+  /// (the same frames bit for bit, slower: after breakthrough the drill's tip meets tens of
+  /// thousands of points, Docs/Performance.md "Drilling through the plate").
+  bool sweepFirstContact = true;
   /// Cutting: across the axis the engine's lateral cutting force acts on the proxy averaged over
   /// this many spindle revolutions (an exponential mean with time constant revolutions x 60 / n;
   /// default 1; 0 = each frame's own force). Docs/Interaction.md, "Across the axis while cutting".
@@ -148,6 +153,10 @@ private:
   Eigen::Vector3d Sweep(const Eigen::Vector3d& from, const Eigen::Vector3d& to,
                         const Eigen::Matrix3d& R, double band,
                         ToolPart part = ToolPart::Whole) const;
+  /// Whether `part` of the tool at (R, p) touches bone beyond band (mm), counting bone at least
+  /// rim (mm) inside the part's rim: Touches, or the full query's count (sweepFirstContact off).
+  bool Touches(const Eigen::Matrix3d& R, const Eigen::Vector3d& p, double band, ToolPart part,
+               double rim) const;
   Eigen::Vector3d Relax(Eigen::Vector3d p, const Eigen::Vector3d& xd, const Eigen::Vector3d& vd,
                         const Eigen::Matrix3d& R, double band, const Eigen::Vector3d* lockAxis,
                         const Eigen::Vector3d& extra, ContactResult& last) const;

@@ -101,11 +101,6 @@ ToolDistanceField::ToolDistanceField(const ToolModel& tool, int resolution, int 
   Lipschitz_ = std::sqrt(maxDiffRho * maxDiffRho + maxDiffZ * maxDiffZ) / h2;
 }
 
-bool ToolDistanceField::InGrid(const Eigen::Vector3d& q) const {
-  return q(0) >= Lo_(0) && q(1) >= Lo_(1) && q(2) >= Lo_(2) && q(0) < Hi_(0) && q(1) < Hi_(1) &&
-         q(2) < Hi_(2);
-}
-
 size_t ToolDistanceField::Nearest(double rho, double z, double& dist2) const {
   size_t best = 0;
   dist2 = 1e300;
@@ -156,46 +151,6 @@ double ToolDistanceField::Signed(double rho, double z, size_t& segment) const {
   const bool inside = Tool_->ZRange(rho, zLo, zHi) && z >= zLo && z <= zHi;
   const double d = std::sqrt(best);
   return inside ? -d : d;
-}
-
-bool ToolDistanceField::Cell(const Eigen::Vector3d& q, double& rho, const double*& r0, double& a,
-                             double& c) const {
-  if (!InGrid(q))
-    return false;
-  rho = std::sqrt(q(0) * q(0) + q(1) * q(1));
-  const double u = rho * InvStep_, w = (q(2) - TableZ0_) * InvStep_;
-  const int i = std::min(int(u), TableNr_ - 2), k = std::min(int(w), TableNz_ - 2);
-  a = u - i;
-  c = w - k;
-  r0 = &T_[size_t(k) * TableNr_ + i];
-  return true;
-}
-
-double ToolDistanceField::Sample(const Eigen::Vector3d& q, Eigen::Vector3d& grad) const {
-  double rho, a, c;
-  const double* r0;
-  if (!Cell(q, rho, r0, a, c)) {
-    grad.setZero();
-    return Far_;
-  }
-  const double* r1 = r0 + TableNr_;
-  const double v0 = r0[0] + a * (r0[1] - r0[0]), v1 = r1[0] + a * (r1[1] - r1[0]);
-  const double dRho = ((1 - c) * (r0[1] - r0[0]) + c * (r1[1] - r1[0])) * InvStep_;
-  const double s = rho > 0 ? dRho / rho : 0.0; // on the axis the field is flat across it
-  grad(0) = s * q(0);
-  grad(1) = s * q(1);
-  grad(2) = (v1 - v0) * InvStep_;
-  return v0 + c * (v1 - v0);
-}
-
-double ToolDistanceField::Value(const Eigen::Vector3d& q) const {
-  double rho, a, c;
-  const double* r0;
-  if (!Cell(q, rho, r0, a, c))
-    return Far_;
-  const double* r1 = r0 + TableNr_;
-  const double v0 = r0[0] + a * (r0[1] - r0[0]), v1 = r1[0] + a * (r1[1] - r1[0]);
-  return v0 + c * (v1 - v0);
 }
 
 } // namespace bm

@@ -18,7 +18,9 @@
 // Units: mm, tool frame T (origin at the foremost cutting point, z_t toward the shank).
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -109,5 +111,52 @@ private:
   std::array<int, 3> Dims_{0, 0, 0}; // the box's cells at spacing H_ (Hi_ = Lo_ + H_ (Dims_ - 1))
   std::vector<double> T_;            // signed distance, mm, on the (rho, z) table's nodes
 };
+
+// Read for every bone point of every contact query and candidate gather: defined here so that the
+// calls inline (the same arithmetic, so the same bits, as out of line).
+inline bool ToolDistanceField::InGrid(const Eigen::Vector3d& q) const {
+  return q(0) >= Lo_(0) && q(1) >= Lo_(1) && q(2) >= Lo_(2) && q(0) < Hi_(0) && q(1) < Hi_(1) &&
+         q(2) < Hi_(2);
+}
+
+inline bool ToolDistanceField::Cell(const Eigen::Vector3d& q, double& rho, const double*& r0,
+                                    double& a, double& c) const {
+  if (!InGrid(q))
+    return false;
+  rho = std::sqrt(q(0) * q(0) + q(1) * q(1));
+  const double u = rho * InvStep_, w = (q(2) - TableZ0_) * InvStep_;
+  const int i = std::min(int(u), TableNr_ - 2), k = std::min(int(w), TableNz_ - 2);
+  a = u - i;
+  c = w - k;
+  r0 = &T_[size_t(k) * TableNr_ + i];
+  return true;
+}
+
+inline double ToolDistanceField::Sample(const Eigen::Vector3d& q, Eigen::Vector3d& grad) const {
+  double rho, a, c;
+  const double* r0;
+  if (!Cell(q, rho, r0, a, c)) {
+    grad.setZero();
+    return Far_;
+  }
+  const double* r1 = r0 + TableNr_;
+  const double v0 = r0[0] + a * (r0[1] - r0[0]), v1 = r1[0] + a * (r1[1] - r1[0]);
+  const double dRho = ((1 - c) * (r0[1] - r0[0]) + c * (r1[1] - r1[0])) * InvStep_;
+  const double s = rho > 0 ? dRho / rho : 0.0; // on the axis the field is flat across it
+  grad(0) = s * q(0);
+  grad(1) = s * q(1);
+  grad(2) = (v1 - v0) * InvStep_;
+  return v0 + c * (v1 - v0);
+}
+
+inline double ToolDistanceField::Value(const Eigen::Vector3d& q) const {
+  double rho, a, c;
+  const double* r0;
+  if (!Cell(q, rho, r0, a, c))
+    return Far_;
+  const double* r1 = r0 + TableNr_;
+  const double v0 = r0[0] + a * (r0[1] - r0[0]), v1 = r1[0] + a * (r1[1] - r1[0]);
+  return v0 + c * (v1 - v0);
+}
 
 } // namespace bm

@@ -1,9 +1,11 @@
 // The breakthrough plunge (bmBreakthrough.h) and the scripted trained hand that stops at it
 // (ScriptedDeviceOptions::stopAtBreakthrough): the measurement on records made up to show each
 // case, the hand's reaction to the rendered force giving way, and the drilling scene's force-mode
-// session, through the 1.5 mm plate with a hand that pushes on and with a trained one.
+// session, through the 1.5 mm plate with a hand that pushes on and with a trained one, and the
+// same session with the proxy's fast paths against its reference path, frame for frame.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <iostream>
 #include <vector>
 
@@ -135,6 +137,70 @@ TEST(Breakthrough, TheDrillingSessionReportsThePlungeAndATrainedHandStopsIt) {
   EXPECT_GT(pushOn.plungeMm, 10.0);
   EXPECT_TRUE(trained.stopped);
   EXPECT_LT(trained.plungeMm, pushOn.plungeMm / 2);
+}
+
+// The drilling scene at voxmap 128 (shell 512) in force mode, frames back to back, through the
+// plate and 0.3 s past breakthrough: after breakthrough the drill's point creeps through the
+// partial-volume remnant at the exit one sweep sub-step per frame, the sweep finding contact at
+// its first sub-step. The proxy's fast path (ProxyOptions::sweepFirstContact: the sweep stops at
+// the first point in contact, no candidate gathers) gives every frame of the reference path (a
+// full contact query per sub-step) bit for bit: proxy and device positions, forces, feed, thrust,
+// torque and removed voxels.
+TEST(Breakthrough, TheFastPathsGiveTheReferenceFramesBitForBit) {
+  bm::SceneOverrides ov;
+  ov.voxmapResolution = 128;
+  const bm::Scene scene = bm::ApplyOverrides(bm::ResolveScene("drilling"), ov);
+  auto run = [&](bool fast) {
+    bm::SessionRequest r;
+    r.mode = bm::ScriptMode::Force;
+    r.realTime = false;
+    r.durationS = 2.0;
+    bm::BuiltSession b = bm::BuildSession(scene, r);
+    b.options.recordCapacity = 4000;
+    b.options.proxy.sweepFirstContact = fast;
+    bm::HapticSession session(*b.setup, b.device, b.options);
+    session.Start();
+    EXPECT_TRUE(session.WaitUntilPaused(600));
+    session.Stop();
+    std::vector<bm::FrameRecord> rec;
+    session.DrainRecords(rec);
+    return rec;
+  };
+  const std::vector<bm::FrameRecord> fast = run(true), reference = run(false);
+  ASSERT_EQ(fast.size(), reference.size());
+  ASSERT_EQ(fast.size(), 2000u);
+  auto same = [](const auto& a, const auto& b) { // bit for bit (a -0.0 against 0.0 differs too)
+    return std::memcmp(&a, &b, sizeof a) == 0;
+  };
+  int differing = 0, removing = 0, creeping = 0;
+  const double h = 5.0 / 128; // the block's 5 mm over 128 voxels
+  for (size_t k = 0; k < fast.size(); ++k) {
+    const bm::FrameRecord &a = fast[k], &b = reference[k];
+    const bool ok = same(a.devicePos, b.devicePos) && same(a.proxyPos, b.proxyPos) &&
+                    same(a.feedMmPerRev, b.feedMmPerRev) && same(a.thrustN, b.thrustN) &&
+                    same(a.torqueNmm, b.torqueNmm) && same(a.couplingForce, b.couplingForce) &&
+                    same(a.deviceForce, b.deviceForce) && same(a.removedVoxels, b.removedVoxels) &&
+                    same(a.removedVolumeMm3, b.removedVolumeMm3) && a.flags == b.flags;
+    if (!ok && ++differing <= 3)
+      ADD_FAILURE() << "frame " << k << " differs: proxy z " << a.proxyPos[2] << " against "
+                    << b.proxyPos[2] << ", thrust " << a.thrustN << " against " << b.thrustN;
+    removing += a.removedVoxels > 0;
+    // A free advance stopped by the sweep's first contact: no thrust, about one sub-step deep.
+    if (k > 0 && a.thrustN == 0) {
+      const double step = fast[k - 1].proxyPos[2] - a.proxyPos[2];
+      creeping += step > 0.4 * h && step < 0.51 * h;
+    }
+  }
+  std::cout << "[fast paths] " << fast.size() << " frames, " << differing << " differing; "
+            << removing << " removing, " << creeping
+            << " advancing one sweep sub-step after breakthrough\n";
+  EXPECT_EQ(differing, 0);
+  // The run crosses breakthrough, where the sweep's first contact decides the advance.
+  const bm::Breakthrough b =
+      bm::MeasureBreakthrough(fast, [](const bm::FrameRecord& f) { return -f.proxyPos[2]; });
+  EXPECT_TRUE(b.found);
+  EXPECT_GT(removing, 50);
+  EXPECT_GT(creeping, 10);
 }
 
 } // namespace

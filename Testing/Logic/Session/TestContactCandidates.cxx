@@ -4,6 +4,7 @@
 // across changes of orientation and of the shell (Boolean cuts), every query equals, bit for bit,
 // the full scan of a contact without candidates on the same shell and field, also when the engine's
 // removal changes the shell under them and when the tool jumps between places across the axis.
+// KimParkContact::Touches, the sweep's first-contact test, answers as the full query's count.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -45,7 +46,7 @@ TEST(ContactCandidates, QueriesEqualTheFullScan) {
   std::uniform_real_distribution<double> step(-0.5 * h, 0.5 * h);
   Eigen::Vector3d p(0, 0, 0.05);
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-  int touching = 0, partTouching = 0;
+  int touching = 0, partTouching = 0, leadingTouching = 0;
   for (int it = 0; it < 600; ++it) {
     p += Eigen::Vector3d(step(rng), step(rng), step(rng) - 0.05 * h); // sinking slowly
     p(2) = std::max(p(2), -0.6);
@@ -59,6 +60,17 @@ TEST(ContactCandidates, QueriesEqualTheFullScan) {
     for (double band : {0.0, h}) {
       const bm::ContactResult a = full.Query(R, p, band), b = cached.Query(R, p, band);
       ExpectSame(a, b);
+      // A sweep's question, whether any point touches (stopping at the first), answers as the
+      // full query's count does, for the whole tool and each part, with and without the cap.
+      for (bm::ToolPart part :
+           {bm::ToolPart::Whole, bm::ToolPart::Leading, bm::ToolPart::NonCuttingLeading}) {
+        const double rim = part == bm::ToolPart::Whole ? 0.0 : h;
+        EXPECT_EQ(cached.Touches(R, p, band, part, rim),
+                  full.Query(R, p, band, part, rim).points > 0);
+        EXPECT_EQ(cachedCap.Touches(R, p, band, part, rim),
+                  fullCap.Query(R, p, band, part, rim).points > 0);
+        leadingTouching += part == bm::ToolPart::Leading && cached.Touches(R, p, band, part, rim);
+      }
       touching += a.points > 0;
       const bm::ContactResult c = full.Query(R, p, band, bm::ToolPart::NonCuttingLeading, h),
                               d = cached.Query(R, p, band, bm::ToolPart::NonCuttingLeading, h);
@@ -73,10 +85,13 @@ TEST(ContactCandidates, QueriesEqualTheFullScan) {
     if (HasFailure())
       break;
   }
-  std::cout << "[candidates] " << touching << " whole-tool and " << partTouching
+  std::cout << "[candidates] " << touching << " whole-tool, " << partTouching
+            << " non-cutting leading and " << leadingTouching
             << " leading-part queries in contact; " << full.Scans() << " full scans, "
             << cached.Scans() << " gathers (" << cachedCap.Scans() << " with the cap)\n";
   EXPECT_GT(touching, 100); // the path does press into the bone
+  EXPECT_GT(leadingTouching, 50);
+  EXPECT_GT(partTouching, 10);
   EXPECT_LT(cached.Scans(), full.Scans() / 4);
   EXPECT_LT(cachedCap.Scans(), fullCap.Scans() / 4);
 }
@@ -106,6 +121,7 @@ TEST(ContactCandidates, FollowTheEnginesRemovalAndALateralCycleExactly) {
   Eigen::Vector3d prev(places[0](0), places[0](1), 0.1);
   int64_t removed = 0;
   int touching = 0, capped = 0; // queries where slivers deeper than the cap did not push
+  int leadingTouching = 0;
   const int steps = 240;
   const double kSink = 0.0015; // mm a step
   for (int it = 0; it < steps; ++it) {
@@ -128,6 +144,17 @@ TEST(ContactCandidates, FollowTheEnginesRemovalAndALateralCycleExactly) {
     for (double band : {0.0, h}) {
       const bm::ContactResult a = full.Query(R, p, band), b = cached.Query(R, p, band);
       ExpectSame(a, b);
+      // A sweep's question, whether any point touches (stopping at the first), answers as the
+      // full query's count does, for the whole tool and each part, with and without the cap.
+      for (bm::ToolPart part :
+           {bm::ToolPart::Whole, bm::ToolPart::Leading, bm::ToolPart::NonCuttingLeading}) {
+        const double rim = part == bm::ToolPart::Whole ? 0.0 : h;
+        EXPECT_EQ(cached.Touches(R, p, band, part, rim),
+                  full.Query(R, p, band, part, rim).points > 0);
+        EXPECT_EQ(cachedCap.Touches(R, p, band, part, rim),
+                  fullCap.Query(R, p, band, part, rim).points > 0);
+        leadingTouching += part == bm::ToolPart::Leading && cached.Touches(R, p, band, part, rim);
+      }
       touching += a.points > 0;
       ExpectSame(full.Query(R, p, band, bm::ToolPart::NonCuttingLeading, h),
                  cached.Query(R, p, band, bm::ToolPart::NonCuttingLeading, h));
@@ -155,8 +182,9 @@ TEST(ContactCandidates, FollowTheEnginesRemovalAndALateralCycleExactly) {
   std::cout << "[candidates] " << removed << " voxels removed, " << touching
             << " queries in contact (" << capped << " with slivers beyond the cap); "
             << cached.Scans() << " gathers, " << cached.RefreshedBricks()
-            << " bricks gathered again\n";
+            << " bricks gathered again; the leading part touched in " << leadingTouching << "\n";
   EXPECT_GT(removed, 0);
+  EXPECT_GT(leadingTouching, 10);
   EXPECT_GT(touching, 100);
   EXPECT_GT(cached.RefreshedBricks(), 0);
   // Each place's set holds while the sinking stays within the radius: 3 x (0.36 mm / 0.1 mm + 1)
