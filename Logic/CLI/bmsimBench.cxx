@@ -86,7 +86,8 @@ void BenchOptions(bm::cli::ParsedArgs& p) {
            "session_accuracy.csv and session_speed_vs_accuracy.png (a reaming scene)")
       .Value("session", "NAME|FILE",
              "instead: the haptic session's frame time on a scene in a hand-like trial (below)")
-      .Real("seconds", 0.01, 3600, "S", "--session: seconds of session time (default 20)")
+      .Real("seconds", 0.01, 3600, "S",
+            "--session: seconds of session time (default 20; a drill's scene 2)")
       .Real("full-seconds", 0.01, 3600, "S",
             "--session: seconds of session time of the full pass (default: --seconds)")
       .Real("push", 0.01, bm::DeviceLimits().maxForceN, "N",
@@ -114,7 +115,12 @@ void BenchOptions(bm::cli::ParsedArgs& p) {
           "/ p99 / max (ms), frames over the period, the pauses the overrun rule (more than 5 of "
           "100 frames) would have made, and a checksum of forces and path over the frames both "
           "ran, the same for both when exact. Without --voxmaps and --threads it runs the "
-          "resolutions and threads a session chooses (Docs/RealTime.md).");
+          "resolutions and threads a session chooses (Docs/RealTime.md). A drill's scene "
+          "(--session drilling) instead pushes the drill through the plate in force mode (2 s "
+          "unless --seconds) with the proxy's fast paths and their reference in turn; prints "
+          "p50 / p99 / max and frames over the period for the whole run, the cut, 0.1 s either "
+          "side of breakthrough and after; stops if their checksums differ; writes "
+          "session_force.csv.");
 }
 
 int BenchCommand(const bm::cli::ParsedArgs& p) {

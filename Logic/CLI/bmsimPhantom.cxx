@@ -45,6 +45,9 @@ static void PhantomOptions(ParsedArgs& p) {
             "scapula: glenoid inclination, positive = superior (default 8)")
       .Flag("b2", "scapula: posterior wear (biconcave Walch B2 face)")
       .Flag("left", "scapula: a left shoulder (default right)")
+      .Real("cancellous-hu", -1000, 3000, "HU",
+            "scapula: the cancellous bone's HU (default 300; below the bone threshold, as in "
+            "osteoporotic bone, the cortex is a shell around a dark interior)")
       .Flag("humerus", "scapula: the humeral head as a proximal humerus (its articular cap on a "
                        "neck and shaft) instead of a whole ball")
       .Flag("spine", "scapula: with a scapular spine, whose root on the medial border is the "
@@ -73,7 +76,7 @@ static int PhantomCommand(const ParsedArgs& p) {
     return ScapulaPhantomCommand(p);
 #endif
   for (const char* o : {"version", "inclination", "b2", "left", "pixel-mm", "slice-mm", "joint-gap",
-                        "window", "rotate", "both", "spine", "humerus"})
+                        "window", "rotate", "both", "spine", "humerus", "cancellous-hu"})
     if (p.Has(o))
       throw UsageError(std::string("--") + o + " applies to the scapula phantom only");
   bm::PhantomCTOptions ct;

@@ -108,6 +108,7 @@ int ScapulaPhantomCommand(const ParsedArgs& p) {
   sp.jointGapMm = p.GetDouble("joint-gap", 1, 20).value_or(sp.jointGapMm);
   sp.spine = p.Has("spine");
   sp.humerus = p.Has("humerus");
+  sp.cancellousHU = float(p.GetDouble("cancellous-hu", -1000, 3000).value_or(sp.cancellousHU));
   if (const auto r = p.GetDoubles("rotate", 3)) {
     for (double a : *r)
       if (!(std::abs(a) <= 45))
