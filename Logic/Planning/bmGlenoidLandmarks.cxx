@@ -171,6 +171,37 @@ Joint FindJoint(const SegmentedBone& bone, const DetectionOptions& opt) {
       if (sp.label == M && Distance(sp.p, c0) <= 0.5 * major + 15 &&
           Dot(sp.normal, Sub(c0, sp.p)) > 0)
         convex += Dot(Sub(sp.p, fh.centre), sp.normal);
+    if (convex <= 0) {
+      // A head whose cancellous interior is darker than the threshold and was not filled (its
+      // cortex has gaps at this scan's spacing) is a shell: the inner surfaces face the joint
+      // too. Its outer surface (normals away from the sphere's centre) then lies outside the
+      // inner ones, and the head is its sphere.
+      std::vector<Vec3> outer;
+      double rOut = 0, rIn = 0;
+      int in = 0;
+      for (const auto& sp : surf)
+        if (sp.label == M && Distance(sp.p, c0) <= 0.5 * major + 15 &&
+            Dot(sp.normal, Sub(c0, sp.p)) > 0) {
+          const double r = Distance(sp.p, fh.centre);
+          if (Dot(Sub(sp.p, fh.centre), sp.normal) > 0)
+            outer.push_back(sp.p), rOut += r;
+          else
+            ++in, rIn += r;
+        }
+      // Its outer surface must be a head's, not a few knobs: at least a quarter of the area of
+      // the sphere's 45-deg cap toward the joint (2 pi R^2 (1 - cos 45 deg); a voxel-face
+      // iso-surface holds about 1.5 points per voxel face area).
+      const double h = bone.Spacing(), R = fh.radiusMm;
+      const double outerArea = double(outer.size()) * h * h / 1.5;
+      if (outerArea >= 0.25 * 1.84 * R * R && in > 0 &&
+          rOut / double(outer.size()) >= rIn / in + 0.5) {
+        try {
+          fh = FitSphere(outer);
+          convex = 1;
+        } catch (const std::invalid_argument&) {
+        }
+      }
+    }
     const double maxRms = 0.1 * fh.radiusMm + 0.5 * scan;
     if (convex <= 0 || fh.radiusMm < 12 || fh.radiusMm > 40 || fh.rmsMm > maxRms) {
       reject("the facing bone is no humeral head (sphere radius " + Mm(fh.radiusMm) +
