@@ -50,6 +50,8 @@ static void PhantomOptions(ParsedArgs& p) {
             "osteoporotic bone, the cortex is a shell around a dark interior)")
       .Flag("humerus", "scapula: the humeral head as a proximal humerus (its articular cap on a "
                        "neck and shaft) instead of a whole ball")
+      .Flag("arm-raised", "scapula: the arm raised above the head (a proximal humerus whose shaft "
+                          "points up, the scapula turned 30 deg upward)")
       .Flag("spine", "scapula: with a scapular spine, whose root on the medial border is the "
                      "trigonum (default: the blade alone)")
       .Real("pixel-mm", 0.3, 3, "MM", "scapula: in-plane pixel size (default 0.75)")
@@ -75,8 +77,9 @@ static int PhantomCommand(const ParsedArgs& p) {
   if (std::find(words.begin(), words.end(), "scapula") != words.end())
     return ScapulaPhantomCommand(p);
 #endif
-  for (const char* o : {"version", "inclination", "b2", "left", "pixel-mm", "slice-mm", "joint-gap",
-                        "window", "rotate", "both", "spine", "humerus", "cancellous-hu"})
+  for (const char* o :
+       {"version", "inclination", "b2", "left", "pixel-mm", "slice-mm", "joint-gap", "window",
+        "rotate", "both", "spine", "humerus", "arm-raised", "cancellous-hu"})
     if (p.Has(o))
       throw UsageError(std::string("--") + o + " applies to the scapula phantom only");
   bm::PhantomCTOptions ct;

@@ -107,7 +107,8 @@ int ScapulaPhantomCommand(const ParsedArgs& p) {
   sp.inclinationDeg = p.GetDouble("inclination", -45, 45).value_or(sp.inclinationDeg);
   sp.jointGapMm = p.GetDouble("joint-gap", 1, 20).value_or(sp.jointGapMm);
   sp.spine = p.Has("spine");
-  sp.humerus = p.Has("humerus");
+  sp.armRaised = p.Has("arm-raised");
+  sp.humerus = p.Has("humerus") || sp.armRaised;
   sp.cancellousHU = float(p.GetDouble("cancellous-hu", -1000, 3000).value_or(sp.cancellousHU));
   if (const auto r = p.GetDoubles("rotate", 3)) {
     for (double a : *r)

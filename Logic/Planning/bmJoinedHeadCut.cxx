@@ -3,6 +3,7 @@
 #include "bmGlenoidGeometry.h"
 
 #include <algorithm>
+#include <optional>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -83,12 +84,11 @@ std::vector<double> SquaredDistance(const std::vector<uint8_t>& bone, const std:
 
 } // namespace
 
-std::vector<HeadCut> CutJoinedHeads(const Voxmap& vm, const SegmentedBone& bone,
-                                    const HeadCutOptions& o) {
-  std::vector<HeadCut> out;
-  const auto& n = vm.Dims();
+std::vector<HeadSphere> FindHeadSpheres(const SegmentedBone& bone, const HeadCutOptions& o) {
+  std::vector<HeadSphere> out;
+  const auto& n = bone.Dims();
   const int64_t total = int64_t(n[0]) * n[1] * n[2];
-  const double h = vm.Spacing();
+  const double h = bone.Spacing();
   if (bone.NumBones() == 0)
     return out;
   std::vector<uint8_t> mask(static_cast<size_t>(total));
@@ -195,10 +195,22 @@ std::vector<HeadCut> CutJoinedHeads(const Voxmap& vm, const SegmentedBone& bone,
     const double fill = inside > 0 ? inCap / inside : 0;
     if (coverage < o.minCoverage || fill < o.minFill)
       continue;
-    // The shell (R, R + h]: a voxel of the head holding half its volume or more has its centre
-    // within about h / 2 of the sphere, so the head's whole skin falls in it, and no bone of the
-    // glenoid beyond R + h does.
-    HeadCut cut{vm, {}, fit.rmsMm, coverage, 0};
+    out.push_back({l, fit, coverage, fill});
+  }
+  return out;
+}
+
+std::vector<HeadCut> CutJoinedHeads(const Voxmap& vm, const SegmentedBone& bone,
+                                    const HeadCutOptions& o) {
+  std::vector<HeadCut> out;
+  const auto& n = bone.Dims();
+  const double h = bone.Spacing();
+  const double cosMax = std::cos(35.0 * 3.14159265358979323846 / 180.0);
+  const double scan = std::max(o.scanSpacingMm, h);
+  for (const HeadSphere& sphere : FindHeadSpheres(bone, o)) {
+    const int l = sphere.label;
+    const SphereFit& fit = sphere.fit;
+    HeadCut cut{vm, {}, fit.rmsMm, sphere.coverage, sphere.fill, 0};
     cut.head.centreMm = fit.centre;
     cut.head.radiusMm = fit.radiusMm;
     // The socket: the face where the joint is resolved, looking at the head's centre.
@@ -211,32 +223,49 @@ std::vector<HeadCut> CutJoinedHeads(const Voxmap& vm, const SegmentedBone& bone,
       if (r > fit.radiusMm + h && r <= fit.radiusMm + 12 && Dot(sp.normal, d) >= cosMax * r)
         face.push_back(sp.p);
     }
-    if (face.size() < 30)
-      continue; // no socket resolved: where the joint is cannot be told
-    SphereFit socket;
-    try {
-      socket = FitSphere(face);
-    } catch (const std::invalid_argument&) {
-      continue;
+    std::optional<SphereFit> socket;
+    // A socket needs a face to fit: 3 % of the area of the head's 45-deg cap (a voxel-face
+    // iso-surface holds about 1.5 points per voxel face area).
+    if (double(face.size()) * h * h / 1.5 >= 0.03 * 1.84 * fit.radiusMm * fit.radiusMm) {
+      try {
+        const SphereFit s = FitSphere(face);
+        if (s.radiusMm > fit.radiusMm + 1 && s.radiusMm <= 1000 &&
+            Distance(s.centre, fit.centre) < s.radiusMm && s.rmsMm <= 0.1 * s.radiusMm + 0.5 * scan)
+          socket = s;
+      } catch (const std::invalid_argument&) {
+      }
     }
-    if (!(socket.radiusMm > fit.radiusMm + 1 && socket.radiusMm <= 1000 &&
-          Distance(socket.centre, fit.centre) < socket.radiusMm &&
-          socket.rmsMm <= 0.1 * socket.radiusMm + 0.5 * scan))
-      continue;
-    cut.head.socketCentreMm = socket.centre;
-    cut.head.socketRadiusMm = socket.radiusMm;
     cut.head.shellMm = 2 * h;
-    // The cut stays in the cone of the joint (the socket's points seen from the head's centre,
-    // around their mean direction, 15 deg wider): beyond it the shell would cut the head from its
-    // own neck, whose stump would then face the head as a socket does.
+    // The cone of the joint, seen from the head's centre: the socket's points around their mean
+    // direction, 15 deg wider; with too few of them (a joint fused all over), 60 deg around the
+    // way to the rest of the bone (the scapula beyond the glenoid). Beyond it the shell would cut
+    // the head from its own neck, whose stump would then face the head as a socket does.
     Vec3 toJoint{0, 0, 0};
-    for (const Vec3& p : face)
-      toJoint = Add(toJoint, Normalized(Sub(p, fit.centre)));
-    toJoint = Normalized(toJoint);
-    double widest = 0;
-    for (const Vec3& p : face)
-      widest = std::max(widest, AngleDeg(Sub(p, fit.centre), toJoint));
-    const double cone = std::cos(std::min(widest + 15, 85.0) * 3.14159265358979323846 / 180);
+    double coneDeg = 60;
+    if (socket) {
+      cut.head.socketCentreMm = socket->centre;
+      cut.head.socketRadiusMm = socket->radiusMm;
+      for (const Vec3& p : face)
+        toJoint = Add(toJoint, Normalized(Sub(p, fit.centre)));
+      toJoint = Normalized(toJoint);
+      double widest = 0;
+      for (const Vec3& p : face)
+        widest = std::max(widest, AngleDeg(Sub(p, fit.centre), toJoint));
+      coneDeg = std::min(widest + 15, 85.0);
+    } else {
+      for (int k = 0; k < n[2]; ++k)
+        for (int j = 0; j < n[1]; ++j)
+          for (int i = 0; i < n[0]; ++i)
+            if (bone.Label(bone.Index(i, j, k)) == l) {
+              const Vec3 d = Sub(bone.Centre(i, j, k), fit.centre);
+              if (Norm(d) > fit.radiusMm + 5)
+                toJoint = Add(toJoint, d);
+            }
+      if (Norm(toJoint) == 0)
+        continue;
+      toJoint = Normalized(toJoint);
+    }
+    const double cone = std::cos(coneDeg * 3.14159265358979323846 / 180);
     for (int k = 0; k < n[2]; ++k)
       for (int j = 0; j < n[1]; ++j)
         for (int i = 0; i < n[0]; ++i) {
@@ -292,7 +321,10 @@ std::string HeadCutSummary(const HeadCut& cut) {
     << h.centreMm[0] << ", " << h.centreMm[1] << ", " << h.centreMm[2] << ") mm, radius "
     << h.radiusMm << " mm, RMS " << cut.rmsMm << " mm, its surface in " << 100 * cut.coverage
     << " % of the directions)";
-  s << ", in the middle of the joint space to its socket (radius " << h.socketRadiusMm << " mm)";
+  if (h.socketCentreMm)
+    s << ", in the middle of the joint space to its socket (radius " << h.socketRadiusMm << " mm)";
+  else
+    s << ", just outside its sphere (the joint fused all over: no socket to fit)";
   s << ", " << cut.cutVoxels << " voxels emptied; the step scenes leave the head out\n";
   return s.str();
 }

@@ -18,16 +18,17 @@
 //     block's faces and a cylinder's side meet a sphere in rings);
 //  3. the socket: a least-squares sphere on the bone's surface points between R + h and R + 12 mm
 //     from the head's centre whose outward normal is within 35 deg of the way to it (the face
-//     where the joint is resolved), kept when it is shallower than the head (radius > R + 1 mm)
-//     and holds the head's centre; without one there is no cut (where the joint lies cannot be
-//     told);
-//  4. the cut (bmExcludedHead.h): the voxels whose f lies in (0, 2h] (h the voxel), the middle
-//     of the joint space, the bone the partial volume bridged across it split between the two,
-//     within the cone of the joint seen from the head's centre (the socket's points around
-//     their mean direction, 15 deg
-//     wider): outside it the shell would cut the head from its own neck, whose stump would face
-//     the head as a socket does. f changes by at most the shell's thickness per 6-connected step,
-//     so no path through the joint crosses it: the head and the glenoid are separate bones.
+//     where the joint is resolved) covering at least 3 % of the head's 45-deg cap, kept when
+//     it is shallower than the head (radius > R + 1 mm) and holds the head's centre;
+//  4. the cut (bmExcludedHead.h): the voxels whose f lies in (0, 2h] (h the voxel): with the
+//     socket, the middle of the joint space, the bone the partial volume bridged across it split
+//     between the two; without one (a joint fused all over, so narrower than the scan resolves),
+//     the two voxels outside the head's sphere. Only within the cone of the joint seen from the
+//     head's centre (the socket's points around their mean direction, 15 deg wider; without a
+//     socket, 60 deg around the way to the rest of the bone): outside it the shell would cut the
+//     head from its own neck, whose stump would face the head as a socket does. f changes by at
+//     most the shell's thickness per 6-connected step, so no path through the joint crosses it:
+//     the head and the glenoid are separate bones.
 // Candidates are returned deepest bone first: the caller keeps the first on which the glenoid is
 // found, and leaves the ball of radius cutRadiusMm out of the step scenes' bone.
 //
@@ -35,6 +36,7 @@
 #pragma once
 
 #include "bmExcludedHead.h"
+#include "bmGlenoidGeometry.h"
 #include "bmGlenoidLandmarks.h"
 #include "bmSegmentedBone.h"
 #include "bmVec3.h"
@@ -56,18 +58,33 @@ struct HeadCutOptions {
   /// max(half a voxel, a quarter of the scan's spacing) of it: at least this (a cap of 60 deg
   /// half-angle; a proximal humerus's head shows about half of its sphere)
   double minCoverage = 0.25;
-  /// and those directions fill at least this share of the cap their mean direction implies (a
-  /// cap: 0.85-0.95; a block's faces or a cylinder's side, rings: about a third)
-  double minFill = 0.7;
+  /// and those directions fill at least this share of the cap their mean direction implies (the
+  /// phantom's heads: 0.9-1.0 as a ball, 0.66-0.70 as a proximal humerus, arm at the side or
+  /// raised; a block's faces or a cylinder's side, rings: under 0.45)
+  double minFill = 0.6;
 };
 
 struct HeadCut {
   Voxmap voxmap;         ///< the bone with the shell emptied
   ExcludedHead head;     ///< the head, its socket (if found) and the shell: what a step leaves out
   double rmsMm = 0;      ///< RMS distance of the head's surface points to its sphere, mm
-  double coverage = 0;   ///< fraction of the sphere its points cover
+  double coverage = 0;   ///< HeadSphere::coverage
+  double fill = 0;       ///< HeadSphere::fill
   int64_t cutVoxels = 0; ///< voxels emptied
 };
+
+/// A bone's head sphere (steps 1-2 above).
+struct HeadSphere {
+  int label = 0;       ///< the bone (SegmentedBone's label)
+  SphereFit fit;       ///< centre, radius and RMS, mm
+  double coverage = 0; ///< share of the directions its surface lies on the sphere in
+  double fill = 0;     ///< share of the implied cap's directions those are
+};
+
+/// The head spheres of the largest bones that pass steps 1-2 with `options`' limits, deepest
+/// bone first.
+std::vector<HeadSphere> FindHeadSpheres(const SegmentedBone& bone,
+                                        const HeadCutOptions& options = {});
 
 /// The candidate cuts of `voxmap` (segmented as `bone`), deepest bone first; empty when no bone
 /// has a head's depth and sphere.

@@ -15,6 +15,10 @@ namespace bm {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
+// The scapula's upward rotation with the arm raised above the head, deg (about 60 deg of the
+// arm's 180 deg elevation comes from the scapula, Inman's scapulohumeral rhythm; a lung-screening
+// scan's raised arms are not at full elevation).
+constexpr double kArmRaisedScapulaDeg = 30.0;
 // Blade quadrilateral in scapular (x', z'), mm, clockwise: superior angle, neck, neck, inferior
 // angle.
 constexpr double kBlade[4][2] = {{-100, 40}, {-15, 22}, {-15, -22}, {-85, -115}};
@@ -77,6 +81,14 @@ ScapulaPhantom::ScapulaPhantom(const ScapulaPhantomParams& p) : P_(p) {
   if (Dot(Ev_, As_) < 0)
     Ev_ = Scale(Ev_, -1);
   Eu_ = Normalized(AddScaled(Zs_, N_, -Dot(Zs_, N_)));
+  // The arm raised: the scapula turned upward (the glenoid toward the head, the inferior angle
+  // lateral) about the front-back axis through C, before the patient's rotation.
+  if (p.armRaised) {
+    const double t = (p.rightSide ? 1.0 : -1.0) * kArmRaisedScapulaDeg * kDeg;
+    for (Vec3* v : {&Xs_, &As_, &Zs_, &N_, &Ev_, &Eu_})
+      *v = {std::cos(t) * (*v)[0] + std::sin(t) * (*v)[2], (*v)[1],
+            -std::sin(t) * (*v)[0] + std::cos(t) * (*v)[2]};
+  }
   // The patient's rotation turns every frame vector about C (R = Rz Rx Ry).
   auto turn = [&](Vec3 v) {
     const double r[3] = {p.patientRotationDeg[0] * kDeg, p.patientRotationDeg[1] * kDeg,
@@ -92,11 +104,13 @@ ScapulaPhantom::ScapulaPhantom(const ScapulaPhantomParams& p) : P_(p) {
     *v = turn(*v);
   H_ = AddScaled(C_, N_, p.jointGapMm + p.humeralHeadRadiusMm);
   {
-    // The shaft: at 135 deg to the head's axis (-n), in the plane of that axis and down.
+    // The shaft: at 135 deg to the head's axis (-n), in the plane of that axis and down (the
+    // arm at the side) or up (raised above the head).
     const Vec3 a = Scale(N_, -1.0);
-    const Vec3 down = Normalized(AddScaled(Scale(Zs_, -1.0), a, Dot(Zs_, a)));
+    const Vec3 way = Normalized(AddScaled(Scale(Zs_, p.armRaised ? 1.0 : -1.0), a,
+                                          p.armRaised ? -Dot(Zs_, a) : Dot(Zs_, a)));
     const double t = 135.0 * kDeg;
-    Shaft_ = Normalized(Add(Scale(a, std::cos(t)), Scale(down, std::sin(t))));
+    Shaft_ = Normalized(Add(Scale(a, std::cos(t)), Scale(way, std::sin(t))));
   }
   ComputeTruth();
 }
@@ -365,6 +379,7 @@ nlohmann::json ScapulaTruthJson(const ScapulaPhantom& ph) {
         {"joint_gap_mm", p.jointGapMm},
         {"spine", p.spine},
         {"humerus", p.humerus},
+        {"arm_raised", p.armRaised},
         {"cortical_hu", p.corticalHU},
         {"cancellous_hu", p.cancellousHU},
         {"soft_hu", p.softHU}}},

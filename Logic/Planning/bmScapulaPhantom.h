@@ -62,6 +62,10 @@ struct ScapulaPhantomParams {
   double jointGapMm = 4.0;            ///< g, mm
   bool spine = false;                 ///< a scapular spine (above; default none)
   bool humerus = false;               ///< a proximal humerus, not a ball (above; default ball)
+  /// The arm raised above the head (with humerus): the shaft points up and the scapula is turned
+  /// 30 deg upward (the glenoid toward the head) about the front-back axis through C, before
+  /// the patient's rotation. Default: the arm at the side.
+  bool armRaised = false;
   /// The patient turned about the glenoid centre: angles about world x, y, z (deg, each within
   /// +-45), applied y, then x, then z (VTK's order, as BM CT Bone's box). The truth turns with it;
   /// the 3D version and inclination, measured in the scapula's own frame, do not change.

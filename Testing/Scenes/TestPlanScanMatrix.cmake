@@ -11,6 +11,7 @@
 #    run on a bone that leaves the head out (no tool starting in bone, no guide meeting bone
 #    before the face);
 #  - osteoporotic bone (cancellous at 100 HU, below the threshold): the humeral head a shell;
+#  - the arm raised above the head (the scapula turned 30 deg upward, the humeral shaft up);
 #  - a left shoulder and a B2 (posteriorly worn) glenoid on the same scan;
 #  - both shoulders in one DICOM series: with no side the plan stops naming both; each side
 #    planned within 2 deg / 2 mm of its own truth;
@@ -59,6 +60,7 @@ plan_case(joined 2 2 PHANTOM ${coarse} --joint-gap 1)
 plan_case(joined_humerus 2 2 PHANTOM ${coarse} --joint-gap 1 --humerus --spine --rotate=10,0,-10)
 plan_case(tilted_0_20_0 2 2 PHANTOM ${coarse} --spine --rotate=0,20,0)
 plan_case(osteoporotic 2 2 PHANTOM ${coarse} --cancellous-hu 100 --spine)
+plan_case(arm_raised 2 2 PHANTOM ${coarse} --arm-raised --spine)
 foreach(name joined joined_humerus tilted_0_20_0)
   file(READ "${dir}/${name}/plan/plan_report.md" report)
   file(READ "${dir}/${name}/plan/step2-ream.json" ream)

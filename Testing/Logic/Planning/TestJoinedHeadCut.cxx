@@ -50,6 +50,7 @@ TEST(JoinedHeadCut, TheHeadIsCutOffInTheMiddleOfTheJointAndTheGlenoidFound) {
   ASSERT_TRUE(cut.head.socketCentreMm);
   EXPECT_NEAR(cut.head.socketRadiusMm, ph.Params().faceRadiusMm, 4.0);
   EXPECT_DOUBLE_EQ(cut.head.shellMm, 2 * v.Spacing());
+  EXPECT_GT(cut.fill, 0.85) << "a ball's cap";
   // The shell holds no bone, and it lies between the face and the head on the axis.
   int64_t left = 0;
   for (int k = 0; k < v.Dims()[2]; ++k)
@@ -89,11 +90,16 @@ TEST(JoinedHeadCut, ADeepBlockOrCylinderIsNoHead) {
     const std::vector<HeadCut> cuts = CutJoinedHeads(v, bone);
     EXPECT_TRUE(cuts.empty()) << "a sphere of radius " << cuts.front().head.radiusMm << " mm, RMS "
                               << cuts.front().rmsMm << " mm, coverage " << cuts.front().coverage;
-    // What rejects them: the share of directions where their surface lies on the sphere.
+    // What rejects them: the directions where their surface lies on the sphere are rings, which
+    // fill little of the cap their mean implies.
     HeadCutOptions any;
     any.minCoverage = 0;
-    for (const HeadCut& c : CutJoinedHeads(v, bone, any))
-      EXPECT_LT(c.coverage, 0.3) << "radius " << c.head.radiusMm << " mm, RMS " << c.rmsMm;
+    any.minFill = 0;
+    const std::vector<HeadSphere> spheres = FindHeadSpheres(bone, any);
+    ASSERT_EQ(spheres.size(), 1u) << "deep and fitted by a sphere: only the fill tells";
+    EXPECT_LT(spheres[0].fill, 0.45)
+        << "radius " << spheres[0].fit.radiusMm << " mm, RMS " << spheres[0].fit.rmsMm
+        << " mm, coverage " << spheres[0].coverage;
     EXPECT_THROW(DetectCuttingAJoinedHead(
                      v, bone, [](const SegmentedBone& b) { return DetectLandmarks(b); }),
                  NoGlenoidFound);
