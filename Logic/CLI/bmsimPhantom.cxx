@@ -68,6 +68,10 @@ static void PhantomOptions(ParsedArgs& p) {
       .Value("window", "CENTRE,WIDTH",
              "scapula: store the CT as an 8-bit display window (HU) in DIR/ct.nrrd instead of a "
              "DICOM series, as some hospitals export it")
+      .Value("axes", "I,J,K",
+             "scapula, with --window: the volume stored along these world axes (a permutation "
+             "of x, y, z, each optionally '-': -z stores the superior end at low slice indices), "
+             "with the direction cosines that say so (default x,y,z)")
       .Flag("q,quiet", "no progress bar");
 }
 
@@ -79,7 +83,7 @@ static int PhantomCommand(const ParsedArgs& p) {
 #endif
   for (const char* o :
        {"version", "inclination", "b2", "left", "pixel-mm", "slice-mm", "joint-gap", "window",
-        "rotate", "both", "spine", "humerus", "arm-raised", "cancellous-hu"})
+        "rotate", "both", "spine", "humerus", "arm-raised", "cancellous-hu", "axes"})
     if (p.Has(o))
       throw UsageError(std::string("--") + o + " applies to the scapula phantom only");
   bm::PhantomCTOptions ct;

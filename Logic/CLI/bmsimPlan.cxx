@@ -18,6 +18,7 @@
 #include "bmFailurePicture.h"
 #endif
 #include "bmScapulaCT.h"
+#include "bmStoredAxes.h"
 #include "bmWindowedVolume.h"
 #include "bmSegmentedBone.h"
 #include "bmJson.h"
@@ -128,6 +129,16 @@ int ScapulaPhantomCommand(const ParsedArgs& p) {
   ct.inPlaneSpacingMm = p.GetDouble("pixel-mm", 0.3, 3).value_or(ct.inPlaneSpacingMm);
   ct.sliceSpacingMm = p.GetDouble("slice-mm", 0.5, 5).value_or(ct.sliceSpacingMm);
   std::optional<std::vector<double>> window = p.GetDoubles("window", 2);
+  std::optional<StoredAxes> axes;
+  if (const auto text = p.Get("axes")) {
+    if (!window)
+      throw UsageError("--axes applies to the 8-bit --window volume (the DICOM series is axial)");
+    try {
+      axes = ParseStoredAxes(*text);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--axes: ") + e.what());
+    }
+  }
   if (window && !((*window)[1] > 0))
     throw UsageError("--window: the width must be > 0 HU");
   DicomWriteOptions dicom;
@@ -161,7 +172,9 @@ int ScapulaPhantomCommand(const ParsedArgs& p) {
       std::vector<const ScapulaPhantom*> phantoms{&ph};
       if (left)
         phantoms.push_back(&*left);
-      const CTImage image = MakeScapulaCT(phantoms, ct, Progress(TerminalProgress(quiet)));
+      CTImage image = MakeScapulaCT(phantoms, ct, Progress(TerminalProgress(quiet)));
+      if (axes)
+        image = StoreAlongAxes(image, *axes);
       if (window) {
         fs::create_directories(out);
         wrote = (fs::path(out) / "ct.nrrd").string();

@@ -12,6 +12,7 @@
 #    before the face);
 #  - osteoporotic bone (cancellous at 100 HU, below the threshold): the humeral head a shell;
 #  - the arm raised above the head (the scapula turned 30 deg upward, the humeral shaft up);
+#  - the volume stored along permuted and reversed axes with the direction cosines that say so;
 #  - a left shoulder and a B2 (posteriorly worn) glenoid on the same scan;
 #  - both shoulders in one DICOM series: with no side the plan stops naming both; each side
 #    planned within 2 deg / 2 mm of its own truth;
@@ -60,6 +61,12 @@ plan_case(joined_humerus 2 2 PHANTOM ${coarse} --joint-gap 1 --humerus --spine -
 plan_case(tilted_0_20_0 2 2 PHANTOM ${coarse} --spine --rotate=0,20,0)
 plan_case(osteoporotic 2 2 PHANTOM ${coarse} --cancellous-hu 100 --spine)
 plan_case(arm_raised 2 2 PHANTOM ${coarse} --arm-raised --spine)
+# Stored with the slices' axis first and superior at low indices, rows along x, columns along y.
+plan_case(stored_axes 2 2 PHANTOM ${coarse} --spine --axes=-z,x,y)
+run("${BMSIM}" phantom scapula ${coarse} --axes x,x,y --out "${dir}/bad-axes")
+if(NOT rc EQUAL 2 OR NOT err MATCHES "--axes: stored axes 'x,x,y'" OR EXISTS "${dir}/bad-axes")
+  message(FATAL_ERROR "--axes x,x,y (${rc}):\n${out}\n${err}")
+endif()
 foreach(name joined joined_humerus tilted_0_20_0)
   file(READ "${dir}/${name}/plan/plan_report.md" report)
   file(READ "${dir}/${name}/plan/step2-ream.json" ream)
