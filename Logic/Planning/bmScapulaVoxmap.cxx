@@ -53,4 +53,19 @@ Voxmap MakeScapulaVoxmap(const ScapulaPhantom& ph, double sp, int samples, doubl
   return vm;
 }
 
+void BridgeJointSpace(Voxmap& v, const ScapulaPhantom& ph, double radiusMm) {
+  const ScapulaTruth& t = ph.Truth();
+  for (int k = 0; k < v.Dims()[2]; ++k)
+    for (int j = 0; j < v.Dims()[1]; ++j)
+      for (int i = 0; i < v.Dims()[0]; ++i) {
+        const Vec3 p{v.Origin()[0] + i * v.Spacing(), v.Origin()[1] + j * v.Spacing(),
+                     v.Origin()[2] + k * v.Spacing()};
+        const Vec3 d = Sub(p, t.glenoidCentre);
+        const double w = Dot(d, t.faceNormal);
+        if (w > -1 && w < 6 && Norm(AddScaled(d, t.faceNormal, -w)) < radiusMm &&
+            Distance(p, t.humeralHeadCentre) > t.humeralHeadRadiusMm - 1)
+          v.SetFill(v.Index(i, j, k), Voxmap::kFull);
+      }
+}
+
 } // namespace bm

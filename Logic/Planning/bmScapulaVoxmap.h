@@ -16,4 +16,9 @@ namespace bm {
 Voxmap MakeScapulaVoxmap(const ScapulaPhantom& phantom, double spacingMm, int samples = 3,
                          double marginMm = 3.0);
 
+/// The joint space of `phantom`'s voxmap `v` filled with bone over a disc of radius `radiusMm`
+/// around the glenoid's axis (from 1 mm behind the face to 6 mm in front of it, outside the
+/// humeral head less 1 mm), as thick slices fuse a narrow joint: one bone, no joint to find.
+void BridgeJointSpace(Voxmap& v, const ScapulaPhantom& phantom, double radiusMm);
+
 } // namespace bm

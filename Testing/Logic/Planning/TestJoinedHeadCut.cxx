@@ -12,32 +12,11 @@
 
 using namespace bm;
 
-namespace {
-
-/// The default phantom at 1 mm with its joint space bridged over a disc 24 mm across.
-Voxmap BridgedPhantom(const ScapulaPhantom& ph) {
-  const ScapulaTruth& t = ph.Truth();
-  Voxmap v = MakeScapulaVoxmap(ph, 1.0, 3);
-  for (int k = 0; k < v.Dims()[2]; ++k)
-    for (int j = 0; j < v.Dims()[1]; ++j)
-      for (int i = 0; i < v.Dims()[0]; ++i) {
-        const Vec3 p{v.Origin()[0] + i * v.Spacing(), v.Origin()[1] + j * v.Spacing(),
-                     v.Origin()[2] + k * v.Spacing()};
-        const Vec3 d = Sub(p, t.glenoidCentre);
-        const double w = Dot(d, t.faceNormal);
-        if (w > -1 && w < 6 && Norm(AddScaled(d, t.faceNormal, -w)) < 12 &&
-            Distance(p, t.humeralHeadCentre) > t.humeralHeadRadiusMm - 1)
-          v.SetFill(v.Index(i, j, k), Voxmap::kFull);
-      }
-  return v;
-}
-
-} // namespace
-
 TEST(JoinedHeadCut, TheHeadIsCutOffInTheMiddleOfTheJointAndTheGlenoidFound) {
   const ScapulaPhantom ph;
   const ScapulaTruth& t = ph.Truth();
-  const Voxmap v = BridgedPhantom(ph);
+  Voxmap v = MakeScapulaVoxmap(ph, 1.0, 3);
+  BridgeJointSpace(v, ph, 12.0);
   const SegmentedBone bone(v);
   EXPECT_THROW(DetectLandmarks(bone), NoGlenoidFound);
   const LandmarksOnCut found =

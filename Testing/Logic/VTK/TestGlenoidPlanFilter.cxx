@@ -250,17 +250,7 @@ TEST(GlenoidPlanFilter, AJoinedHumeralHeadIsCutOffAndTheStepsLeaveItOut) {
   PhantomInput& in = Phantom();
   const bm::ScapulaTruth& t = in.phantom.Truth();
   bm::Voxmap v = bm::MakeScapulaVoxmap(in.phantom, 1.0, 3);
-  for (int k = 0; k < v.Dims()[2]; ++k)
-    for (int j = 0; j < v.Dims()[1]; ++j)
-      for (int i = 0; i < v.Dims()[0]; ++i) {
-        const bm::Vec3 p{v.Origin()[0] + i * v.Spacing(), v.Origin()[1] + j * v.Spacing(),
-                         v.Origin()[2] + k * v.Spacing()};
-        const bm::Vec3 d = bm::Sub(p, t.glenoidCentre);
-        const double w = bm::Dot(d, t.faceNormal);
-        if (w > -1 && w < 6 && bm::Norm(bm::AddScaled(d, t.faceNormal, -w)) < 12 &&
-            bm::Distance(p, t.humeralHeadCentre) > t.humeralHeadRadiusMm - 1)
-          v.SetFill(v.Index(i, j, k), bm::Voxmap::kFull);
-      }
+  bm::BridgeJointSpace(v, in.phantom, 12.0);
   bm::BoneFractionImage image;
   image.Update(v);
   vtkNew<vtkBMGlenoidPlanFilter> f;
