@@ -57,10 +57,11 @@ public:
   void finish(const Outcome& outcome);
   void showResults(const std::vector<bm::PacsSeries>& series);
   void updateButtons();
-  QLineEdit* lineEdit(const char* name, const QString& placeholder, const QString& tip) {
+  /// A line edit named for the tests, showing `hint` while empty and `tip` on hover.
+  QLineEdit* lineEdit(const char* name, const QString& hint, const QString& tip) {
     auto* e = new QLineEdit(this->q_ptr);
     e->setObjectName(name);
-    e->setPlaceholderText(placeholder);
+    e->setPlaceholderText(hint);
     e->setToolTip(tip);
     return e;
   }

@@ -285,14 +285,13 @@ ContactResult KimParkContact::Query(const Eigen::Matrix3d& R, const Eigen::Vecto
   auto visit = [&](const Eigen::Vector3d& position, const Eigen::Vector3d& normal, float material,
                    int64_t voxel) {
     const Eigen::Vector3d q = Rt * (position - p);
-    if (q(0) < Sdf_.Lo()(0) || q(1) < Sdf_.Lo()(1) || q(2) < Sdf_.Lo()(2) || q(0) > Sdf_.Hi()(0) ||
-        q(1) > Sdf_.Hi()(1) || q(2) > Sdf_.Hi()(2))
+    if (!InField(q))
       return unknown;
     Eigen::Vector3d g;
     const double d = Sdf_.Sample(q, g);
-    const double pen = -d - deadBandMm;
-    if (pen <= 0 || (d < -Cap_ && IsSliver(voxel)) || !Sdf_.InPart(q, part, rimBandMm))
+    if (!Pushes(q, d, voxel, deadBandMm, part, rimBandMm))
       return d == Sdf_.Far() ? unknown : d;
+    const double pen = -d - deadBandMm;
     const double k = kPoint * material;
     out.force += k * pen * normal;
     jacobianT += (k * normal) * g.transpose();
@@ -385,22 +384,18 @@ bool KimParkContact::Touches(const Eigen::Matrix3d& R, const Eigen::Vector3d& p,
   const Eigen::Matrix3d Rt = R.transpose();
   std::array<int, 3> blo{}, bhi{};
   Shell_.BrickRange(lo, hi, blo, bhi);
-  // Query's test of one point, term for term (the same arithmetic gives the same bits).
+  // Query's test of each point (Pushes), stopping at the first that pushes.
   for (int bk = blo[2]; bk <= bhi[2]; ++bk)
     for (int bj = blo[1]; bj <= bhi[1]; ++bj)
       for (int bi = blo[0]; bi <= bhi[0]; ++bi)
         for (int32_t slot : Shell_.Bucket(bi, bj, bk)) {
           const SurfacePoint& sp = Shell_.Point(slot);
           const Eigen::Vector3d q = Rt * (sp.position - p);
-          if (q(0) < Sdf_.Lo()(0) || q(1) < Sdf_.Lo()(1) || q(2) < Sdf_.Lo()(2) ||
-              q(0) > Sdf_.Hi()(0) || q(1) > Sdf_.Hi()(1) || q(2) > Sdf_.Hi()(2))
+          if (!InField(q))
             continue;
           Eigen::Vector3d g;
-          const double d = Sdf_.Sample(q, g);
-          const double pen = -d - deadBandMm;
-          if (pen <= 0 || (d < -Cap_ && IsSliver(sp.voxel)) || !Sdf_.InPart(q, part, rimBandMm))
-            continue;
-          return true;
+          if (Pushes(q, Sdf_.Sample(q, g), sp.voxel, deadBandMm, part, rimBandMm))
+            return true;
         }
   return false;
 }

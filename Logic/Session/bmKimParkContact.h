@@ -182,6 +182,19 @@ private:
   double Sliver_ = 0.05;
   /// Whether the voxel holds less than the sliver fraction of bone.
   bool IsSliver(int64_t voxel) const { return Shell_.Bone().Fraction(voxel) < Sliver_; }
+  /// Whether q (tool frame, mm) lies in the distance field's box.
+  bool InField(const Eigen::Vector3d& q) const {
+    return !(q(0) < Sdf_.Lo()(0) || q(1) < Sdf_.Lo()(1) || q(2) < Sdf_.Lo()(2) ||
+             q(0) > Sdf_.Hi()(0) || q(1) > Sdf_.Hi()(1) || q(2) > Sdf_.Hi()(2));
+  }
+  /// Whether a point at q (tool frame), at distance d (mm) from the tool, of voxel `voxel`
+  /// pushes: deeper than the dead band, not a sliver below the depth cap, on the part asked for.
+  /// Query and Touches share it, so they agree to the bit.
+  bool Pushes(const Eigen::Vector3d& q, double d, int64_t voxel, double deadBandMm, ToolPart part,
+              double rimBandMm) const {
+    return -d - deadBandMm > 0 && !(d < -Cap_ && IsSliver(voxel)) &&
+           Sdf_.InPart(q, part, rimBandMm);
+  }
   mutable std::vector<Candidate> Candidates_;
   static constexpr size_t kMaxAnchors = 255;
   /// Per candidate: a lower bound of its distance (mm) with the tool at its anchor (-inf: none),
